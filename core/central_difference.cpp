@@ -1,0 +1,68 @@
+#include "core/central_difference.hpp"
+
+namespace impactid {
+
+bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity velocity,
+                                   double dt, const State& initial) {
+  velocity_ = velocity;
+  dt_ = dt;
+  t_ = initial.t;
+  const double damping_weight =
+      (velocity == CdmVelocity::central && system.has_damping()) ? 0.5 / dt : 0.0;
+  const Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, damping_weight);
+  if (!factorization_.factor(lhs)) return false;
+
+  const Eigen::Index n = system.size();
+  contact_influence_ = Eigen::VectorXd::Zero(n);
+  contact_influence_[system.contact_dof] = 1.0;
+  factorization_.solve_in_place(contact_influence_);
+  u_ = initial.u;
+  u_previous_ = initial.u - dt * initial.v;
+  u_next_.resize(n);
+  scratch_.resize(n);
+  return true;
+}
+
+bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
+  const Eigen::Index n = system.size();
+  const double dt = dt_, inv_dt2 = 1.0 / (dt * dt);
+
+  // rhs = M·(2u − u₋)/Δt² − K·u − (damping term of the variant)
+  for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (2.0 * u_[i] - u_previous_[i]) * inv_dt2;
+  system.mass.multiply(scratch_, u_next_);
+  system.stiffness.multiply_add(-1.0, u_, u_next_);
+  if (system.has_damping()) {
+    if (velocity_ == CdmVelocity::central) {
+      system.damping.multiply_add(0.5 / dt, u_previous_, u_next_);
+    } else {
+      for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (u_[i] - u_previous_[i]) / dt;
+      system.damping.multiply_add(-1.0, scratch_, u_next_);
+    }
+  }
+  factorization_.solve_in_place(u_next_);
+
+  double lambda = 0.0;
+  const Eigen::Index contact = system.contact_dof;
+  if (system.has_contact() && u_next_[contact] > system.gap) {
+    lambda = (u_next_[contact] - system.gap) / contact_influence_[contact];
+    u_next_ -= lambda * contact_influence_;
+    u_next_[contact] = system.gap;  // exact, not a few ulps off
+  }
+
+  at_t.u = u_;
+  if (velocity_ == CdmVelocity::central) {
+    at_t.v = (u_next_ - u_previous_) / (2.0 * dt);
+  } else {
+    at_t.v = (u_ - u_previous_) / dt;
+  }
+  at_t.a = (u_next_ - 2.0 * u_ + u_previous_) * inv_dt2;
+  at_t.lambda = lambda;
+  at_t.t = t_;
+
+  u_previous_.swap(u_);
+  u_.swap(u_next_);
+  t_ += dt;
+  return lambda > 0.0;
+}
+
+}  // namespace impactid

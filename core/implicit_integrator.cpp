@@ -1,0 +1,79 @@
+#include "core/implicit_integrator.hpp"
+
+namespace impactid {
+
+bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
+                                    const ImplicitCoefficients& coefficients, double dt) {
+  c_ = coefficients;
+  dt_ = dt;
+  const double k_weight = (1.0 - c_.alpha_f) * c_.b1 * dt * dt;
+  const double c_weight = (1.0 - c_.alpha_f) * c_.g1 * dt;
+  Tridiagonal effective = system.mass.combined(1.0 - c_.alpha_m, system.stiffness, k_weight);
+  if (system.has_damping()) effective = effective.combined(1.0, system.damping, c_weight);
+  if (!factorization_.factor(effective)) return false;
+
+  const Eigen::Index n = system.size();
+  contact_influence_ = Eigen::VectorXd::Zero(n);
+  contact_influence_[system.contact_dof] = 1.0;
+  factorization_.solve_in_place(contact_influence_);
+  u_predicted_.resize(n);
+  v_predicted_.resize(n);
+  rhs_.resize(n);
+  return true;
+}
+
+bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
+  const Eigen::Index n = system.size();
+  const double dt = dt_, dt2 = dt * dt;
+  const double af = c_.alpha_f;
+
+  // Predictors from the known part of the update formulas, then the α_f-weighted arguments of
+  // the elastic and damping forces, written over u and v (their old values are not needed).
+  for (Eigen::Index i = 0; i < n; ++i) {
+    u_predicted_[i] = s.u[i] + dt * s.v[i] + dt2 * c_.b0 * s.a[i];
+    v_predicted_[i] = s.v[i] + dt * c_.g0 * s.a[i];
+    s.u[i] = (1.0 - af) * u_predicted_[i] + af * s.u[i];
+    s.v[i] = (1.0 - af) * v_predicted_[i] + af * s.v[i];
+  }
+  system.stiffness.multiply(s.u, rhs_);
+  rhs_ = -rhs_;
+  if (system.has_damping()) system.damping.multiply_add(-1.0, s.v, rhs_);
+  if (c_.alpha_m != 0.0) system.mass.multiply_add(-c_.alpha_m, s.a, rhs_);
+  const Eigen::Index contact = system.contact_dof;
+  rhs_[contact] -= (1.0 - c_.contact_weight) * s.lambda;
+  factorization_.solve_in_place(rhs_);
+
+  double lambda = 0.0;
+  if (system.has_contact()) {
+    const double u_free = u_predicted_[contact] + c_.b1 * dt2 * rhs_[contact];
+    if (u_free > system.gap) {
+      // Force (w·λ) that moves the contact dof from u_free back onto the wall.
+      const double weighted = (u_free - system.gap) / (c_.b1 * dt2 * contact_influence_[contact]);
+      rhs_ -= weighted * contact_influence_;
+      lambda = weighted / c_.contact_weight;
+    }
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    s.a[i] = rhs_[i];
+    s.u[i] = u_predicted_[i] + c_.b1 * dt2 * rhs_[i];
+    s.v[i] = v_predicted_[i] + c_.g1 * dt * rhs_[i];
+  }
+  // Round-off would leave the node a few ulps off the wall; the constraint is exact.
+  if (lambda > 0.0) s.u[contact] = system.gap;
+  s.lambda = lambda;
+  s.t += dt;
+  return lambda > 0.0;
+}
+
+Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state) {
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(system.size());
+  system.stiffness.multiply_add(-1.0, state.u, rhs);
+  system.damping.multiply_add(-1.0, state.v, rhs);
+  rhs[system.contact_dof] -= state.lambda;
+  TridiagonalFactorization mass;
+  if (!mass.factor(system.mass)) return Eigen::VectorXd::Constant(system.size(), NAN);
+  mass.solve_in_place(rhs);
+  return rhs;
+}
+
+}  // namespace impactid

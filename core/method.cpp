@@ -1,0 +1,189 @@
+#include "core/method.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace impactid {
+namespace {
+
+constexpr std::array<std::pair<MethodKind, const char*>, 5> kMethodNames{{
+    {MethodKind::central_difference, "cdm"},
+    {MethodKind::backward_euler, "backward-euler"},
+    {MethodKind::newmark, "newmark"},
+    {MethodKind::hht, "hht"},
+    {MethodKind::generalized_alpha, "generalized-alpha"},
+}};
+
+constexpr double kMax = std::numeric_limits<double>::max();
+
+template <class... Ts>
+struct Overloaded : Ts... {
+  using Ts::operator()...;
+};
+
+}  // namespace
+
+const char* to_string(MethodKind kind) {
+  for (const auto& [k, name] : kMethodNames) {
+    if (k == kind) return name;
+  }
+  return "unknown";
+}
+
+std::optional<MethodKind> method_kind_from_string(const std::string& name) {
+  for (const auto& [k, n] : kMethodNames) {
+    if (name == n) return k;
+  }
+  return std::nullopt;
+}
+
+const char* to_string(CdmVelocity kind) {
+  return kind == CdmVelocity::central ? "central" : "backward";
+}
+std::optional<CdmVelocity> cdm_velocity_from_string(const std::string& name) {
+  if (name == "central") return CdmVelocity::central;
+  if (name == "backward") return CdmVelocity::backward;
+  return std::nullopt;
+}
+
+const char* to_string(ContactWeighting kind) {
+  return kind == ContactWeighting::endpoint ? "endpoint" : "weighted";
+}
+std::optional<ContactWeighting> contact_weighting_from_string(const std::string& name) {
+  if (name == "endpoint") return ContactWeighting::endpoint;
+  if (name == "weighted") return ContactWeighting::weighted;
+  return std::nullopt;
+}
+
+MethodKind kind_of(const MethodParams& params) {
+  return std::visit(Overloaded{
+                        [](const CentralDifferenceParams&) { return MethodKind::central_difference; },
+                        [](const BackwardEulerParams&) { return MethodKind::backward_euler; },
+                        [](const NewmarkParams&) { return MethodKind::newmark; },
+                        [](const HhtParams&) { return MethodKind::hht; },
+                        [](const GeneralizedAlphaParams&) { return MethodKind::generalized_alpha; },
+                    },
+                    params);
+}
+
+MethodParams default_params(MethodKind kind) {
+  switch (kind) {
+    case MethodKind::central_difference: return CentralDifferenceParams{};
+    case MethodKind::backward_euler: return BackwardEulerParams{};
+    case MethodKind::newmark: return NewmarkParams{};
+    case MethodKind::hht: return HhtParams{};
+    case MethodKind::generalized_alpha: return GeneralizedAlphaParams{};
+  }
+  return CentralDifferenceParams{};
+}
+
+std::optional<ParameterError> validate(const MethodParams& params) {
+  return std::visit(
+      Overloaded{
+          [](const CentralDifferenceParams&) -> std::optional<ParameterError> { return {}; },
+          [](const BackwardEulerParams&) -> std::optional<ParameterError> { return {}; },
+          [](const NewmarkParams& p) -> std::optional<ParameterError> {
+            if (p.coefficients) {
+              if (auto e = require_in_range("beta", p.coefficients->beta,
+                                            std::numeric_limits<double>::min(), kMax,
+                                            "must be positive and finite")) {
+                return e;
+              }
+              return require_in_range("gamma", p.coefficients->gamma, 0.0, kMax,
+                                      "must be >= 0 and finite");
+            }
+            return require_in_range("delta", p.delta, 0.0, kMax,
+                                    "must be >= 0 and finite (eq. 13)");
+          },
+          [](const HhtParams& p) -> std::optional<ParameterError> {
+            if (auto e = require_in_range("alpha", p.alpha, -0.5, 0.0, "must lie in [-0.5, 0]")) {
+              return e;
+            }
+            if (p.delta) {
+              return require_in_range("delta", *p.delta, 0.0, kMax,
+                                      "must be >= 0 and finite (eq. 13)");
+            }
+            return std::nullopt;
+          },
+          [](const GeneralizedAlphaParams& p) -> std::optional<ParameterError> {
+            return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
+          },
+      },
+      params);
+}
+
+BetaGamma newmark_from_delta(double delta) {
+  return {0.25 * (1.0 + delta) * (1.0 + delta), 0.5 + delta};
+}
+
+namespace {
+
+ImplicitCoefficients newmark_family(BetaGamma bg, double alpha_m, double alpha_f,
+                                    ContactWeighting contact) {
+  return {0.5 - bg.beta,
+          bg.beta,
+          1.0 - bg.gamma,
+          bg.gamma,
+          alpha_m,
+          alpha_f,
+          contact == ContactWeighting::endpoint ? 1.0 : 1.0 - alpha_f};
+}
+
+struct GeneralizedAlphaCoefficients {
+  double alpha_m, alpha_f;
+  BetaGamma bg;
+};
+
+// Chung & Hulbert 1993, eqs 25 and 17.
+GeneralizedAlphaCoefficients generalized_alpha_from_rho_inf(double rho_inf) {
+  const double alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+  const double alpha_f = rho_inf / (rho_inf + 1.0);
+  const double gamma = 0.5 - alpha_m + alpha_f;
+  const double beta = 0.25 * (1.0 - alpha_m + alpha_f) * (1.0 - alpha_m + alpha_f);
+  return {alpha_m, alpha_f, {beta, gamma}};
+}
+
+double hht_delta(const HhtParams& p) { return p.delta ? *p.delta : -p.alpha; }
+
+}  // namespace
+
+ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
+  return std::visit(
+      Overloaded{
+          // Not implicit: callers dispatch central difference elsewhere. The values would be
+          // Newmark β = 0, γ = ½, which the acceleration-form kernel cannot use as they stand.
+          [](const CentralDifferenceParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 1.0};
+          },
+          [](const BackwardEulerParams&) {
+            return ImplicitCoefficients{0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0};
+          },
+          [](const NewmarkParams& p) {
+            return newmark_family(p.coefficients ? *p.coefficients : newmark_from_delta(p.delta),
+                                  0.0, 0.0, ContactWeighting::endpoint);
+          },
+          [](const HhtParams& p) {
+            return newmark_family(newmark_from_delta(hht_delta(p)), 0.0, -p.alpha, p.contact);
+          },
+          [](const GeneralizedAlphaParams& p) {
+            const auto g = generalized_alpha_from_rho_inf(p.rho_inf);
+            return newmark_family(g.bg, g.alpha_m, g.alpha_f, p.contact);
+          },
+      },
+      params);
+}
+
+std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
+  switch (kind_of(params)) {
+    case MethodKind::central_difference:
+    case MethodKind::backward_euler: return std::nullopt;
+    default: {
+      const ImplicitCoefficients c = implicit_coefficients(params);
+      return BetaGamma{c.b1, c.g1};
+    }
+  }
+}
+
+}  // namespace impactid

@@ -1,0 +1,113 @@
+// The time-stepping methods and their parameters, in the paper's conventions
+// (Serfőző & Pere 2022, sec. 2, doi:10.1556/606.2022.00599).
+//
+// Converting from other tools: MFEM's and OpenSees' HHT "alpha" is 1 + our α (they use
+// α ∈ [2/3, 1]); OpenSees orders Newmark as (γ, β), MFEM as (β, γ); Chung & Hulbert's α_f is
+// our −α for HHT. Generalized-α follows Chung & Hulbert (1993), doi:10.1115/1.2900803.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "core/parameter_error.hpp"
+
+namespace impactid {
+
+enum class MethodKind { central_difference, backward_euler, newmark, hht, generalized_alpha };
+/// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha": the names used alike on the
+/// command line, in plan files and in HDF5 attributes.
+const char* to_string(MethodKind kind);
+std::optional<MethodKind> method_kind_from_string(const std::string& name);
+
+/// How central difference reports (and, with damping, uses) the velocity.
+enum class CdmVelocity {
+  central,   ///< eq. 3: v_t = (u_{t+Δt} − u_{t−Δt})/(2Δt); damping by eq. 5
+  backward,  ///< eq. 6: v_t = (u_t − u_{t−Δt})/Δt; damping by eq. 7 (explicit with lumped M)
+};
+const char* to_string(CdmVelocity kind);
+std::optional<CdmVelocity> cdm_velocity_from_string(const std::string& name);
+
+/// Where the contact force of an α-method acts within the step.
+enum class ContactWeighting {
+  /// G^T·λ_{t+Δt}, unweighted: the default, because the multiplier then is the contact force
+  /// at t+Δt itself. Weighted like the elastic forces, the multiplier satisfies
+  /// (1−α_f)·λ_{t+Δt} + α_f·λ_t = const during a persistent contact, so for α_f → 0.5 it
+  /// alternates from step to step without damping.
+  endpoint,
+  /// G^T·((1−α_f)·λ_{t+Δt} + α_f·λ_t), consistent with the α-weighting of eq. 14.
+  weighted,
+};
+const char* to_string(ContactWeighting kind);
+std::optional<ContactWeighting> contact_weighting_from_string(const std::string& name);
+
+/// Central difference with Carpenter's forward-increment Lagrange multiplier
+/// (Carpenter, Taylor & Katona 1991, doi:10.1002/nme.1620320107). Explicit with a lumped mass;
+/// stable for Courant numbers up to 1 (lumped mass, no damping).
+struct CentralDifferenceParams {
+  CdmVelocity velocity = CdmVelocity::central;
+};
+
+/// Backward Euler, eqs 8–10: first order, unconditionally stable, strongly dissipative.
+struct BackwardEulerParams {};
+
+struct BetaGamma {
+  double beta;   ///< > 0
+  double gamma;  ///< >= 0; < 1/2 is unstable
+};
+
+/// Newmark, eqs 11–12, in the δ form of eq. 13 (β = (1+δ)²/4, γ = 1/2 + δ) unless explicit
+/// coefficients are given. δ = 0 is the trapezoidal rule (average acceleration); δ = 1 gives
+/// the same displacements and contact forces as backward Euler.
+struct NewmarkParams {
+  double delta = 0.0;                     ///< δ >= 0 (eq. 13)
+  std::optional<BetaGamma> coefficients;  ///< when set, replaces eq. 13
+};
+
+/// HHT-α, eq. 14, with β and γ from eq. 13. α ∈ [−0.5, 0]; δ defaults to −α, which is exactly
+/// the second-order choice of eq. 15. δ < −α is unstable.
+struct HhtParams {
+  double alpha = -0.3;          ///< α ∈ [−0.5, 0]
+  std::optional<double> delta;  ///< δ >= 0; default −α
+  ContactWeighting contact = ContactWeighting::endpoint;
+};
+
+/// Generalized-α (Chung & Hulbert 1993) parametrised by the high-frequency spectral radius.
+struct GeneralizedAlphaParams {
+  double rho_inf = 0.8;  ///< ρ∞ ∈ [0, 1]; 1 is the trapezoidal rule
+  ContactWeighting contact = ContactWeighting::endpoint;
+};
+
+using MethodParams = std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams,
+                                  HhtParams, GeneralizedAlphaParams>;
+
+MethodKind kind_of(const MethodParams& params);
+/// Default parameters of a method.
+MethodParams default_params(MethodKind kind);
+/// First invalid field ("delta", "beta", "alpha", "rho_inf", …), or nothing.
+std::optional<ParameterError> validate(const MethodParams& params);
+
+/// eq. 13
+BetaGamma newmark_from_delta(double delta);
+
+/// The one-step implicit family every implicit method here belongs to:
+///   u₁ = u₀ + Δt·v₀ + Δt²·(b0·a₀ + b1·a₁)
+///   v₁ = v₀ + Δt·(g0·a₀ + g1·a₁)
+///   (1−α_m)·M·a₁ + α_m·M·a₀ + (1−α_f)·(C·v₁ + K·u₁) + α_f·(C·v₀ + K·u₀)
+///       + G^T·(w·λ₁ + (1−w)·λ₀) = 0
+/// Newmark: b0 = ½−β, b1 = β, g0 = 1−γ, g1 = γ, α_m = α_f = 0. Backward Euler: b0 = g0 = 0,
+/// b1 = g1 = 1. HHT: Newmark with α_f = −α. Generalized-α: Chung & Hulbert's α_m, α_f, β, γ.
+/// w = 1 (endpoint contact) or 1−α_f (weighted).
+struct ImplicitCoefficients {
+  double b0, b1, g0, g1;
+  double alpha_m, alpha_f;
+  double contact_weight;
+};
+
+/// Coefficients of an implicit method (not central difference); derived here and only here.
+ImplicitCoefficients implicit_coefficients(const MethodParams& params);
+
+/// β and γ a method uses, for reports; nothing for central difference and backward Euler.
+std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params);
+
+}  // namespace impactid

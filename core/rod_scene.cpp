@@ -1,0 +1,90 @@
+#include "core/rod_scene.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace impactid {
+
+const char* to_string(MassMatrix kind) {
+  return kind == MassMatrix::lumped ? "lumped" : "consistent";
+}
+
+std::optional<MassMatrix> mass_matrix_from_string(const std::string& name) {
+  if (name == "lumped") return MassMatrix::lumped;
+  if (name == "consistent") return MassMatrix::consistent;
+  return std::nullopt;
+}
+
+std::optional<ParameterError> validate(const RodScene& s) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr double tiny = std::numeric_limits<double>::min();
+  if (s.elements < 1) {
+    return ParameterError{"elements", std::to_string(s.elements), "must be a positive integer"};
+  }
+  for (auto error : {
+           require_in_range("length", s.length, tiny, std::numeric_limits<double>::max(),
+                            "must be positive and finite"),
+           require_in_range("youngs_modulus", s.youngs_modulus, tiny,
+                            std::numeric_limits<double>::max(), "must be positive and finite"),
+           require_in_range("density", s.density, tiny, std::numeric_limits<double>::max(),
+                            "must be positive and finite"),
+           require_in_range("area", s.area, tiny, std::numeric_limits<double>::max(),
+                            "must be positive and finite"),
+           require_in_range("velocity", s.velocity, -std::numeric_limits<double>::max(),
+                            std::numeric_limits<double>::max(), "must be finite"),
+           require_in_range("gap", s.gap, 0.0, std::numeric_limits<double>::max(),
+                            "must be >= 0 and finite"),
+           require_in_range("rayleigh_mass", s.rayleigh_mass, 0.0,
+                            std::numeric_limits<double>::max(), "must be >= 0 and finite"),
+           require_in_range("rayleigh_stiffness", s.rayleigh_stiffness, 0.0,
+                            std::numeric_limits<double>::max(), "must be >= 0 and finite"),
+           require_in_range("courant", s.courant, tiny, std::numeric_limits<double>::max(),
+                            "must be positive and finite"),
+       }) {
+    if (error) return error;
+  }
+  if (s.dt) {
+    if (auto e = require_in_range("dt", *s.dt, tiny, inf, "must be positive and finite"); e) {
+      return e;
+    }
+    if (!std::isfinite(*s.dt)) return ParameterError{"dt", format_value(*s.dt), "must be finite"};
+  }
+  if (s.t_end) {
+    if (!(std::isfinite(*s.t_end) && *s.t_end > 0.0)) {
+      return ParameterError{"t_end", format_value(*s.t_end), "must be positive and finite"};
+    }
+  }
+  const RodSceneDerived d = derive(s);
+  // A run with more steps than this is a mistake in the inputs, not a simulation to attempt.
+  constexpr double max_steps = 1e9;
+  if (!(d.end_time / d.time_step < max_steps)) {
+    return ParameterError{s.dt ? "dt" : "courant", format_value(s.dt ? *s.dt : s.courant),
+                          "gives more than 1e9 time steps up to t_end = " +
+                              format_value(d.end_time) + " s"};
+  }
+  return std::nullopt;
+}
+
+RodSceneDerived derive(const RodScene& s) {
+  RodSceneDerived d{};
+  d.wave_speed = std::sqrt(s.youngs_modulus / s.density);
+  d.element_length = s.length / s.elements;
+  d.time_step = s.dt ? *s.dt : s.courant * d.element_length / d.wave_speed;
+  d.impact_time = s.velocity > 0.0 ? s.gap / s.velocity : std::numeric_limits<double>::infinity();
+  d.contact_duration = 2.0 * s.length / d.wave_speed;
+  if (s.t_end) {
+    d.end_time = *s.t_end;
+  } else {
+    // Without an impact (v0 <= 0 and a gap) there is nothing to wait for: one contact duration.
+    const double start = std::isfinite(d.impact_time) ? d.impact_time : 0.0;
+    d.end_time = start + 1.5 * d.contact_duration;
+  }
+  d.step_count = static_cast<long>(std::ceil(d.end_time / d.time_step - 1e-9));
+  if (d.step_count < 1) d.step_count = 1;
+  d.pressure_scale = s.density * d.wave_speed * std::abs(s.velocity);
+  d.initial_energy = 0.5 * s.density * s.area * s.length * s.velocity * s.velocity;
+  return d;
+}
+
+}  // namespace impactid

@@ -1,0 +1,17 @@
+// The state of a second-order system at one instant: a copyable value, so that a run can be
+// split, restarted or copied per thread without ceremony.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace impactid {
+
+struct State {
+  Eigen::VectorXd u;     ///< displacement [mm]
+  Eigen::VectorXd v;     ///< velocity [mm/s]
+  Eigen::VectorXd a;     ///< acceleration [mm/s²]
+  double lambda = 0.0;   ///< contact force (Lagrange multiplier) [N], >= 0
+  double t = 0.0;        ///< time [s]
+};
+
+}  // namespace impactid

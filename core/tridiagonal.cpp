@@ -1,0 +1,94 @@
+#include "core/tridiagonal.hpp"
+
+#include <cmath>
+
+namespace impactid {
+
+Tridiagonal Tridiagonal::zero(Eigen::Index n) {
+  return {Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+}
+
+bool Tridiagonal::is_diagonal() const {
+  const Eigen::Index n = size();
+  if (n <= 1) return true;
+  return lower.tail(n - 1).isZero(0.0) && upper.head(n - 1).isZero(0.0);
+}
+
+bool Tridiagonal::is_zero() const { return is_diagonal() && diag.isZero(0.0); }
+
+Tridiagonal Tridiagonal::combined(double a, const Tridiagonal& other, double b) const {
+  return {a * lower + b * other.lower, a * diag + b * other.diag, a * upper + b * other.upper};
+}
+
+void Tridiagonal::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  y.setZero();
+  multiply_add(1.0, x, y);
+}
+
+void Tridiagonal::multiply_add(double s, const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const Eigen::Index n = size();
+  if (n == 1) {
+    y[0] += s * diag[0] * x[0];
+    return;
+  }
+  y[0] += s * (diag[0] * x[0] + upper[0] * x[1]);
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    y[i] += s * (lower[i] * x[i - 1] + diag[i] * x[i] + upper[i] * x[i + 1]);
+  }
+  y[n - 1] += s * (lower[n - 1] * x[n - 2] + diag[n - 1] * x[n - 1]);
+}
+
+double Tridiagonal::quadratic_form(const Eigen::VectorXd& x) const {
+  const Eigen::Index n = size();
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double row = diag[i] * x[i];
+    if (i > 0) row += lower[i] * x[i - 1];
+    if (i + 1 < n) row += upper[i] * x[i + 1];
+    sum += x[i] * row;
+  }
+  return sum;
+}
+
+Eigen::MatrixXd Tridiagonal::dense() const {
+  const Eigen::Index n = size();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    a(i, i) = diag[i];
+    if (i > 0) a(i, i - 1) = lower[i];
+    if (i + 1 < n) a(i, i + 1) = upper[i];
+  }
+  return a;
+}
+
+bool TridiagonalFactorization::factor(const Tridiagonal& a) {
+  const Eigen::Index n = a.size();
+  lower_ = a.lower;
+  upper_ratio_.resize(n);
+  inverse_pivot_.resize(n);
+  double previous_ratio = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double pivot = a.diag[i] - (i > 0 ? a.lower[i] * previous_ratio : 0.0);
+    if (pivot == 0.0 || !std::isfinite(pivot)) {
+      inverse_pivot_.resize(0);
+      return false;
+    }
+    inverse_pivot_[i] = 1.0 / pivot;
+    previous_ratio = (i + 1 < n) ? a.upper[i] * inverse_pivot_[i] : 0.0;
+    upper_ratio_[i] = previous_ratio;
+  }
+  return true;
+}
+
+void TridiagonalFactorization::solve_in_place(Eigen::VectorXd& b) const {
+  const Eigen::Index n = inverse_pivot_.size();
+  b[0] *= inverse_pivot_[0];
+  for (Eigen::Index i = 1; i < n; ++i) {
+    b[i] = (b[i] - lower_[i] * b[i - 1]) * inverse_pivot_[i];
+  }
+  for (Eigen::Index i = n - 2; i >= 0; --i) {
+    b[i] -= upper_ratio_[i] * b[i + 1];
+  }
+}
+
+}  // namespace impactid

@@ -1,0 +1,55 @@
+// Tridiagonal matrices and their factorisation: every matrix of the 1D rod (mass, damping,
+// stiffness, and the effective matrices of the integrators) is tridiagonal, so a step of
+// any method costs O(n).
+//
+// Thread safety: the types are values; a const object may be shared between threads.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace impactid {
+
+/// An n×n tridiagonal matrix stored by diagonals. lower(i) is A(i, i−1) (lower(0) unused),
+/// upper(i) is A(i, i+1) (upper(n−1) unused).
+struct Tridiagonal {
+  Eigen::VectorXd lower;
+  Eigen::VectorXd diag;
+  Eigen::VectorXd upper;
+
+  static Tridiagonal zero(Eigen::Index n);
+  Eigen::Index size() const { return diag.size(); }
+  /// True when both off-diagonals are exactly zero (a lumped mass matrix).
+  bool is_diagonal() const;
+  /// True when every entry is exactly zero (no damping).
+  bool is_zero() const;
+
+  /// Linear combination a·this + b·other (same size).
+  Tridiagonal combined(double a, const Tridiagonal& other, double b) const;
+  /// y = A·x, overwriting y. y must not alias x.
+  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  /// y += s·A·x. y must not alias x.
+  void multiply_add(double s, const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  /// x^T A x, for energies.
+  double quadratic_form(const Eigen::VectorXd& x) const;
+  /// Dense copy, for tests and reference solvers.
+  Eigen::MatrixXd dense() const;
+};
+
+/// LU factorisation without pivoting (the Thomas algorithm), stored so that each solve is two
+/// sweeps of ~5 flops per unknown. Valid for the diagonally dominant or symmetric positive
+/// definite matrices that the integrators build; factor() reports a zero or non-finite pivot.
+class TridiagonalFactorization {
+ public:
+  /// Returns false (and leaves the object unusable) if a pivot is zero or not finite.
+  bool factor(const Tridiagonal& a);
+  /// Solves A·x = b in place (b becomes x). No allocation.
+  void solve_in_place(Eigen::VectorXd& b) const;
+  Eigen::Index size() const { return inverse_pivot_.size(); }
+
+ private:
+  Eigen::VectorXd lower_;          // sub-diagonal of A
+  Eigen::VectorXd upper_ratio_;    // c'_i = upper_i / pivot_i
+  Eigen::VectorXd inverse_pivot_;  // 1 / pivot_i
+};
+
+}  // namespace impactid

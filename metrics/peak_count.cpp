@@ -1,0 +1,41 @@
+#include "metrics/peak_count.hpp"
+
+#include <algorithm>
+
+namespace impactid {
+
+double peak_prominence(std::span<const double> x, std::size_t first, std::size_t last) {
+  const double top = x[first];
+  double left_base = top;
+  for (std::size_t j = first; j-- > 0;) {
+    if (x[j] > top) break;
+    left_base = std::min(left_base, x[j]);
+  }
+  double right_base = top;
+  for (std::size_t j = last + 1; j < x.size(); ++j) {
+    if (x[j] > top) break;
+    right_base = std::min(right_base, x[j]);
+  }
+  return top - std::max(left_base, right_base);
+}
+
+long count_peaks(std::span<const double> x, double min_prominence) {
+  long peaks = 0;
+  const std::size_t n = x.size();
+  std::size_t i = 1;
+  while (i + 1 < n) {
+    if (!(x[i - 1] < x[i])) {
+      ++i;
+      continue;
+    }
+    std::size_t last = i;  // extend over a flat top
+    while (last + 1 < n && x[last + 1] == x[i]) ++last;
+    if (last + 1 < n && x[last + 1] < x[i] && peak_prominence(x, i, last) >= min_prominence) {
+      ++peaks;
+    }
+    i = last + 1;
+  }
+  return peaks;
+}
+
+}  // namespace impactid
