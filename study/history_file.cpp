@@ -1,0 +1,105 @@
+#include "study/history_file.hpp"
+
+#include <array>
+#include <fstream>
+#include <vector>
+
+#include "core/exact_solution.hpp"
+#include "study/hdf5_file.hpp"
+
+namespace impactid {
+namespace {
+
+struct Column {
+  const char* name;
+  const char* units;
+  const char* description;
+  std::vector<double> values;
+};
+
+std::vector<Column> history_columns(const RodScene& scene, const ContactTrace& trace) {
+  const RodSceneDerived d = derive(scene);
+  const RodImpactExact exact(scene);
+  const auto n = static_cast<std::size_t>(trace.size());
+  std::vector<Column> columns{
+      {"t", "s", "sample time t_i = i*dt", {}},
+      {"pressure", "MPa", "contact pressure lambda/A", trace.pressure},
+      {"velocity", "mm/s", "contact-node velocity, positive toward the wall", trace.velocity},
+      {"displacement", "mm", "contact-node displacement", trace.displacement},
+      {"energy", "mJ", "kinetic + strain energy", trace.energy},
+      {"exact_pressure", "MPa", "d'Alembert solution (mean of the limits on a jump)", {}},
+      {"exact_velocity", "mm/s", "d'Alembert solution (mean of the limits on a jump)", {}},
+      {"exact_displacement", "mm", "d'Alembert solution", {}},
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const long sample = static_cast<long>(i) + 1;
+    const ContactNodeValues e = exact.at_sample(sample);
+    columns[0].values.push_back(sample * d.time_step);
+    columns[5].values.push_back(e.pressure);
+    columns[6].values.push_back(e.velocity);
+    columns[7].values.push_back(e.displacement);
+  }
+  return columns;
+}
+
+void write_csv(const std::filesystem::path& path, const std::vector<Column>& columns) {
+  std::filesystem::path temporary = path;
+  temporary += ".tmp";
+  {
+    std::ofstream out(temporary);
+    if (!out) throw HistoryFileError(path.string() + ": cannot open for writing");
+    out.precision(17);
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      out << (c ? "," : "") << columns[c].name << '[' << columns[c].units << ']';
+    }
+    out << '\n';
+    for (std::size_t i = 0; i < columns[0].values.size(); ++i) {
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        out << (c ? "," : "") << columns[c].values[i];
+      }
+      out << '\n';
+    }
+    if (!out) throw HistoryFileError(path.string() + ": write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) throw HistoryFileError(path.string() + ": " + ec.message());
+}
+
+void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& columns,
+                const std::string& method_name) {
+  try {
+    Hdf5Writer file(path);
+    file.attribute("/", "method", method_name);
+    const Hdf5Dims dims{columns[0].values.size()};
+    for (const Column& c : columns) {
+      file.dataset(c.name, c.values, dims);
+      file.attribute(c.name, "units", std::string(c.units));
+      file.attribute(c.name, "long_name", std::string(c.description));
+    }
+    file.dimension_scale("t", "t");
+    for (std::size_t c = 1; c < columns.size(); ++c) file.attach_scale(columns[c].name, "t", 0);
+    file.commit();
+  } catch (const Hdf5Error& e) {
+    throw HistoryFileError(e.what());
+  }
+}
+
+}  // namespace
+
+void write_history(const std::filesystem::path& path, const RodScene& scene,
+                   const ContactTrace& trace, const std::string& method_name) {
+  const std::string ext = path.extension().string();
+  if (ext != ".csv" && ext != ".h5" && ext != ".hdf5") {
+    throw HistoryFileError(path.string() +
+                           ": unknown history format (use a .csv, .h5 or .hdf5 extension)");
+  }
+  const std::vector<Column> columns = history_columns(scene, trace);
+  if (ext == ".csv") {
+    write_csv(path, columns);
+  } else {
+    write_hdf5(path, columns, method_name);
+  }
+}
+
+}  // namespace impactid

@@ -1,0 +1,97 @@
+// Plan files: what users launch. A TOML file (toml++ 3.3) with sections [scene], [method],
+// [study] and [output]; every key is documented in plans/README.md.
+//
+// load_plan() checks everything before anything runs — unknown keys, wrong types, values out
+// of range, parameters the method does not take, and every point of a grid or list — and
+// throws PlanError as "file:line:column: key = value: what is wrong".
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "study/axis_expression.hpp"
+#include "study/simulation_settings.hpp"
+
+namespace impactid {
+
+struct PlanError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class StudyKind { grid, list, optimize };
+const char* to_string(StudyKind kind);
+
+/// An independent grid axis: `delta = { from = 0.0, to = 1.0, partitions = 40 }` (k partitions
+/// give k+1 evenly spaced values, as in Dakota) or `courant = { values = [0.25, 0.5, 1.0] }`.
+struct GridAxis {
+  std::string name;  ///< a numeric parameter of the settings table
+  std::vector<double> values;
+};
+
+/// A coupled axis: `delta = "-1.5*alpha"`, evaluated at every point from the independent axes;
+/// a line through the grid rather than a dimension of it (the paper's eq. 19).
+struct CoupledAxis {
+  std::string name;
+  AxisExpression expression;
+};
+
+/// One point of a `list` study: parameter name -> value, applied over [scene] and [method].
+using ListPoint = std::vector<std::pair<std::string, ParameterValue>>;
+
+struct OptimizeParameter {
+  std::string name;             ///< a numeric method or scene parameter
+  double lower, upper;          ///< bounds, lower < upper
+  std::optional<double> start;  ///< default: the middle of the bounds
+};
+
+/// indicator <= max and/or indicator >= min.
+struct IndicatorConstraint {
+  std::string indicator;
+  std::optional<double> min, max;
+};
+
+struct OptimizeStudy {
+  /// NLopt's name ("LN_COBYLA", "GN_DIRECT_L", "GN_CRS2_LM", "GN_ISRES", "LN_BOBYQA",
+  /// "LN_NELDERMEAD", "LN_SBPLX", …); the prefix-free short names "COBYLA", "DIRECT", "CRS2",
+  /// "ISRES", "BOBYQA", "NELDERMEAD" are accepted too.
+  std::string algorithm = "LN_COBYLA";
+  /// Minimised: sum of weight × indicator (e.g. {eps_p: 1}).
+  std::vector<std::pair<std::string, double>> objective{{"eps_p", 1.0}};
+  std::vector<OptimizeParameter> parameters;
+  std::vector<IndicatorConstraint> constraints;
+  long max_evaluations = 200;
+  double xtol_rel = 1e-4;
+  double ftol_rel = 0.0;  ///< 0: not used
+  unsigned seed = 1;      ///< for the stochastic algorithms (CRS2, ISRES): results repeat
+};
+
+struct OutputSpec {
+  std::filesystem::path file;            ///< default results/<plan name>.h5
+  std::vector<std::string> indicators;   ///< default: every indicator of indicator_table()
+  double checkpoint_seconds = 10.0;      ///< how often a long run is saved, > 0
+};
+
+struct Plan {
+  std::filesystem::path path;
+  std::string name;         ///< `name` key, default the file stem
+  std::string description;  ///< `description` key, default ""
+  std::string text;         ///< the whole file, stored in results
+  SimulationSettings base;  ///< [scene] and [method]
+  StudyKind kind = StudyKind::grid;
+  std::vector<GridAxis> axes;  ///< grid: in file order; the last varies fastest
+  std::vector<CoupledAxis> coupled;
+  std::vector<ListPoint> points;  ///< list
+  OptimizeStudy optimize;         ///< optimize
+  OutputSpec output;
+};
+
+/// Reads and checks a plan file. Throws PlanError.
+Plan load_plan(const std::filesystem::path& path);
+/// The same from text; `source` names it in messages and gives the default name.
+Plan parse_plan(const std::string& text, const std::filesystem::path& source);
+
+}  // namespace impactid

@@ -1,0 +1,183 @@
+#include "study/simulate_command.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "study/command_line.hpp"
+#include "study/evaluation.hpp"
+#include "study/history_file.hpp"
+#include "study/json_writer.hpp"
+
+namespace impactid {
+namespace {
+
+// Every numeric parameter the run used (derived δ, β, γ included), in table order.
+template <class Emit>
+void for_each_used_parameter(const Simulation& sim, Emit&& emit) {
+  for (const ParameterInfo& info : parameter_table()) {
+    if (info.kind == ParameterKind::choice) continue;
+    if (const auto value = numeric_value(sim, info.name)) emit(info.name, *value);
+  }
+}
+
+void write_json(const Simulation& sim, const Evaluation& e) {
+  const RodSceneDerived d = derive(sim.scene);
+  JsonWriter json(std::cout);
+  json.begin_object();
+  json.key("method").value(to_string(kind_of(sim.method)));
+  json.key("parameters").begin_object();
+  for_each_used_parameter(sim, [&](const char* name, double v) { json.key(name).value(v); });
+  json.key("mass").value(to_string(sim.scene.mass));
+  if (const auto* p = std::get_if<CentralDifferenceParams>(&sim.method)) {
+    json.key("cdm_velocity").value(to_string(p->velocity));
+  }
+  if (const auto* p = std::get_if<HhtParams>(&sim.method)) {
+    json.key("hht_contact").value(to_string(p->contact));
+  }
+  if (const auto* p = std::get_if<GeneralizedAlphaParams>(&sim.method)) {
+    json.key("hht_contact").value(to_string(p->contact));
+  }
+  json.end_object();
+  json.key("dt").value(e.summary.dt);
+  json.key("steps").value(e.summary.steps);
+  json.key("planned_steps").value(e.summary.planned_steps);
+  json.key("status").value(to_string(e.summary.status));
+  json.key("message").value(e.summary.message);
+  json.key("eps_p").value(e.indicators.eps_p);
+  json.key("eps_v").value(e.indicators.eps_v);
+  json.key("nop_p").value(e.indicators.nop_p);
+  json.key("nop_v").value(e.indicators.nop_v);
+  json.key("p_max").value(e.indicators.p_max);
+  json.key("p_max_ratio").value(e.indicators.p_max_ratio);
+  json.key("pressure_scale").value(d.pressure_scale);
+  json.key("contact_episodes").value(e.indicators.contact_episodes);
+  json.key("energy_ratio").value(e.indicators.energy_ratio);
+  json.key("wall_time_s").value(e.summary.wall_time_s);
+  json.end_object();
+  std::cout << '\n';
+}
+
+void write_text(const Simulation& sim, const Evaluation& e) {
+  const RodSceneDerived d = derive(sim.scene);
+  std::printf("method      %s", to_string(kind_of(sim.method)));
+  const char* sep = " (";
+  for (const char* name : {"delta", "alpha", "rho_inf", "beta", "gamma"}) {
+    if (const auto v = numeric_value(sim, name)) {
+      std::printf("%s%s = %.6g", sep, name, *v);
+      sep = ", ";
+    }
+  }
+  std::printf("%s\n", *sep == ',' ? ")" : "");
+  std::printf("scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
+              "v0 = %g mm/s, gap = %g mm, %s mass\n",
+              sim.scene.length, sim.scene.elements, sim.scene.youngs_modulus, sim.scene.density,
+              sim.scene.area, sim.scene.velocity, sim.scene.gap, to_string(sim.scene.mass));
+  std::printf("time        dt = %.6g s (Courant %.4g), %ld steps to t_end = %.6g s\n",
+              d.time_step, d.time_step * d.wave_speed / d.element_length, d.step_count,
+              d.end_time);
+  std::printf("status      %s%s%s\n", to_string(e.summary.status),
+              e.summary.message.empty() ? "" : ": ", e.summary.message.c_str());
+  const Indicators& i = e.indicators;
+  std::printf("pressure    eps_p = %.6g   NoP_p = %g   p_max = %.6g MPa (%.4g x rho*c*v0)\n",
+              i.eps_p, i.nop_p, i.p_max, i.p_max_ratio);
+  std::printf("velocity    eps_v = %.6g   NoP_v = %g\n", i.eps_v, i.nop_v);
+  std::printf("contact     %g episode(s); energy at t_end / initial = %.6g\n", i.contact_episodes,
+              i.energy_ratio);
+  std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+}
+
+}  // namespace
+
+std::function<int()> add_simulate_command(CLI::App& app) {
+  auto* command = app.add_subcommand("simulate", "Run one rod-impact simulation with one method "
+                                                 "and print the paper's indicators");
+  struct Options {
+    GivenOptions given;
+    bool json = false;
+    std::string history;
+  };
+  auto options = std::make_shared<Options>();
+  add_parameter_options(*command, options->given,
+                        {ParameterGroup::method, ParameterGroup::scene, ParameterGroup::output});
+  command->add_flag("--json", options->json, "Print one JSON object instead of text");
+  command->add_option("--history", options->history,
+                      "Write the time histories to FILE (.csv, or .h5/.hdf5 for HDF5)")
+      ->type_name("FILE");
+
+  return [command, options]() -> int {
+    if (!command->parsed()) return -1;
+    SimulationSettings settings;
+    if (!apply_options(options->given, settings, "simulate")) return kExitBadInput;
+    const auto sim = build_or_report(settings, "simulate");
+    if (!sim) return kExitBadInput;
+    if (!options->history.empty()) {
+      const std::string ext = std::filesystem::path(options->history).extension().string();
+      if (ext != ".csv" && ext != ".h5" && ext != ".hdf5") {
+        std::cerr << "impactid simulate: --history = " << options->history
+                  << ": must end in .csv, .h5 or .hdf5\n";
+        return kExitBadInput;
+      }
+    }
+    SimulationWorkspace workspace;
+    const Evaluation e = evaluate(*sim, workspace);
+    if (options->json) {
+      write_json(*sim, e);
+    } else {
+      write_text(*sim, e);
+    }
+    if (!options->history.empty()) {
+      try {
+        write_history(options->history, sim->scene, workspace.trace,
+                      to_string(kind_of(sim->method)));
+      } catch (const std::exception& error) {
+        std::cerr << "impactid simulate: " << error.what() << '\n';
+        return kExitFailure;
+      }
+      if (!options->json) std::printf("history     %s\n", options->history.c_str());
+    }
+    return 0;
+  };
+}
+
+std::function<int()> add_compare_command(CLI::App& app) {
+  auto* command = app.add_subcommand(
+      "compare", "Run every method at its default parameters on one scene and print a table");
+  auto given = std::make_shared<GivenOptions>();
+  add_parameter_options(*command, *given, {ParameterGroup::scene, ParameterGroup::output});
+
+  return [command, given]() -> int {
+    if (!command->parsed()) return -1;
+    SimulationSettings base;
+    if (!apply_options(*given, base, "compare")) return kExitBadInput;
+    std::printf("%-18s %-26s %-8s %9s %6s %9s %6s %8s %8s %9s\n", "method", "parameters",
+                "status", "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0",
+                "time[ms]");
+    SimulationWorkspace workspace;
+    for (const MethodKind kind :
+         {MethodKind::central_difference, MethodKind::backward_euler, MethodKind::newmark,
+          MethodKind::hht, MethodKind::generalized_alpha}) {
+      SimulationSettings settings = base;
+      settings.method = MethodSettings{.kind = kind};
+      const auto sim = build_or_report(settings, "compare");
+      if (!sim) return kExitBadInput;
+      const Evaluation e = evaluate(*sim, workspace);
+      std::string params;
+      for (const char* name : {"delta", "alpha", "rho_inf"}) {
+        if (const auto v = numeric_value(*sim, name)) {
+          char buffer[48];
+          std::snprintf(buffer, sizeof buffer, "%s%s=%.3g", params.empty() ? "" : " ", name, *v);
+          params += buffer;
+        }
+      }
+      if (params.empty()) params = "-";
+      const Indicators& i = e.indicators;
+      std::printf("%-18s %-26s %-8s %9.4g %6g %9.4g %6g %8.4g %8.4g %9.3g\n", to_string(kind),
+                  params.c_str(), to_string(e.summary.status), i.eps_p, i.nop_p, i.eps_v, i.nop_v,
+                  i.p_max_ratio, i.energy_ratio, e.summary.wall_time_s * 1e3);
+    }
+    return 0;
+  };
+}
+
+}  // namespace impactid

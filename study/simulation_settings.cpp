@@ -1,0 +1,301 @@
+#include "study/simulation_settings.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <string>
+#include <type_traits>
+
+namespace impactid {
+namespace {
+
+using G = ParameterGroup;
+using K = ParameterKind;
+
+constexpr std::array<ParameterInfo, 23> kParameters{{
+    {"length", G::scene, K::real, "mm", "rod length L (default 20, > 0)", "", ""},
+    {"elements", G::scene, K::integer, "", "number of 2-node truss elements n (default 200, >= 1)",
+     "", ""},
+    {"youngs_modulus", G::scene, K::real, "MPa", "Young's modulus E (default 90, > 0)", "", ""},
+    {"density", G::scene, K::real, "t/mm^3", "density rho (default 7.85e-9, > 0)", "", ""},
+    {"area", G::scene, K::real, "mm^2", "cross-section A (default 1, > 0)", "", ""},
+    {"velocity", G::scene, K::real, "mm/s", "initial velocity v0 toward the wall (default 1000)",
+     "", ""},
+    {"gap", G::scene, K::real, "mm", "initial gap to the wall (default 0.01, >= 0)", "", ""},
+    {"mass", G::scene, K::choice, "", "mass matrix (default lumped)", "lumped|consistent", ""},
+    {"rayleigh_mass", G::scene, K::real, "1/s", "Rayleigh a0 in C = a0*M + a1*K (default 0)", "",
+     ""},
+    {"rayleigh_stiffness", G::scene, K::real, "s", "Rayleigh a1 in C = a0*M + a1*K (default 0)",
+     "", ""},
+    {"courant", G::scene, K::real, "", "Courant number c*dt/h (default 0.5, > 0); not with dt", "",
+     ""},
+    {"dt", G::scene, K::real, "s", "time step (default from courant); not with courant", "", ""},
+    {"t_end", G::scene, K::real, "s", "end time (default t_impact + 1.5*2L/c)", "", ""},
+    {"method", G::method, K::choice, "", "time-stepping method (default hht)",
+     "cdm|backward-euler|newmark|hht|generalized-alpha", ""},
+    {"delta", G::method, K::real, "",
+     "delta of eq. 13: beta = (1+delta)^2/4, gamma = 1/2+delta (newmark: default 0.3; hht: default "
+     "-alpha), >= 0",
+     "", "newmark|hht"},
+    {"alpha", G::method, K::real, "", "HHT alpha of eq. 14 (default -0.3), in [-0.5, 0]", "",
+     "hht"},
+    {"beta", G::method, K::real, "", "Newmark beta, given with gamma instead of delta (> 0)", "",
+     "newmark"},
+    {"gamma", G::method, K::real, "", "Newmark gamma, given with beta instead of delta (>= 0)", "",
+     "newmark"},
+    {"rho_inf", G::method, K::real, "",
+     "generalized-alpha high-frequency spectral radius (default 0.8), in [0, 1]", "",
+     "generalized-alpha"},
+    {"cdm_velocity", G::method, K::choice, "",
+     "central difference velocity: eq. 3 central or eq. 6/7 backward (default central)",
+     "central|backward", "cdm"},
+    {"hht_contact", G::method, K::choice, "",
+     "where the contact force of an alpha-method acts: at t+dt (endpoint, default) or "
+     "alpha-weighted",
+     "endpoint|weighted", "hht|generalized-alpha"},
+    {"peak_prominence", G::output, K::real, "",
+     "minimum prominence of a counted peak, as a fraction of rho*c*v0 (pressure) and |v0| "
+     "(velocity) (default 1e-6, > 0)",
+     "", ""},
+    {"energy_growth_limit", G::output, K::real, "",
+     "a run is unstable once its energy exceeds this multiple of the initial energy (default "
+     "1.5, > 1)",
+     "", ""},
+}};
+
+bool method_takes(const ParameterInfo& info, MethodKind kind) {
+  const std::string_view methods = info.methods;
+  if (methods.empty()) return true;
+  const std::string_view name = to_string(kind);
+  std::size_t start = 0;
+  while (start <= methods.size()) {
+    const std::size_t end = std::min(methods.find('|', start), methods.size());
+    if (methods.substr(start, end - start) == name) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+std::string choice_text(const ParameterValue& value) {
+  if (const auto* text = std::get_if<std::string>(&value)) return *text;
+  return format_value(std::get<double>(value));
+}
+
+std::optional<ParameterError> assign_choice(SimulationSettings& s, const ParameterInfo& info,
+                                            const std::string& text) {
+  const std::string name = info.name;
+  const auto bad = [&] {
+    return ParameterError{info.name, text, std::string("must be one of ") + info.choices};
+  };
+  if (name == "mass") {
+    const auto v = mass_matrix_from_string(text);
+    if (!v) return bad();
+    s.scene.mass = *v;
+  } else if (name == "method") {
+    const auto v = method_kind_from_string(text);
+    if (!v) return bad();
+    s.method.kind = *v;
+  } else if (name == "cdm_velocity") {
+    const auto v = cdm_velocity_from_string(text);
+    if (!v) return bad();
+    s.method.cdm_velocity = *v;
+  } else if (name == "hht_contact") {
+    const auto v = contact_weighting_from_string(text);
+    if (!v) return bad();
+    s.method.hht_contact = *v;
+  }
+  return std::nullopt;
+}
+
+std::optional<ParameterError> assign_number(SimulationSettings& s, const ParameterInfo& info,
+                                            double v) {
+  const std::string name = info.name;
+  if (info.kind == ParameterKind::integer) {
+    if (!(std::isfinite(v) && v == std::floor(v) && std::abs(v) < 2e9)) {
+      return ParameterError{info.name, format_value(v), "must be an integer"};
+    }
+  }
+  if (name == "length") s.scene.length = v;
+  else if (name == "elements") s.scene.elements = static_cast<int>(v);
+  else if (name == "youngs_modulus") s.scene.youngs_modulus = v;
+  else if (name == "density") s.scene.density = v;
+  else if (name == "area") s.scene.area = v;
+  else if (name == "velocity") s.scene.velocity = v;
+  else if (name == "gap") s.scene.gap = v;
+  else if (name == "rayleigh_mass") s.scene.rayleigh_mass = v;
+  else if (name == "rayleigh_stiffness") s.scene.rayleigh_stiffness = v;
+  else if (name == "courant") {
+    if (s.scene.dt) return ParameterError{"courant", format_value(v), "cannot be given with dt"};
+    s.scene.courant = v;
+    s.courant_given = true;
+  } else if (name == "dt") {
+    if (s.courant_given) {
+      return ParameterError{"dt", format_value(v), "cannot be given with courant"};
+    }
+    s.scene.dt = v;
+  } else if (name == "t_end") s.scene.t_end = v;
+  else if (name == "delta") s.method.delta = v;
+  else if (name == "alpha") s.method.alpha = v;
+  else if (name == "beta") s.method.beta = v;
+  else if (name == "gamma") s.method.gamma = v;
+  else if (name == "rho_inf") s.method.rho_inf = v;
+  else if (name == "peak_prominence") s.indicators.peak_prominence = v;
+  else if (name == "energy_growth_limit") s.run.energy_growth_limit = v;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::span<const ParameterInfo> parameter_table() { return kParameters; }
+
+const ParameterInfo* find_parameter(std::string_view name) {
+  for (const auto& info : kParameters) {
+    if (name == info.name) return &info;
+  }
+  return nullptr;
+}
+
+std::optional<ParameterError> assign(SimulationSettings& settings, std::string_view name,
+                                     const ParameterValue& value) {
+  const ParameterInfo* info = find_parameter(name);
+  if (!info) return ParameterError{std::string(name), choice_text(value), "is not a parameter"};
+  if (info->kind == ParameterKind::choice) {
+    const auto* text = std::get_if<std::string>(&value);
+    if (!text) {
+      return ParameterError{info->name, choice_text(value),
+                            std::string("must be one of ") + info->choices};
+    }
+    return assign_choice(settings, *info, *text);
+  }
+  const auto* number = std::get_if<double>(&value);
+  if (!number) {
+    return ParameterError{info->name, '"' + std::get<std::string>(value) + '"',
+                          "must be a number"};
+  }
+  return assign_number(settings, *info, *number);
+}
+
+std::optional<ParameterError> assign_text(SimulationSettings& settings, std::string_view name,
+                                          std::string_view text) {
+  const ParameterInfo* info = find_parameter(name);
+  if (!info) return ParameterError{std::string(name), std::string(text), "is not a parameter"};
+  if (info->kind == ParameterKind::choice) return assign(settings, name, std::string(text));
+  double v = 0.0;
+  const std::string t(text);
+  // from_chars accepts "nan" and "inf": they are then rejected by the range checks, by name.
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec != std::errc() || end != t.data() + t.size() || t.empty()) {
+    return ParameterError{info->name, t, "must be a number"};
+  }
+  return assign(settings, name, v);
+}
+
+std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
+  const MethodSettings& m = s.method;
+  // A parameter the method does not take is an error, not silently ignored.
+  const auto text = [](const auto& v) -> std::optional<std::string> {
+    if (!v) return std::nullopt;
+    if constexpr (std::is_same_v<std::decay_t<decltype(*v)>, double>) return format_value(*v);
+    else return std::string(to_string(*v));
+  };
+  const std::pair<const char*, std::optional<std::string>> given[] = {
+      {"delta", text(m.delta)},     {"alpha", text(m.alpha)},
+      {"beta", text(m.beta)},       {"gamma", text(m.gamma)},
+      {"rho_inf", text(m.rho_inf)}, {"cdm_velocity", text(m.cdm_velocity)},
+      {"hht_contact", text(m.hht_contact)},
+  };
+  for (const auto& [name, value] : given) {
+    const ParameterInfo* info = find_parameter(name);
+    if (value && !method_takes(*info, m.kind)) {
+      return ParameterError{info->name, *value,
+                            std::string("is not a parameter of method ") + to_string(m.kind) +
+                                " (it applies to " + info->methods + ")"};
+    }
+  }
+
+  Simulation out{s.scene, default_params(m.kind), s.indicators, s.run};
+  switch (m.kind) {
+    case MethodKind::central_difference:
+      out.method = CentralDifferenceParams{m.cdm_velocity.value_or(CdmVelocity::central)};
+      break;
+    case MethodKind::backward_euler: out.method = BackwardEulerParams{}; break;
+    case MethodKind::newmark: {
+      NewmarkParams p;
+      if (m.beta || m.gamma) {
+        if (m.delta) {
+          return ParameterError{"delta", format_value(*m.delta),
+                                "cannot be given with beta and gamma (eq. 13 derives them)"};
+        }
+        if (!m.beta) return ParameterError{"beta", "(missing)", "must be given with gamma"};
+        if (!m.gamma) return ParameterError{"gamma", "(missing)", "must be given with beta"};
+        p.coefficients = BetaGamma{*m.beta, *m.gamma};
+      } else if (m.delta) {
+        p.delta = *m.delta;
+      }
+      out.method = p;
+      break;
+    }
+    case MethodKind::hht: {
+      HhtParams p;
+      if (m.alpha) p.alpha = *m.alpha;
+      p.delta = m.delta;
+      if (m.hht_contact) p.contact = *m.hht_contact;
+      out.method = p;
+      break;
+    }
+    case MethodKind::generalized_alpha: {
+      GeneralizedAlphaParams p;
+      if (m.rho_inf) p.rho_inf = *m.rho_inf;
+      if (m.hht_contact) p.contact = *m.hht_contact;
+      out.method = p;
+      break;
+    }
+  }
+  if (auto e = validate(out.scene)) return *e;
+  if (auto e = validate(out.method)) return *e;
+  if (!(out.indicators.peak_prominence > 0.0 && std::isfinite(out.indicators.peak_prominence))) {
+    return ParameterError{"peak_prominence", format_value(out.indicators.peak_prominence),
+                          "must be positive and finite"};
+  }
+  if (!(out.run.energy_growth_limit > 1.0)) {
+    return ParameterError{"energy_growth_limit", format_value(out.run.energy_growth_limit),
+                          "must be > 1"};
+  }
+  return out;
+}
+
+std::optional<double> numeric_value(const Simulation& sim, std::string_view name) {
+  const RodScene& sc = sim.scene;
+  const RodSceneDerived d = derive(sc);
+  if (name == "length") return sc.length;
+  if (name == "elements") return sc.elements;
+  if (name == "youngs_modulus") return sc.youngs_modulus;
+  if (name == "density") return sc.density;
+  if (name == "area") return sc.area;
+  if (name == "velocity") return sc.velocity;
+  if (name == "gap") return sc.gap;
+  if (name == "rayleigh_mass") return sc.rayleigh_mass;
+  if (name == "rayleigh_stiffness") return sc.rayleigh_stiffness;
+  if (name == "courant") return d.time_step * d.wave_speed / d.element_length;
+  if (name == "dt") return d.time_step;
+  if (name == "t_end") return d.end_time;
+  if (name == "peak_prominence") return sim.indicators.peak_prominence;
+  if (name == "energy_growth_limit") return sim.run.energy_growth_limit;
+  if (const auto* p = std::get_if<NewmarkParams>(&sim.method)) {
+    if (name == "delta" && !p->coefficients) return p->delta;
+  }
+  if (const auto* p = std::get_if<HhtParams>(&sim.method)) {
+    if (name == "alpha") return p->alpha;
+    if (name == "delta") return p->delta.value_or(-p->alpha);
+  }
+  if (const auto* p = std::get_if<GeneralizedAlphaParams>(&sim.method)) {
+    if (name == "rho_inf") return p->rho_inf;
+  }
+  if (const auto bg = reported_beta_gamma(sim.method)) {
+    if (name == "beta") return bg->beta;
+    if (name == "gamma") return bg->gamma;
+  }
+  return std::nullopt;
+}
+
+}  // namespace impactid

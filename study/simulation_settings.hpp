@@ -1,0 +1,83 @@
+// The named parameters of one simulation, as users write them: the single table behind the
+// command line (`--youngs-modulus`), plan files (`youngs_modulus = 90.0`) and sweep axes.
+// Names are snake_case; the command line uses them with '-' for '_'.
+//
+// Settings are flat and record what was given, so that rules across parameters (Newmark's δ
+// or β and γ; courant or dt; a parameter the method does not take) are checked in one place,
+// build(), and reported with the parameter's name.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "core/method.hpp"
+#include "core/parameter_error.hpp"
+#include "core/rod_scene.hpp"
+#include "core/simulation.hpp"
+#include "metrics/indicators.hpp"
+
+namespace impactid {
+
+/// Method parameters as given; unset ones take the method's defaults in build().
+struct MethodSettings {
+  MethodKind kind = MethodKind::hht;
+  std::optional<double> delta, alpha, beta, gamma, rho_inf;
+  std::optional<CdmVelocity> cdm_velocity;
+  std::optional<ContactWeighting> hht_contact;
+};
+
+struct SimulationSettings {
+  RodScene scene;
+  bool courant_given = false;
+  MethodSettings method;
+  IndicatorOptions indicators;
+  RunOptions run;
+};
+
+/// A complete, validated simulation.
+struct Simulation {
+  RodScene scene;
+  MethodParams method;
+  IndicatorOptions indicators;
+  RunOptions run;
+};
+
+enum class ParameterGroup { scene, method, output };
+enum class ParameterKind { real, integer, choice };
+
+struct ParameterInfo {
+  const char* name;         ///< snake_case key
+  ParameterGroup group;
+  ParameterKind kind;
+  const char* unit;         ///< "" when dimensionless
+  const char* description;  ///< one line, with the default and range
+  const char* choices;      ///< "lumped|consistent" for choice parameters, else ""
+  const char* methods;      ///< methods that take it ("newmark|hht"), "" = every method
+};
+
+/// Every parameter, in the order --help lists them.
+std::span<const ParameterInfo> parameter_table();
+const ParameterInfo* find_parameter(std::string_view name);
+
+using ParameterValue = std::variant<double, std::string>;
+
+/// Sets one parameter. Errors: unknown name, wrong kind, non-integral integer, unknown choice,
+/// courant together with dt. Range checks happen in build().
+std::optional<ParameterError> assign(SimulationSettings& settings, std::string_view name,
+                                     const ParameterValue& value);
+/// The same from text (the command line): numbers are parsed strictly.
+std::optional<ParameterError> assign_text(SimulationSettings& settings, std::string_view name,
+                                          std::string_view text);
+
+/// The numeric value a parameter has in a built simulation, derived values included (δ of HHT
+/// when only α was given, β and γ of every Newmark-family method); nothing for a choice
+/// parameter or one the method does not have.
+std::optional<double> numeric_value(const Simulation& simulation, std::string_view name);
+
+/// Checks every rule and range and builds the simulation, or names the first bad parameter.
+std::variant<Simulation, ParameterError> build(const SimulationSettings& settings);
+
+}  // namespace impactid
