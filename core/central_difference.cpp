@@ -17,7 +17,9 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   contact_influence_[system.contact_dof] = 1.0;
   factorization_.solve_in_place(contact_influence_);
   u_ = initial.u;
-  u_previous_ = initial.u - dt * initial.v;
+  // Taylor start, second order: u₋ = u₀ − Δt·v₀ + ½Δt²·a₀. For the rod (a₀ = 0) this is the
+  // convention u₋₁ = u₀ − Δt·v0; without the a₀ term a displaced start is only first order.
+  u_previous_ = initial.u - dt * initial.v + (0.5 * dt * dt) * initial.a;
   u_next_.resize(n);
   scratch_.resize(n);
   return true;

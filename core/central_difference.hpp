@@ -7,7 +7,9 @@
 //   central:  (M/Δt² + C/(2Δt))·u₊ = M·(2u − u₋)/Δt² + C·u₋/(2Δt) − K·u − G^T·λ_t   (eq. 5)
 //   backward:  M/Δt²·u₊          = M·(2u − u₋)/Δt² − C·(u − u₋)/Δt − K·u − G^T·λ_t (eq. 7)
 // The left-hand matrix is diagonal for a lumped mass without stiffness damping, tridiagonal
-// otherwise; it is factored once. Stable for Courant numbers up to 1 (lumped, undamped).
+// otherwise; it is factored once. Stable for Courant numbers below 1 (lumped, undamped): the
+// highest mode of the lumped rod has Ω = ω·Δt = 2·Courant, and at exactly Ω = 2 its repeated
+// eigenvalue −1 grows linearly.
 //
 // Thread safety: one object per thread.
 #pragma once
@@ -21,8 +23,8 @@ namespace impactid {
 
 class CentralDifference {
  public:
-  /// Factors the left-hand matrix and starts from `initial` at t₀ with u₋ = u₀ − Δt·v₀.
-  /// Returns false if the matrix is singular.
+  /// Factors the left-hand matrix and starts from `initial` at t₀ with u₋ = u₀ − Δt·v₀ +
+  /// ½Δt²·a₀ (a₀ must be consistent). Returns false if the matrix is singular.
   bool initialize(const SecondOrderSystem& system, CdmVelocity velocity, double dt,
                   const State& initial);
 

@@ -43,7 +43,7 @@ std::optional<ContactWeighting> contact_weighting_from_string(const std::string&
 
 /// Central difference with Carpenter's forward-increment Lagrange multiplier
 /// (Carpenter, Taylor & Katona 1991, doi:10.1002/nme.1620320107). Explicit with a lumped mass;
-/// stable for Courant numbers up to 1 (lumped mass, no damping).
+/// stable for Courant numbers below 1 (lumped mass, no damping; see central_difference.hpp).
 struct CentralDifferenceParams {
   CdmVelocity velocity = CdmVelocity::central;
 };
@@ -69,7 +69,11 @@ struct NewmarkParams {
 };
 
 /// HHT-α, eq. 14, with β and γ from eq. 13. α ∈ [−0.5, 0]; δ defaults to −α, which is exactly
-/// the second-order choice of eq. 15. δ < −α is unstable.
+/// the second-order choice of eq. 15. δ < −α is unstable (for every Δt: ξ̄ ≈ (α+δ)/2·Ω < 0).
+/// The high-frequency damping is ρ∞ = (1+α)/(1−α) only for α ∈ [−1/3, 0]; below −1/3 a spurious
+/// root dominates, ρ∞ = −α/(1+α), which reaches 1 at α = −0.5: no high-frequency damping at
+/// the paper's end of the range, whatever δ. δ = −1.5α (eq. 19) minimises the period error as
+/// Ω → 0 (core/amplification.hpp), at the price of first order.
 struct HhtParams {
   double alpha = -0.3;          ///< α ∈ [−0.5, 0]
   std::optional<double> delta;  ///< δ >= 0; default −α

@@ -5,8 +5,12 @@
 //     never peaks (the rule of scipy.signal.find_peaks);
 //   - it counts only if its topographic prominence is at least `min_prominence`. The prominence
 //     is the height of the peak above the higher of its two bases, each base being the lowest
-//     sample between the peak and the nearest strictly higher sample on that side (or the end
-//     of the signal) — the definition of scipy.signal.peak_prominences.
+//     sample between the peak and the nearest higher sample on that side (or the end of the
+//     signal): strictly higher on the right, higher or equal on the left. That is
+//     scipy.signal.peak_prominences except for ties: of two equal summits the earlier is the
+//     parent, and the later one's prominence is the depth of the col between them, as in
+//     topography. scipy gives both the full height, which would count every repetition of a
+//     plateau's top value as a peak of the whole pulse height.
 // Why the prominence threshold: the raw strict-maximum rule counts round-off. An exact plateau
 // computed in floating point wobbles by a few ulps, and each wobble is a "peak": hundreds of
 // them on the contact pressure's plateau. A threshold far below any physical oscillation

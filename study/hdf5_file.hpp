@@ -2,9 +2,15 @@
 // through these functions, so HDF5's exceptions and handles stay here: failures come out as
 // Hdf5Error with the file and object named.
 //
-// Files are written atomically: create() writes to "<path>.tmp" and commit() renames it over
-// <path>, so a reader never sees a half-written file and an interrupted writer leaves the
-// previous file intact.
+// Files are written atomically: the constructor writes to "<path>.tmp" and commit() flushes it
+// to disk (fsync) and renames it over <path>, so a reader never sees a half-written file and an
+// interrupted or failed writer leaves the previous file intact and no temporary behind.
+//
+// Files track the creation order of their root group's links and attributes (as netCDF-4
+// does), so members() and attribute_names() list them in the order they were written.
+//
+// An object is not safe to share between threads; separate objects may be used from separate
+// threads (Debian's HDF5 is built thread-safe and serialises its calls).
 #pragma once
 
 #include <H5Cpp.h>
@@ -38,28 +44,29 @@ class Hdf5Writer {
   void attribute(const std::string& object, const std::string& name, const std::string& value);
   void attribute(const std::string& object, const std::string& name,
                  std::span<const double> values);
+  void attribute(const std::string& object, const std::string& name, std::span<const int> values);
 
   void group(const std::string& path);
   /// A row-major dataset of the given shape (product of dims == data.size()).
   void dataset(const std::string& path, std::span<const double> data, const Hdf5Dims& dims);
   void dataset(const std::string& path, std::span<const long> data, const Hdf5Dims& dims);
+  void dataset(const std::string& path, std::span<const int> data, const Hdf5Dims& dims);
   void dataset(const std::string& path, const std::vector<std::string>& data);
 
-  /// Marks a 1D dataset as a netCDF-4 style dimension scale named `dimension`, and attaches it
-  /// to dimension `index` of each dataset in `users` (H5DS, the HDF5 high-level library).
+  /// Marks a 1D dataset as a netCDF-4 style dimension scale named `dimension` (H5DS, the HDF5
+  /// high-level library: attributes CLASS = "DIMENSION_SCALE" and NAME).
   void dimension_scale(const std::string& scale, const std::string& dimension);
+  /// Attaches a dimension scale to dimension `index` of `dataset` (its DIMENSION_LIST).
   void attach_scale(const std::string& dataset, const std::string& scale, unsigned index);
 
-  /// Closes and renames the temporary file over the target. Throws Hdf5Error.
+  /// Closes the file, flushes it to disk and renames it over the target; on failure the
+  /// temporary file is removed. Throws Hdf5Error.
   void commit();
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  H5::H5Object& object(const std::string& path);
   std::filesystem::path path_, temporary_;
   std::optional<H5::H5File> file_;
-  std::optional<H5::Group> group_handle_;
-  std::optional<H5::DataSet> dataset_handle_;
 };
 
 /// Read access to a results file. Throws Hdf5Error naming the file for a missing, truncated or
@@ -69,16 +76,29 @@ class Hdf5Reader {
   explicit Hdf5Reader(const std::filesystem::path& path);
 
   bool exists(const std::string& path) const;
+  /// Names of a group's members, in creation order when the file tracks it, else by name.
   std::vector<std::string> members(const std::string& group) const;
   Hdf5Dims shape(const std::string& dataset) const;
   std::vector<double> doubles(const std::string& dataset) const;
   std::vector<long> longs(const std::string& dataset) const;
+  std::vector<int> ints(const std::string& dataset) const;
   std::vector<std::string> strings(const std::string& dataset) const;
   bool has_attribute(const std::string& object, const std::string& name) const;
   double attribute_double(const std::string& object, const std::string& name) const;
   long attribute_long(const std::string& object, const std::string& name) const;
   std::string attribute_string(const std::string& object, const std::string& name) const;
   std::vector<double> attribute_doubles(const std::string& object, const std::string& name) const;
+  std::vector<int> attribute_ints(const std::string& object, const std::string& name) const;
+  /// Names of an object's attributes, in creation order when the file tracks it, else by name.
+  std::vector<std::string> attribute_names(const std::string& object) const;
+  /// True for a string attribute, false for any other (numbers, references…).
+  bool attribute_is_text(const std::string& object, const std::string& name) const;
+
+  /// True if the dataset is a dimension scale (H5DS: CLASS = "DIMENSION_SCALE").
+  bool is_dimension_scale(const std::string& dataset) const;
+  /// Paths ("/alpha") of the dimension scales attached to dimension `index` of `dataset`, in
+  /// attachment order; empty when none is attached.
+  std::vector<std::string> attached_scales(const std::string& dataset, unsigned index) const;
 
  private:
   std::filesystem::path path_;

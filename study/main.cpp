@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "study/command_line.hpp"
+#include "study/run_command.hpp"
 #include "study/simulate_command.hpp"
 #include "study/version.hpp"
 
@@ -18,6 +19,8 @@ int main(int argc, char** argv) {
   std::vector<std::function<int()>> commands{
       impactid::add_simulate_command(app),
       impactid::add_compare_command(app),
+      impactid::add_run_command(app),
+      impactid::add_export_command(app),
   };
   try {
     app.parse(argc, argv);

@@ -3,7 +3,12 @@
 //
 // load_plan() checks everything before anything runs — unknown keys, wrong types, values out
 // of range, parameters the method does not take, and every point of a grid or list — and
-// throws PlanError as "file:line:column: key = value: what is wrong".
+// throws PlanError as "file:line:column: key = value: what is wrong". The key is the dotted
+// path (`study.axes.delta`, `study.points[2].delta`), the value is as written in the file (for
+// a grid point: the point's value, with the point named after the message), and line:column is
+// where that value starts (toml++ counts columns in characters). The parameter names, kinds
+// and ranges all come from the settings table and build() (simulation_settings.hpp): this
+// module knows the plan's structure, not the parameters.
 #pragma once
 
 #include <filesystem>
@@ -26,7 +31,8 @@ enum class StudyKind { grid, list, optimize };
 const char* to_string(StudyKind kind);
 
 /// An independent grid axis: `delta = { from = 0.0, to = 1.0, partitions = 40 }` (k partitions
-/// give k+1 evenly spaced values, as in Dakota) or `courant = { values = [0.25, 0.5, 1.0] }`.
+/// give k+1 evenly spaced values from + i*(to-from)/k, as in Dakota, the last exactly `to`) or
+/// `courant = { values = [0.25, 0.5, 1.0] }`.
 struct GridAxis {
   std::string name;  ///< a numeric parameter of the settings table
   std::vector<double> values;
@@ -43,9 +49,10 @@ struct CoupledAxis {
 using ListPoint = std::vector<std::pair<std::string, ParameterValue>>;
 
 struct OptimizeParameter {
-  std::string name;             ///< a numeric method or scene parameter
+  std::string name;             ///< a real (not integer) parameter the method takes
   double lower, upper;          ///< bounds, lower < upper
   std::optional<double> start;  ///< default: the middle of the bounds
+  double initial() const { return start.value_or(0.5 * (lower + upper)); }
 };
 
 /// indicator <= max and/or indicator >= min.
@@ -55,9 +62,10 @@ struct IndicatorConstraint {
 };
 
 struct OptimizeStudy {
-  /// NLopt's name ("LN_COBYLA", "GN_DIRECT_L", "GN_CRS2_LM", "GN_ISRES", "LN_BOBYQA",
-  /// "LN_NELDERMEAD", "LN_SBPLX", …); the prefix-free short names "COBYLA", "DIRECT", "CRS2",
-  /// "ISRES", "BOBYQA", "NELDERMEAD" are accepted too.
+  /// NLopt's full name, always: GN_DIRECT, GN_DIRECT_L, GN_ORIG_DIRECT, GN_ORIG_DIRECT_L,
+  /// GN_CRS2_LM, GN_ISRES, GN_ESCH, LN_COBYLA, LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX or LN_PRAXIS.
+  /// Plans may also use the short names DIRECT (GN_DIRECT_L), CRS2 (GN_CRS2_LM), ISRES,
+  /// COBYLA, BOBYQA, NELDERMEAD or NELDER-MEAD, SBPLX; the full name is stored.
   std::string algorithm = "LN_COBYLA";
   /// Minimised: sum of weight × indicator (e.g. {eps_p: 1}).
   std::vector<std::pair<std::string, double>> objective{{"eps_p", 1.0}};
@@ -70,9 +78,9 @@ struct OptimizeStudy {
 };
 
 struct OutputSpec {
-  std::filesystem::path file;            ///< default results/<plan name>.h5
-  std::vector<std::string> indicators;   ///< default: every indicator of indicator_table()
-  double checkpoint_seconds = 10.0;      ///< how often a long run is saved, > 0
+  std::filesystem::path file;           ///< default results/<plan name>.h5
+  std::vector<std::string> indicators;  ///< default: every indicator of indicator_table()
+  double checkpoint_seconds = 10.0;     ///< how often a long run is saved, > 0
 };
 
 struct Plan {

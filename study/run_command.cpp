@@ -1,1 +1,333 @@
-// filled in by its owner
+#include "study/run_command.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <memory>
+#include <numeric>
+
+#include "study/command_line.hpp"
+#include "study/hdf5_file.hpp"
+#include "study/optimizer.hpp"
+#include "study/plan.hpp"
+#include "study/point_set.hpp"
+#include "study/results_file.hpp"
+#include "study/sweep.hpp"
+#include "study/version.hpp"
+
+namespace impactid {
+namespace {
+
+// Set by SIGINT/SIGTERM. The one mutable global of the program: a signal handler can reach
+// nothing else. Lock-free, so setting it is async-signal-safe.
+std::atomic<bool> g_stop_requested{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void request_stop(int) { g_stop_requested.store(true); }
+
+constexpr int kExitInterrupted = 130;
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buffer;
+}
+
+std::string duration_text(double seconds) {
+  if (!std::isfinite(seconds)) return "?";
+  const long s = std::lround(seconds);
+  char buffer[32];
+  if (s >= 3600) {
+    std::snprintf(buffer, sizeof buffer, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%ld:%02ld", s / 60, s % 60);
+  }
+  return buffer;
+}
+
+struct RunArguments {
+  std::string plan;
+  std::string output;
+  int threads = 0;
+  bool resume = false;
+  bool dry_run = false;
+};
+
+void stamp(StudyResults& r, int threads, double wall_time_s) {
+  r.impactid_version = kVersion;
+  r.git_revision = kGitRevision;
+  r.threads = threads;
+  r.wall_time_s = wall_time_s;
+  r.date = utc_now();
+}
+
+// Times a few points of the plan on one thread, for --dry-run's estimate.
+double seconds_per_point(const PointSet& points) {
+  std::vector<long> sample{0, points.size() / 2, points.size() - 1};
+  sample.erase(std::unique(sample.begin(), sample.end()), sample.end());
+  SimulationWorkspace workspace;
+  const auto start = std::chrono::steady_clock::now();
+  for (const long index : sample) {
+    evaluate(std::get<Simulation>(build(points.settings(index))), workspace);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+         static_cast<double>(sample.size());
+}
+
+int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) {
+  std::printf("plan        %s (%s study, method %s)\n", plan.path.string().c_str(),
+              to_string(plan.kind), to_string(plan.base.method.kind));
+  std::printf("output      %s\n", output.string().c_str());
+  if (plan.kind == StudyKind::optimize) {
+    for (const OptimizeParameter& p : plan.optimize.parameters) {
+      std::printf("parameter   %s in [%g, %g]\n", p.name.c_str(), p.lower, p.upper);
+    }
+    // Time one evaluation at the start point (the base alone need not build: e.g. Newmark
+    // with beta fixed and gamma optimised).
+    SimulationSettings start_point = plan.base;
+    for (const OptimizeParameter& p : plan.optimize.parameters) {
+      assign(start_point, p.name, p.initial());
+    }
+    SimulationWorkspace workspace;
+    const auto start = std::chrono::steady_clock::now();
+    evaluate(std::get<Simulation>(build(start_point)), workspace);
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("evaluations at most %ld (%s), one at a time\n", plan.optimize.max_evaluations,
+                plan.optimize.algorithm.c_str());
+    std::printf("estimate    %s (%.3g s per evaluation, measured on the start point)\n",
+                duration_text(t * plan.optimize.max_evaluations).c_str(), t);
+    return 0;
+  }
+  const PointSet points(plan);
+  for (std::size_t d = 0; d < points.dimension_names().size(); ++d) {
+    const auto& values = points.dimension_values()[d];
+    std::printf("axis        %-12s %4zu values from %g to %g\n",
+                points.dimension_names()[d].c_str(), values.size(), values.front(),
+                values.back());
+  }
+  for (const CoupledAxis& c : plan.coupled) {
+    std::printf("coupled     %-12s = %s\n", c.name.c_str(), c.expression.text().c_str());
+  }
+  std::printf("points      %ld\n", points.size());
+  const double t = seconds_per_point(points);
+  std::printf("estimate    %s on %d thread(s) (%.3g s per point, measured on up to 3 points)\n",
+              duration_text(t * static_cast<double>(points.size()) / threads).c_str(), threads,
+              t);
+  return 0;
+}
+
+// Reads an existing results file; a file that exists but cannot be read is never overwritten.
+std::optional<StudyResults> existing_results(const std::filesystem::path& output, bool& unreadable,
+                                             std::string& error) {
+  unreadable = false;
+  if (!std::filesystem::exists(output)) return std::nullopt;
+  try {
+    return read_results(output);
+  } catch (const std::exception& e) {
+    unreadable = true;
+    error = e.what();
+    return std::nullopt;
+  }
+}
+
+class ProgressLine {
+ public:
+  explicit ProgressLine(std::string label) : label_(std::move(label)), tty_(isatty(2)) {}
+  void update(long done, long total, long unstable, double elapsed) {
+    if (!tty_) return;
+    const double rate = elapsed > 0 ? done / elapsed : 0.0;
+    const double eta = rate > 0 ? (total - done) / rate : NAN;
+    std::fprintf(stderr, "\r%s %ld/%ld (%3.0f%%)  %.1f/s  ETA %s  unstable %ld   ",
+                 label_.c_str(), done, total, total ? 100.0 * done / total : 100.0, rate,
+                 duration_text(eta).c_str(), unstable);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_) std::fputc('\n', stderr);
+  }
+
+ private:
+  std::string label_;
+  bool tty_;
+  bool shown_ = false;
+};
+
+int run_plan(const RunArguments& args) {
+  Plan plan;
+  try {
+    plan = load_plan(args.plan);
+  } catch (const PlanError& e) {
+    std::cerr << e.what() << '\n';
+    return kExitBadInput;
+  }
+  const std::filesystem::path output =
+      args.output.empty() ? plan.output.file : std::filesystem::path(args.output);
+  const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
+  if (args.dry_run) return dry_run(plan, threads, output);
+
+  bool unreadable = false;
+  std::string read_error;
+  std::optional<StudyResults> previous = existing_results(output, unreadable, read_error);
+  if (unreadable) {
+    std::cerr << "impactid run: " << read_error << "\nimpactid run: " << output.string()
+              << " exists but is not a readable impactid results file; it was left untouched "
+                 "(remove it, or choose another file with --output)\n";
+    return kExitFailure;
+  }
+  if (args.resume && previous && previous->plan_text != plan.text) {
+    std::cerr << "impactid run: --resume: " << output.string()
+              << " was written by a different plan (the plan text differs); it was left "
+                 "untouched\n";
+    return kExitBadInput;
+  }
+  if (args.resume && previous && plan.kind != StudyKind::optimize) {
+    // Same text, but another program version could expand it differently: compare the grid.
+    const PointSet points(plan);
+    bool same = previous->dimensions.size() == points.dimension_names().size();
+    for (std::size_t d = 0; same && d < previous->dimensions.size(); ++d) {
+      same = previous->dimensions[d].name == points.dimension_names()[d] &&
+             previous->dimensions[d].values == points.dimension_values()[d];
+    }
+    if (!same) {
+      std::cerr << "impactid run: --resume: the points of " << output.string()
+                << " differ from those of the plan; it was left untouched\n";
+      return kExitBadInput;
+    }
+  }
+  if (!args.resume) previous.reset();
+  const double previous_wall_time = previous ? previous->wall_time_s : 0.0;
+
+  g_stop_requested.store(false);
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+
+  const auto save = [&](StudyResults results, double wall_time_s) {
+    stamp(results, threads, previous_wall_time + wall_time_s);
+    write_results(output, results);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  ProgressLine progress(plan.name);
+
+  long computed = 0, reused = 0, unstable = 0, total = 0;
+  bool interrupted = false;
+  std::string extra;
+  try {
+    if (plan.kind == StudyKind::optimize) {
+      OptimizeOptions options;
+      options.checkpoint_seconds = plan.output.checkpoint_seconds;
+      options.checkpoint = [&](const StudyResults& r) { save(r, elapsed()); };
+      options.progress = [&](long done, long max, double) {
+        progress.update(done, max, 0, elapsed());
+      };
+      options.stop = &g_stop_requested;
+      options.previous = previous ? &*previous : nullptr;
+      OptimizeOutcome outcome = run_optimization(plan, options);
+      progress.finish();
+      save(outcome.results, elapsed());
+      computed = outcome.computed;
+      reused = outcome.reused;
+      unstable = outcome.unstable;
+      total = outcome.results.points_total();
+      interrupted = outcome.interrupted;
+      extra = "termination " + outcome.termination + "; ";
+      if (outcome.best) {
+        extra += "best feasible evaluation #" + std::to_string(*outcome.best) + ":";
+        for (const auto& [name, value] : outcome.results.numeric_attributes) {
+          if (name.rfind("best_", 0) == 0 && name != "best_evaluation") {
+            const std::string key = name.substr(5);
+            const bool is_param = std::any_of(
+                plan.optimize.parameters.begin(), plan.optimize.parameters.end(),
+                [&](const OptimizeParameter& p) { return p.name == key; });
+            if (is_param || key == "objective") extra += " " + key + " = " + format_value(value);
+          }
+        }
+      } else {
+        extra += "no feasible evaluation";
+      }
+    } else {
+      const PointSet points(plan);
+      StudyResults results = previous ? std::move(*previous) : empty_results(plan, points);
+      std::vector<long> indices(static_cast<std::size_t>(points.size()));
+      std::iota(indices.begin(), indices.end(), 0L);
+      SweepOptions options;
+      options.threads = threads;
+      options.checkpoint_seconds = plan.output.checkpoint_seconds;
+      options.checkpoint = [&](const StudyResults& r) { save(r, elapsed()); };
+      options.progress = [&](const SweepProgress& p) {
+        progress.update(p.done, p.total, p.unstable, p.elapsed_s);
+      };
+      options.stop = &g_stop_requested;
+      const SweepOutcome outcome = run_sweep(points, indices, results, options);
+      progress.finish();
+      save(std::move(results), elapsed());
+      computed = outcome.computed;
+      reused = outcome.reused;
+      unstable = outcome.unstable;
+      total = points.size();
+      interrupted = outcome.interrupted;
+    }
+  } catch (const std::exception& e) {
+    progress.finish();
+    std::cerr << "impactid run: " << e.what() << '\n';
+    return kExitFailure;
+  }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+
+  const double seconds = elapsed();
+  std::fprintf(stderr,
+               "impactid run: %s: %ld computed, %ld reused, %ld not ok, of %ld; %.3g s on %d "
+               "thread(s); %swrote %s\n",
+               plan.name.c_str(), computed, reused, unstable, total, seconds, threads,
+               extra.empty() ? "" : (extra + "; ").c_str(), output.string().c_str());
+  if (interrupted) {
+    std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
+                 args.plan.c_str(),
+                 args.output.empty() ? "" : (" --output " + args.output).c_str());
+    return kExitInterrupted;
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> add_run_command(CLI::App& app) {
+  auto* command = app.add_subcommand("run", "Run a plan file (grid, list or optimize study) and "
+                                            "write its HDF5 results");
+  auto args = std::make_shared<RunArguments>();
+  command->add_option("plan", args->plan, "Plan file (TOML), see plans/README.md")
+      ->required()
+      ->type_name("PLAN.toml");
+  command->add_option("--threads", args->threads,
+                      "OpenMP threads (default: all cores, or OMP_NUM_THREADS)")
+      ->check(CLI::PositiveNumber)
+      ->type_name("N");
+  command->add_option("--output", args->output,
+                      "Results file (default: [output] file of the plan, or "
+                      "results/<plan name>.h5)")
+      ->type_name("FILE");
+  command->add_flag("--resume", args->resume,
+                    "Keep the points already in the results file; compute only the rest");
+  command->add_flag("--dry-run", args->dry_run,
+                    "Print the points per axis and in total, and a time estimate; run nothing");
+  return [command, args]() -> int {
+    if (!command->parsed()) return -1;
+    return run_plan(*args);
+  };
+}
+
+}  // namespace impactid

@@ -112,7 +112,7 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   const std::string name = info.name;
   if (info.kind == ParameterKind::integer) {
     if (!(std::isfinite(v) && v == std::floor(v) && std::abs(v) < 2e9)) {
-      return ParameterError{info.name, format_value(v), "must be an integer"};
+      return ParameterError{info.name, format_value(v), "must be an integer below 2e9"};
     }
   }
   if (name == "length") s.scene.length = v;

@@ -1,1 +1,155 @@
-// filled in by its owner
+#include "study/sweep.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+#include "study/indicator_table.hpp"
+
+namespace impactid {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool is_dimension(const PointSet& points, const std::string& name) {
+  const auto& dims = points.dimension_names();
+  return std::find(dims.begin(), dims.end(), name) != dims.end();
+}
+
+ResultColumn parameter_column(const std::string& name, std::size_t size) {
+  const ParameterInfo* info = find_parameter(name);
+  return {name, info && *info->unit ? info->unit : "1", info ? info->description : name, "",
+          std::vector<double>(size, kNaN)};
+}
+
+}  // namespace
+
+StudyResults empty_results(const Plan& plan, const PointSet& points) {
+  StudyResults r;
+  r.plan_name = plan.name;
+  r.plan_text = plan.text;
+  r.study_kind = to_string(plan.kind);
+  r.method = to_string(plan.base.method.kind);
+  const auto size = static_cast<std::size_t>(points.size());
+  for (std::size_t d = 0; d < points.dimension_names().size(); ++d) {
+    const std::string& name = points.dimension_names()[d];
+    const ParameterInfo* info = find_parameter(name);
+    r.dimensions.push_back({name, info && *info->unit ? info->unit : "1",
+                            points.dimension_values()[d]});
+  }
+  r.status.assign(size, kStatusNotDone);
+  for (const std::string& name : points.parameter_names()) {
+    if (!is_dimension(points, name)) r.parameters.push_back(parameter_column(name, size));
+  }
+  for (const char* derived : {"beta", "gamma"}) {
+    if (!is_dimension(points, derived) &&
+        std::none_of(r.parameters.begin(), r.parameters.end(),
+                     [&](const ResultColumn& c) { return c.name == derived; })) {
+      ResultColumn column = parameter_column(derived, size);
+      column.long_name = std::string("Newmark ") + derived +
+                         " used at the point (eq. 13 from delta, or given); NaN for cdm and "
+                         "backward-euler";
+      r.parameters.push_back(std::move(column));
+    }
+  }
+  for (const std::string& name : plan.output.indicators) {
+    const IndicatorInfo* info = find_indicator(name);
+    r.indicators.push_back({name, info->units, name, info->definition,
+                            std::vector<double>(size, kNaN)});
+  }
+  return r;
+}
+
+void store_point(StudyResults& results, const PointSet& points, long index,
+                 const Simulation& simulation, const Evaluation& evaluation) {
+  const auto i = static_cast<std::size_t>(index);
+  results.status[i] = static_cast<int>(evaluation.summary.status);
+  const std::vector<double> varied = points.parameter_values(index);
+  for (ResultColumn& column : results.parameters) {
+    const auto& names = points.parameter_names();
+    const auto it = std::find(names.begin(), names.end(), column.name);
+    if (it != names.end()) {
+      column.values[i] = varied[static_cast<std::size_t>(it - names.begin())];
+    } else {
+      column.values[i] = numeric_value(simulation, column.name).value_or(kNaN);
+    }
+  }
+  for (ResultColumn& column : results.indicators) {
+    column.values[i] = find_indicator(column.name)->value(evaluation);
+  }
+}
+
+SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices,
+                       StudyResults& results, const SweepOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+
+  SweepOutcome outcome;
+  std::vector<long> todo;
+  for (const long index : indices) {
+    if (results.status[static_cast<std::size_t>(index)] == kStatusNotDone) {
+      todo.push_back(index);
+    } else {
+      ++outcome.reused;
+    }
+  }
+
+  std::mutex results_mutex;  // guards `results` and the counters below
+  long done = 0, unstable = 0;
+  auto last_checkpoint = Clock::now();
+  auto last_progress = Clock::now();
+  const long count = static_cast<long>(todo.size());
+  const int calling_thread = 0;
+
+#pragma omp parallel num_threads(std::max(1, options.threads))
+  {
+    SimulationWorkspace workspace;  // reused for every point this thread runs
+#pragma omp for schedule(dynamic, 1)
+    for (long k = 0; k < count; ++k) {
+      if (options.stop && options.stop->load()) continue;
+      const long index = todo[static_cast<std::size_t>(k)];
+      const SimulationSettings settings = points.settings(index);
+      auto built = build(settings);
+      // load_plan() checked every point, so a failure here is a bug, not bad input.
+      const Simulation& simulation = std::get<Simulation>(built);
+      const Evaluation evaluation = evaluate(simulation, workspace);
+
+      std::optional<StudyResults> snapshot;
+      std::optional<SweepProgress> progress;
+      {
+        std::lock_guard lock(results_mutex);
+        store_point(results, points, index, simulation, evaluation);
+        ++done;
+        if (evaluation.summary.status != RunStatus::ok) ++unstable;
+        if (omp_get_thread_num() == calling_thread) {
+          if (options.checkpoint && seconds_since(last_checkpoint) >= options.checkpoint_seconds) {
+            snapshot = results;
+            last_checkpoint = Clock::now();
+          }
+          if (options.progress && seconds_since(last_progress) >= options.progress_seconds) {
+            progress = SweepProgress{done, count, unstable, seconds_since(start)};
+            last_progress = Clock::now();
+          }
+        }
+      }
+      // Slow work (file writing, terminal output) outside the lock.
+      if (snapshot) options.checkpoint(*snapshot);
+      if (progress) options.progress(*progress);
+    }
+  }
+  outcome.computed = done;
+  outcome.unstable = unstable;
+  outcome.interrupted = done < count;
+  outcome.wall_time_s = seconds_since(start);
+  if (options.progress) options.progress({done, count, unstable, outcome.wall_time_s});
+  return outcome;
+}
+
+}  // namespace impactid

@@ -1,0 +1,62 @@
+// Running the points of a grid or list plan in parallel (OpenMP, dynamic scheduling), one
+// SimulationWorkspace per thread. Scheduling is kept apart from simulation and writing: the
+// driver takes a list of flat point indices and fills a StudyResults table; what to run (all
+// points, the ones a resumed file lacks, a shard for another process) and where to save it are
+// the caller's choice.
+//
+// Determinism: a point's numbers depend only on its index, so any thread count and any
+// interruption give bit-identical results (wall_time_s aside).
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "study/evaluation.hpp"
+#include "study/plan.hpp"
+#include "study/point_set.hpp"
+#include "study/results_file.hpp"
+
+namespace impactid {
+
+struct SweepProgress {
+  long done = 0;       ///< points finished in this run
+  long total = 0;      ///< points to compute in this run
+  long unstable = 0;   ///< finished points whose status is not ok
+  double elapsed_s = 0;
+};
+
+struct SweepOptions {
+  int threads = 1;  ///< >= 1
+  /// Called on the calling thread with a consistent copy of the results at most every
+  /// checkpoint_seconds (and not at the end: the caller saves the final state).
+  double checkpoint_seconds = 10.0;
+  std::function<void(const StudyResults&)> checkpoint;
+  /// Called on the calling thread after each finished point, at most every progress_seconds.
+  double progress_seconds = 0.5;
+  std::function<void(const SweepProgress&)> progress;
+  /// When set to true (e.g. by a signal handler), no further point is started.
+  const std::atomic<bool>* stop = nullptr;
+};
+
+struct SweepOutcome {
+  long computed = 0;  ///< points computed in this run
+  long reused = 0;    ///< points already done (from a resumed file)
+  long unstable = 0;  ///< computed points whose status is not ok
+  bool interrupted = false;
+  double wall_time_s = 0;
+};
+
+/// The empty table of a grid or list plan: every point not done, every value NaN.
+StudyResults empty_results(const Plan& plan, const PointSet& points);
+
+/// Stores one evaluated point (status, varied parameters, β, γ, indicators) at `index`.
+void store_point(StudyResults& results, const PointSet& points, long index,
+                 const Simulation& simulation, const Evaluation& evaluation);
+
+/// Computes those of `indices` that `results` does not have yet.
+SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices,
+                       StudyResults& results, const SweepOptions& options);
+
+}  // namespace impactid

@@ -1,0 +1,120 @@
+// The command line as a user meets it: exit statuses, messages naming the option and value,
+// JSON that carries the indicators, and `simulate` agreeing with the library.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "study/evaluation.hpp"
+
+namespace impactid {
+namespace {
+
+struct Output {
+  int status;
+  std::string text;  // stdout and stderr together
+};
+
+Output run(const std::string& arguments) {
+  const std::string command = std::string(IMPACTID_EXECUTABLE) + " " + arguments + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  std::string text;
+  std::array<char, 4096> buffer;
+  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) text += buffer.data();
+  const int raw = pclose(pipe.release());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
+}
+
+void expect_bad_input(const std::string& arguments, const std::string& message) {
+  const Output out = run(arguments);
+  EXPECT_EQ(out.status, 2) << arguments << "\n" << out.text;
+  EXPECT_NE(out.text.find(message), std::string::npos) << arguments << "\n" << out.text;
+}
+
+TEST(CommandLine, BadValuesExitTwoNamingOptionAndValue) {
+  expect_bad_input("simulate --elements 0", "--elements = 0: must be a positive integer");
+  expect_bad_input("simulate --elements -3", "--elements = -3");
+  expect_bad_input("simulate --courant 0", "--courant = 0: must be positive");
+  expect_bad_input("simulate --method leapfrog", "--method = leapfrog: must be one of");
+  expect_bad_input("simulate --velocity nan", "--velocity = nan: must be finite");
+  expect_bad_input("simulate --density abc", "--density = abc: must be a number");
+  expect_bad_input("simulate --method cdm --delta 0.3",
+                   "--delta = 0.3: is not a parameter of method cdm");
+  expect_bad_input("simulate --method backward-euler --alpha -0.1",
+                   "--alpha = -0.1: is not a parameter of method backward-euler");
+  expect_bad_input("simulate --method hht --alpha -0.7", "--alpha = -0.7: must lie in [-0.5, 0]");
+  expect_bad_input("simulate --courant 1 --dt 1e-7", "cannot be given with courant");
+  expect_bad_input("simulate --history out.txt", "--history = out.txt");
+  expect_bad_input("simulate --no-such-option 1", "no-such-option");
+}
+
+TEST(CommandLine, HelpListsEveryOptionWithItsDefault) {
+  const Output out = run("simulate --help");
+  EXPECT_EQ(out.status, 0);
+  for (const char* option : {"--length", "--elements", "--youngs-modulus", "--density", "--area",
+                             "--velocity", "--gap", "--mass", "--courant", "--dt", "--t-end",
+                             "--method", "--delta", "--alpha", "--beta", "--gamma", "--rho-inf",
+                             "--cdm-velocity", "--hht-contact", "--peak-prominence", "--json",
+                             "--history"}) {
+    EXPECT_NE(out.text.find(option), std::string::npos) << option;
+  }
+  EXPECT_NE(out.text.find("[MPa]"), std::string::npos);
+  EXPECT_NE(out.text.find("default 200"), std::string::npos);
+}
+
+// `simulate --json` prints what the library computes for the same parameters.
+TEST(CommandLine, JsonCarriesTheLibraryNumbers) {
+  const Output out = run("simulate --method newmark --delta 0.4 --elements 40 --json");
+  ASSERT_EQ(out.status, 0) << out.text;
+  SimulationSettings settings;
+  settings.method.kind = MethodKind::newmark;
+  settings.method.delta = 0.4;
+  settings.scene.elements = 40;
+  SimulationWorkspace workspace;
+  const Evaluation e = evaluate(std::get<Simulation>(build(settings)), workspace);
+  const auto field = [&](const std::string& key) {
+    const auto at = out.text.find("\"" + key + "\":");
+    EXPECT_NE(at, std::string::npos) << key;
+    return std::stod(out.text.substr(at + key.size() + 3));
+  };
+  EXPECT_EQ(field("eps_p"), e.indicators.eps_p);
+  EXPECT_EQ(field("eps_v"), e.indicators.eps_v);
+  EXPECT_EQ(field("nop_p"), e.indicators.nop_p);
+  EXPECT_EQ(field("nop_v"), e.indicators.nop_v);
+  EXPECT_EQ(field("beta"), 0.25 * 1.4 * 1.4);
+  EXPECT_EQ(field("gamma"), 0.9);
+  EXPECT_EQ(field("steps"), static_cast<double>(derive(settings.scene).step_count));
+  for (const char* key : {"\"method\":\"newmark\"", "\"status\":\"ok\"", "\"dt\":",
+                          "\"contact_episodes\":", "\"energy_ratio\":", "\"wall_time_s\":",
+                          "\"p_max\":"}) {
+    EXPECT_NE(out.text.find(key), std::string::npos) << key;
+  }
+}
+
+TEST(CommandLine, UnstableRunReportsNullIndicators) {
+  const Output out = run("simulate --method cdm --courant 1.5 --json");
+  ASSERT_EQ(out.status, 0) << out.text;
+  EXPECT_NE(out.text.find("\"status\":\"unstable\""), std::string::npos) << out.text;
+  EXPECT_NE(out.text.find("\"eps_p\":null"), std::string::npos) << out.text;
+}
+
+TEST(CommandLine, HistoryCsvHasOneRowPerSample) {
+  const std::string path = ::testing::TempDir() + "impactid_history.csv";
+  const Output out = run("simulate --method backward-euler --elements 20 --history " + path);
+  ASSERT_EQ(out.status, 0) << out.text;
+  std::ifstream in(path);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("t[s],pressure[MPa],velocity[mm/s]", 0), 0u) << header;
+  long rows = 0;
+  while (std::getline(in, line)) ++rows;
+  SimulationSettings settings;
+  settings.scene.elements = 20;
+  EXPECT_EQ(rows, derive(settings.scene).step_count);
+}
+
+}  // namespace
+}  // namespace impactid

@@ -1,0 +1,665 @@
+// Plan files: what a valid plan of each kind parses to, and that every kind of mistake is
+// reported as "file:line:column: key = value: what" at the place it is written.
+#include "study/plan.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "study/indicator_table.hpp"
+#include "study/point_set.hpp"
+
+namespace impactid {
+namespace {
+
+Plan plan_of(const std::string& text) {
+  try {
+    return parse_plan(text, "plans/test.toml");
+  } catch (const PlanError& e) {
+    ADD_FAILURE() << e.what();
+    throw;
+  }
+}
+
+// The message parse_plan() throws for `text`, or a test failure.
+std::string error_of(const std::string& text) {
+  try {
+    parse_plan(text, "bad.toml");
+  } catch (const PlanError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the plan was accepted:\n" << text;
+  return "";
+}
+
+bool starts_with(const std::string& text, const std::string& prefix) {
+  return text.compare(0, prefix.size(), prefix) == 0;
+}
+
+#define EXPECT_STARTS_WITH(text, prefix) EXPECT_PRED2(starts_with, text, prefix)
+
+std::vector<std::string> all_indicators() {
+  std::vector<std::string> out;
+  for (const IndicatorInfo& info : indicator_table()) out.push_back(info.name);
+  return out;
+}
+
+// ---- valid plans ----------------------------------------------------------------------------
+
+TEST(Plan, GridPlanParsesToItsContent) {
+  const std::string text = R"(name = "fig3"
+description = "Newmark over delta"
+[scene]
+elements = 50
+length = 20
+[method]
+name = "newmark"
+[study]
+kind = "grid"
+[study.axes]
+delta = { from = 0.0, to = 1.0, partitions = 4 }
+courant = { values = [1, 0.5] }
+)";
+  const Plan plan = plan_of(text);
+  EXPECT_EQ(plan.name, "fig3");
+  EXPECT_EQ(plan.description, "Newmark over delta");
+  EXPECT_EQ(plan.text, text);
+  EXPECT_EQ(plan.path, std::filesystem::path("plans/test.toml"));
+  EXPECT_EQ(plan.kind, StudyKind::grid);
+  EXPECT_EQ(plan.base.scene.elements, 50);
+  EXPECT_EQ(plan.base.scene.length, 20.0);  // a TOML integer where a real is expected
+  EXPECT_EQ(plan.base.method.kind, MethodKind::newmark);
+  EXPECT_FALSE(plan.base.method.delta);  // an axis, not a base value
+  ASSERT_EQ(plan.axes.size(), 2u);
+  EXPECT_EQ(plan.axes[0].name, "delta");  // file order, although "courant" sorts first
+  EXPECT_EQ(plan.axes[0].values, (std::vector<double>{0.0, 0.25, 0.5, 0.75, 1.0}));
+  EXPECT_EQ(plan.axes[1].name, "courant");
+  EXPECT_EQ(plan.axes[1].values, (std::vector<double>{1.0, 0.5}));
+  EXPECT_TRUE(plan.coupled.empty());
+  EXPECT_EQ(plan.output.file, std::filesystem::path("results/fig3.h5"));
+  EXPECT_EQ(plan.output.indicators, all_indicators());
+  EXPECT_EQ(plan.output.checkpoint_seconds, 10.0);
+}
+
+TEST(Plan, NameDefaultsToTheFileStem) {
+  const Plan plan =
+      plan_of("[study]\nkind = \"grid\"\n[study.axes]\nalpha = { values = [-0.1] }\n");
+  EXPECT_EQ(plan.name, "test");
+  EXPECT_EQ(plan.description, "");
+  EXPECT_EQ(plan.output.file, std::filesystem::path("results/test.h5"));
+  EXPECT_EQ(plan.base.method.kind, MethodKind::hht);  // the table's default method
+}
+
+TEST(Plan, CoupledAxisIsParsed) {
+  const Plan plan = plan_of(R"([method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0, partitions = 10 }
+delta = "-1.5*alpha"
+)");
+  ASSERT_EQ(plan.axes.size(), 1u);
+  EXPECT_EQ(plan.axes[0].name, "alpha");
+  ASSERT_EQ(plan.coupled.size(), 1u);
+  EXPECT_EQ(plan.coupled[0].name, "delta");
+  EXPECT_EQ(plan.coupled[0].expression.text(), "-1.5*alpha");
+  EXPECT_EQ(plan.coupled[0].expression.variables(), (std::vector<std::string>{"alpha"}));
+}
+
+TEST(Plan, ListPlanParsesInlineAndTableArrays) {
+  const Plan inline_points = plan_of(R"([method]
+name = "newmark"
+[study]
+kind = "list"
+points = [
+  { delta = 0.3, courant = 0.5 },
+  { mass = "consistent", elements = 80 },
+]
+)");
+  const Plan table_points = plan_of(R"([method]
+name = "newmark"
+[study]
+kind = "list"
+[[study.points]]
+delta = 0.3
+courant = 0.5
+[[study.points]]
+mass = "consistent"
+elements = 80
+)");
+  for (const Plan* plan : {&inline_points, &table_points}) {
+    EXPECT_EQ(plan->kind, StudyKind::list);
+    ASSERT_EQ(plan->points.size(), 2u);
+    const ListPoint first{{"delta", 0.3}, {"courant", 0.5}};
+    const ListPoint second{{"mass", std::string("consistent")}, {"elements", 80.0}};
+    EXPECT_EQ(plan->points[0], first);  // keys in file order
+    EXPECT_EQ(plan->points[1], second);
+  }
+}
+
+TEST(Plan, OptimizePlanParsesToItsContent) {
+  const Plan plan = plan_of(R"(name = "opt"
+[method]
+name = "hht"
+[study]
+kind = "optimize"
+algorithm = "NELDER-MEAD"
+objective = { eps_p = 1.0, nop_p = 0.01 }
+max_evaluations = 80
+xtol_rel = 1e-3
+ftol_rel = 0
+seed = 7
+[study.parameters]
+delta = { from = 0, to = 1, start = 0.6 }
+alpha = { from = -0.5, to = 0.0 }
+[study.constraints]
+nop_p = { max = 15 }
+eps_v = { min = 0.001, max = 0.5 }
+)");
+  EXPECT_EQ(plan.kind, StudyKind::optimize);
+  const OptimizeStudy& o = plan.optimize;
+  EXPECT_EQ(o.algorithm, "LN_NELDERMEAD");
+  const std::vector<std::pair<std::string, double>> objective{{"eps_p", 1.0}, {"nop_p", 0.01}};
+  EXPECT_EQ(o.objective, objective);
+  EXPECT_EQ(o.max_evaluations, 80);
+  EXPECT_EQ(o.xtol_rel, 1e-3);
+  EXPECT_EQ(o.ftol_rel, 0.0);
+  EXPECT_EQ(o.seed, 7u);
+  ASSERT_EQ(o.parameters.size(), 2u);
+  EXPECT_EQ(o.parameters[0].name, "delta");
+  EXPECT_EQ(o.parameters[0].lower, 0.0);
+  EXPECT_EQ(o.parameters[0].upper, 1.0);
+  EXPECT_EQ(o.parameters[0].start, 0.6);
+  EXPECT_EQ(o.parameters[1].name, "alpha");
+  EXPECT_EQ(o.parameters[1].lower, -0.5);
+  EXPECT_EQ(o.parameters[1].upper, 0.0);
+  EXPECT_FALSE(o.parameters[1].start);
+  ASSERT_EQ(o.constraints.size(), 2u);
+  EXPECT_EQ(o.constraints[0].indicator, "nop_p");
+  EXPECT_EQ(o.constraints[0].max, 15.0);
+  EXPECT_FALSE(o.constraints[0].min);
+  EXPECT_EQ(o.constraints[1].indicator, "eps_v");
+  EXPECT_EQ(o.constraints[1].min, 0.001);
+  EXPECT_EQ(o.constraints[1].max, 0.5);
+}
+
+TEST(Plan, OptimizeDefaultsAndShortNames) {
+  const std::string head = "[method]\nname = \"hht\"\n[study]\nkind = \"optimize\"\n";
+  const std::string params = "[study.parameters]\nalpha = { from = -0.5, to = 0 }\n";
+  const Plan defaults = plan_of(head + params);
+  EXPECT_EQ(defaults.optimize.algorithm, "LN_COBYLA");
+  const std::vector<std::pair<std::string, double>> eps_p{{"eps_p", 1.0}};
+  EXPECT_EQ(defaults.optimize.objective, eps_p);
+  EXPECT_EQ(defaults.optimize.max_evaluations, 200);
+  EXPECT_TRUE(defaults.optimize.constraints.empty());
+
+  const std::vector<std::pair<std::string, std::string>> names{
+      {"DIRECT", "GN_DIRECT_L"},
+      {"CRS2", "GN_CRS2_LM"},
+      {"ISRES", "GN_ISRES"},
+      {"COBYLA", "LN_COBYLA"},
+      {"BOBYQA", "LN_BOBYQA"},
+      {"NELDERMEAD", "LN_NELDERMEAD"},
+      {"SBPLX", "LN_SBPLX"},
+      {"GN_DIRECT", "GN_DIRECT"},
+      {"GN_ORIG_DIRECT_L", "GN_ORIG_DIRECT_L"},
+      {"GN_ESCH", "GN_ESCH"},
+      {"LN_PRAXIS", "LN_PRAXIS"},
+  };
+  for (const auto& [given, stored] : names) {
+    const Plan plan =
+        plan_of(head + "algorithm = \"" + given + "\"\nobjective = \"nop_v\"\n" + params);
+    EXPECT_EQ(plan.optimize.algorithm, stored) << given;
+    const std::vector<std::pair<std::string, double>> nop_v{{"nop_v", 1.0}};
+    EXPECT_EQ(plan.optimize.objective, nop_v);
+  }
+}
+
+TEST(Plan, OutputSectionIsRead) {
+  const Plan plan = plan_of(R"([study]
+kind = "grid"
+[study.axes]
+alpha = { values = [-0.1] }
+[output]
+file = "/tmp/x/out.h5"
+indicators = ["nop_p", "eps_p"]
+checkpoint_seconds = 2
+peak_prominence = 1e-4
+energy_growth_limit = 3
+)");
+  EXPECT_EQ(plan.output.file, std::filesystem::path("/tmp/x/out.h5"));
+  EXPECT_EQ(plan.output.indicators, (std::vector<std::string>{"nop_p", "eps_p"}));
+  EXPECT_EQ(plan.output.checkpoint_seconds, 2.0);
+  EXPECT_EQ(plan.base.indicators.peak_prominence, 1e-4);
+  EXPECT_EQ(plan.base.run.energy_growth_limit, 3.0);
+}
+
+TEST(Plan, SceneAndMethodKeysReachTheBase) {
+  const Plan plan = plan_of(R"([scene]
+length = 10.5
+elements = 30
+youngs_modulus = 200000
+density = 7.8e-9
+area = 2
+velocity = -500
+gap = 0
+mass = "consistent"
+rayleigh_mass = 1
+rayleigh_stiffness = 1e-8
+dt = 1e-7
+t_end = 1e-4
+[method]
+name = "generalized-alpha"
+rho_inf = 0.5
+hht_contact = "weighted"
+[study]
+kind = "list"
+points = [{}]
+)");
+  const SimulationSettings& s = plan.base;
+  EXPECT_EQ(s.scene.length, 10.5);
+  EXPECT_EQ(s.scene.elements, 30);
+  EXPECT_EQ(s.scene.youngs_modulus, 200000.0);
+  EXPECT_EQ(s.scene.density, 7.8e-9);
+  EXPECT_EQ(s.scene.area, 2.0);
+  EXPECT_EQ(s.scene.velocity, -500.0);
+  EXPECT_EQ(s.scene.gap, 0.0);
+  EXPECT_EQ(s.scene.mass, MassMatrix::consistent);
+  EXPECT_EQ(s.scene.rayleigh_mass, 1.0);
+  EXPECT_EQ(s.scene.rayleigh_stiffness, 1e-8);
+  EXPECT_EQ(s.scene.dt, 1e-7);
+  EXPECT_EQ(s.scene.t_end, 1e-4);
+  EXPECT_EQ(s.method.kind, MethodKind::generalized_alpha);
+  EXPECT_EQ(s.method.rho_inf, 0.5);
+  EXPECT_EQ(s.method.hht_contact, ContactWeighting::weighted);
+}
+
+// ---- errors: the exact place, key and value -------------------------------------------------
+
+TEST(PlanErrors, TomlSyntaxError) {
+  // Line 3 holds the unterminated array's next element, which TOML cannot read as a value.
+  EXPECT_EQ(error_of("[scene]\nlength = [1,\nelements = 2\n"),
+            "bad.toml:3:1: Error while parsing value: could not determine value type");
+  EXPECT_STARTS_WITH(error_of("[scene]\nlength = 1\nlength = 2\n"), "bad.toml:3:");
+}
+
+TEST(PlanErrors, UnknownKeys) {
+  EXPECT_EQ(error_of("[scene]\nelements = 50\nbogus = 1\n"),
+            "bad.toml:3:9: scene.bogus = 1: unknown key (scene keys: length, elements, "
+            "youngs_modulus, density, area, velocity, gap, mass, rayleigh_mass, "
+            "rayleigh_stiffness, courant, dt, t_end)");
+  EXPECT_EQ(error_of("nmae = \"x\"\n"),
+            "bad.toml:1:8: nmae = \"x\": unknown key (top-level keys: name, description, scene, "
+            "method, study, output)");
+  EXPECT_EQ(error_of("[method]\nname = \"hht\"\nrho = 0.8\n"),
+            "bad.toml:3:7: method.rho = 0.8: unknown key (method keys: name, delta, alpha, beta, "
+            "gamma, rho_inf, cdm_velocity, hht_contact)");
+  // A scene parameter is not a method key.
+  EXPECT_STARTS_WITH(error_of("[method]\nelements = 3\n"),
+                     "bad.toml:2:12: method.elements = 3: unknown key (method keys: name,");
+  EXPECT_STARTS_WITH(error_of("[output]\nfiel = \"a.h5\"\n"),
+                     "bad.toml:2:8: output.fiel = \"a.h5\": unknown key (output keys: file, "
+                     "indicators, checkpoint_seconds, peak_prominence, energy_growth_limit)");
+  EXPECT_EQ(error_of("[study]\nkind = \"grid\"\nbogus = 2\n"),
+            "bad.toml:3:9: study.bogus = 2: unknown key (grid keys: kind, axes)");
+  EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\n"
+                     "alpha = { from = -0.5, to = 0, partitions = 4, step = 1 }\n"),
+            "bad.toml:4:55: study.axes.alpha.step = 1: unknown key (axis keys: from, to, "
+            "partitions, values)");
+}
+
+TEST(PlanErrors, WrongTypes) {
+  EXPECT_EQ(error_of("[scene]\nelements = \"fifty\"\n"),
+            "bad.toml:2:12: scene.elements = \"fifty\": must be a number");
+  EXPECT_EQ(error_of("[scene]\nelements = 2.5\n"),
+            "bad.toml:2:12: scene.elements = 2.5: must be an integer below 2e9");
+  EXPECT_EQ(error_of("[scene]\nmass = true\n"),
+            "bad.toml:2:8: scene.mass = true: must be a string, one of lumped|consistent");
+  EXPECT_EQ(error_of("[scene]\nmass = 'heavy'\n"),
+            "bad.toml:2:8: scene.mass = 'heavy': must be one of lumped|consistent");
+  EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
+            "bad.toml:2:8: method.name = \"rk4\": must be one of "
+            "cdm|backward-euler|newmark|hht|generalized-alpha");
+  EXPECT_EQ(error_of("scene = 3\n"), "bad.toml:1:9: scene = 3: must be a table ([scene])");
+  EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
+  EXPECT_EQ(error_of("[study]\nkind = \"sweep\"\n"),
+            "bad.toml:2:8: study.kind = \"sweep\": must be \"grid\", \"list\" or \"optimize\"");
+  EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\nalpha = 3\n"),
+            "bad.toml:4:9: study.axes.alpha = 3: must be { from = .., to = .., partitions = .. }, "
+            "{ values = [..] } or a coupled-axis expression such as \"-1.5*alpha\"");
+  EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\n"
+                     "alpha = { from = -0.5, to = 0, partitions = 2.0 }\n"),
+            "bad.toml:4:45: study.axes.alpha.partitions = 2.0: must be an integer");
+  EXPECT_EQ(error_of("[output]\ncheckpoint_seconds = \"10\"\n"),
+            "bad.toml:2:22: output.checkpoint_seconds = \"10\": must be a number");
+}
+
+TEST(PlanErrors, ValuesOutOfRangeNameTheirKey) {
+  // From build(): the ParameterError's field is mapped back to where it is written.
+  EXPECT_EQ(error_of(R"([method]
+name = "hht"
+alpha = -0.7
+[study]
+kind = "grid"
+[study.axes]
+delta = { from = 0, to = 1, partitions = 2 }
+)"),
+            "bad.toml:3:9: method.alpha = -0.7: must lie in [-0.5, 0]");
+  EXPECT_EQ(error_of("[scene]\nlength = -2.0\n[study]\nkind = \"grid\"\n[study.axes]\n"
+                     "alpha = { values = [-0.1] }\n"),
+            "bad.toml:2:10: scene.length = -2.0: must be positive and finite");
+  EXPECT_EQ(error_of("[output]\nenergy_growth_limit = 0.5\n[study]\nkind = \"grid\"\n"
+                     "[study.axes]\nalpha = { values = [-0.1] }\n"),
+            "bad.toml:2:23: output.energy_growth_limit = 0.5: must be > 1");
+  EXPECT_EQ(error_of("[output]\ncheckpoint_seconds = 0\n"),
+            "bad.toml:2:22: output.checkpoint_seconds = 0: must be > 0");
+  // A rule across two keys is reported at the second one in the file.
+  EXPECT_EQ(error_of("[scene]\ncourant = 0.5\ndt = 1e-7\n"),
+            "bad.toml:3:6: scene.dt = 1e-7: cannot be given with courant");
+}
+
+TEST(PlanErrors, ParameterTheMethodDoesNotTake) {
+  EXPECT_EQ(error_of(R"([method]
+name = "cdm"
+delta = 0.3
+[study]
+kind = "grid"
+[study.axes]
+courant = { values = [0.5, 1] }
+)"),
+            "bad.toml:3:9: method.delta = 0.3: is not a parameter of method cdm (it applies to "
+            "newmark|hht)");
+  // The same parameter as an axis is reported at the axis, with the first point.
+  EXPECT_EQ(error_of(R"([method]
+name = "cdm"
+[study]
+kind = "grid"
+[study.axes]
+delta = { values = [0.5, 1] }
+)"),
+            "bad.toml:6:9: study.axes.delta = 0.5: is not a parameter of method cdm (it applies "
+            "to newmark|hht) (at grid point 0: delta = 0.5)");
+}
+
+TEST(PlanErrors, BadAxisExpression) {
+  EXPECT_EQ(error_of(R"([study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0, partitions = 5 }
+delta = "-1.5*"
+)"),
+            "bad.toml:5:9: study.axes.delta = \"-1.5*\": invalid expression: column 6: expected a "
+            "number, a name or '(' but found the end");
+  EXPECT_EQ(error_of(R"([study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0, partitions = 5 }
+delta = "alpha^2"
+)"),
+            "bad.toml:5:9: study.axes.delta = \"alpha^2\": invalid expression: column 6: "
+            "expected an operator (+ - * /) or the end but found '^' (powers are not supported)");
+}
+
+TEST(PlanErrors, CoupledAxisNames) {
+  EXPECT_EQ(error_of(R"([study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0, partitions = 5 }
+delta = "-1.5*beta"
+)"),
+            "bad.toml:5:9: study.axes.delta = \"-1.5*beta\": uses 'beta', which is not an axis "
+            "(independent axes: alpha)");
+  EXPECT_EQ(error_of(R"([study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0, partitions = 5 }
+delta = "-1.5*gamma"
+gamma = "2*alpha"
+)"),
+            "bad.toml:5:9: study.axes.delta = \"-1.5*gamma\": uses 'gamma', a coupled axis: an "
+            "expression may use only independent axes (alpha)");
+  EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\ndelta = \"0.5\"\n"),
+            "bad.toml:3:1: study.axes = { delta = \"0.5\" }: a grid needs at least one independent "
+            "axis");
+}
+
+TEST(PlanErrors, GridPointOutOfRangeIsReportedAtItsAxis) {
+  // alpha = -0.7 first appears at flat index 4 = (alpha 2, delta 0): row-major, delta fastest.
+  EXPECT_EQ(error_of(R"([method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { values = [-0.5, -0.25, -0.7] }
+delta = { values = [0.5, 1.0] }
+)"),
+            "bad.toml:6:9: study.axes.alpha = -0.7: must lie in [-0.5, 0] (at grid point 4: "
+            "alpha = -0.7, delta = 0.5)");
+  EXPECT_EQ(error_of(R"([method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = 0, to = -0.75, partitions = 3 }
+)"),
+            "bad.toml:6:9: study.axes.alpha = -0.75: must lie in [-0.5, 0] (at grid point 3: "
+            "alpha = -0.75)");
+  // A coupled value out of range is reported at the coupled axis.
+  EXPECT_EQ(error_of(R"([method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0, partitions = 4 }
+delta = "3*alpha + 1"
+)"),
+            "bad.toml:7:9: study.axes.delta = -0.5: must be >= 0 and finite (eq. 13) (at grid "
+            "point 0: alpha = -0.5, delta = -0.5)");
+}
+
+TEST(PlanErrors, ListPointErrors) {
+  EXPECT_EQ(error_of(R"([method]
+name = "newmark"
+[study]
+kind = "list"
+points = [
+  { delta = 0.3, courant = 0.5 },
+  { mass = "consistent", delta = -1 },
+]
+)"),
+            "bad.toml:7:34: study.points[1].delta = -1: must be >= 0 and finite (eq. 13) (at list "
+            "point 1)");
+  // A point that breaks a rule across parameters, with the missing one named at the point.
+  EXPECT_EQ(error_of(R"([method]
+name = "newmark"
+beta = 0.25
+[study]
+kind = "list"
+[[study.points]]
+gamma = 0.5
+[[study.points]]
+courant = 1
+)"),
+            "bad.toml:8:1: study.points[1].gamma = (missing): must be given with beta (at list "
+            "point 1)");
+  EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = [{ delta = 0.3 }, { bogus = 1 }]\n"),
+            std::string("bad.toml:3:38: study.points[1].bogus = 1: unknown key (point keys are "
+                        "parameters: ") +
+                "length, elements, youngs_modulus, density, area, velocity, gap, mass, "
+                "rayleigh_mass, rayleigh_stiffness, courant, dt, t_end, method, delta, alpha, "
+                "beta, gamma, rho_inf, cdm_velocity, hht_contact, peak_prominence, "
+                "energy_growth_limit)");
+  EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = []\n"),
+            "bad.toml:3:10: study.points = []: must hold at least one point");
+  EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = [{ elements = 2.5 }]\n"),
+            "bad.toml:3:24: study.points[0].elements = 2.5: must be an integer below 2e9");
+}
+
+TEST(PlanErrors, GridAxisRules) {
+  const std::string head = "[study]\nkind = \"grid\"\n[study.axes]\n";
+  EXPECT_EQ(error_of("[method]\ndelta = 0.3\n" + head + "delta = { values = [0.1] }\n"),
+            "bad.toml:6:9: study.axes.delta = { values = [0.1] }: is also set as method.delta: a "
+            "parameter is either fixed or a grid axis");
+  EXPECT_EQ(error_of(head + "mass = { values = [1] }\n"),
+            "bad.toml:4:8: study.axes.mass = { values = [1] }: is a choice parameter "
+            "(lumped|consistent): only numeric parameters can be a grid axis; vary choices in a "
+            "list study");
+  EXPECT_STARTS_WITH(error_of(head + "beta2 = { values = [1] }\n"),
+                     "bad.toml:4:9: study.axes.beta2 = { values = [1] }: is not a parameter "
+                     "(numeric parameters: length, elements,");
+  EXPECT_EQ(error_of(head + "alpha = { from = -0.5, to = 0, partitions = 0 }\n"),
+            "bad.toml:4:45: study.axes.alpha.partitions = 0: must be >= 1");
+  EXPECT_EQ(error_of(head + "alpha = { from = -0.5, to = -0.5, partitions = 4 }\n"),
+            "bad.toml:4:29: study.axes.alpha.to = -0.5: equals from; use values = [..] for a "
+            "single value");
+  EXPECT_EQ(error_of(head + "alpha = { from = -0.5, partitions = 4 }\n"),
+            "bad.toml:4:9: study.axes.alpha.to = (missing): an axis needs from, to and "
+            "partitions, or values");
+  EXPECT_EQ(error_of(head + "alpha = { values = [] }\n"),
+            "bad.toml:4:20: study.axes.alpha.values = []: must hold at least one value");
+  EXPECT_EQ(error_of(head + "alpha = { values = [-0.1, -0.2, -0.1] }\n"),
+            "bad.toml:4:33: study.axes.alpha.values[2] = -0.1: repeats an earlier value");
+  EXPECT_EQ(error_of(head + "alpha = { values = [-0.1], from = 0 }\n"),
+            "bad.toml:4:9: study.axes.alpha = { values = [-0.1], from = 0 }: give either values "
+            "or from, to and partitions, not both");
+  EXPECT_EQ(error_of(head + "elements = { from = 1, to = 2, partitions = 999999 }\n"
+                            "length = { from = 1, to = 2, partitions = 1 }\n"),
+            "bad.toml:3:1: study.axes = { elements = { from = 1, to = 2, partitions = 999999 }, "
+            "length = { from = 1, ...: the grid has more than 1000000 points; split the study");
+}
+
+TEST(PlanErrors, OptimizeErrors) {
+  const std::string head = "[method]\nname = \"hht\"\n[study]\nkind = \"optimize\"\n";
+  EXPECT_STARTS_WITH(
+      error_of(head +
+               "algorithm = \"cobyla\"\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
+      "bad.toml:5:13: study.algorithm = \"cobyla\": unknown algorithm (algorithms: GN_DIRECT, ");
+  // A bound outside the parameter's range is reported at the bound.
+  EXPECT_EQ(error_of(head + "[study.parameters]\nalpha = { from = -0.7, to = 0 }\n"),
+            "bad.toml:6:18: study.parameters.alpha.from = -0.7: must lie in [-0.5, 0] (with alpha "
+            "at its lower bound: alpha = -0.7)");
+  EXPECT_EQ(error_of(head + "[study.parameters]\ndelta = { from = 0, to = 1 }\n"
+                            "alpha = { from = -0.5, to = 0.25, start = -0.25 }\n"),
+            "bad.toml:7:29: study.parameters.alpha.to = 0.25: must lie in [-0.5, 0] (with alpha at "
+            "its upper bound: delta = 0.5, alpha = 0.25)");
+  EXPECT_EQ(error_of("[method]\nname = \"cdm\"\n[study]\nkind = \"optimize\"\n"
+                     "[study.parameters]\ndelta = { from = 0, to = 1 }\n"),
+            "bad.toml:6:9: study.parameters.delta = { from = 0, to = 1 }: is not a parameter of "
+            "method cdm (it applies to newmark|hht) (at the start point: delta = 0.5)");
+  EXPECT_EQ(error_of(head + "[study.parameters]\nelements = { from = 10, to = 100 }\n"),
+            "bad.toml:6:12: study.parameters.elements = { from = 10, to = 100 }: is an integer "
+            "parameter: NLopt varies parameters continuously; vary it in a grid or list study");
+  EXPECT_EQ(error_of(head + "[study.parameters]\nalpha = { from = 0, to = -0.5 }\n"),
+            "bad.toml:6:26: study.parameters.alpha.to = -0.5: must be > from");
+  EXPECT_EQ(error_of(head + "[study.parameters]\nalpha = { from = -0.5, to = 0, start = 1 }\n"),
+            "bad.toml:6:40: study.parameters.alpha.start = 1: must lie in [from, to]");
+  EXPECT_EQ(
+      error_of(head + "max_evaluations = 0\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
+      "bad.toml:5:19: study.max_evaluations = 0: must lie in [1, 2147483647]");
+  EXPECT_STARTS_WITH(
+      error_of(head + "objective = \"eps\"\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
+      "bad.toml:5:13: study.objective = \"eps\": unknown indicator (indicators: eps_p, eps_v,");
+  EXPECT_EQ(error_of(head + "[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"
+                            "[study.constraints]\nnop_p = { }\n"),
+            "bad.toml:8:9: study.constraints.nop_p = { }: needs max, min or both");
+  EXPECT_EQ(error_of(head + "[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"
+                            "[study.constraints]\nnop_p = { min = 5, max = 2 }\n"),
+            "bad.toml:8:26: study.constraints.nop_p.max = 2: must be >= min");
+  EXPECT_EQ(error_of(head),
+            "bad.toml:3:1: study.parameters = (missing): an optimize study needs a table "
+            "[study.parameters] of name = { from, to }");
+}
+
+TEST(PlanErrors, MissingStudy) {
+  EXPECT_EQ(error_of("name = \"x\"\n"),
+            "bad.toml:1:1: study = (missing): a plan needs a [study] table with kind = \"grid\", "
+            "\"list\" or \"optimize\"");
+  EXPECT_EQ(error_of("[scene]\nelements = 10\n[study]\n"),
+            "bad.toml:3:1: study.kind = (missing): must be \"grid\", \"list\" or \"optimize\"");
+}
+
+TEST(PlanErrors, ColumnsCountCharactersNotBytes) {
+  // "é" is two bytes; toml++ and the message count it as one column.
+  EXPECT_EQ(error_of("description = \"é\"\n[scene]\n\"café\" = 1\n"),
+            "bad.toml:3:10: scene.café = 1: unknown key (scene keys: length, elements, "
+            "youngs_modulus, density, area, velocity, gap, mass, rayleigh_mass, "
+            "rayleigh_stiffness, courant, dt, t_end)");
+}
+
+TEST(PlanErrors, MissingFile) {
+  try {
+    load_plan("/nonexistent/plan.toml");
+    ADD_FAILURE() << "no error";
+  } catch (const PlanError& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/plan.toml: cannot open the plan file");
+  }
+}
+
+// ---- the shipped plans ----------------------------------------------------------------------
+
+std::filesystem::path plans_dir() {
+  return std::filesystem::path(IMPACTID_SOURCE_DIR) / "plans";
+}
+
+TEST(ShippedPlans, EveryPlanLoads) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(plans_dir())) {
+    if (entry.path().extension() != ".toml") continue;
+    ++count;
+    SCOPED_TRACE(entry.path().string());
+    try {
+      const Plan plan = load_plan(entry.path());
+      EXPECT_EQ(plan.name, entry.path().stem().string());  // name = file name, by convention
+      EXPECT_FALSE(plan.description.empty());
+      EXPECT_EQ(plan.path, entry.path());
+    } catch (const PlanError& e) {
+      ADD_FAILURE() << e.what();
+    }
+  }
+  EXPECT_GE(count, 6);
+}
+
+TEST(ShippedPlans, PaperFiguresHaveThePapersGrids) {
+  const Plan fig3 = load_plan(plans_dir() / "newmark-delta.toml");
+  EXPECT_EQ(fig3.base.method.kind, MethodKind::newmark);
+  ASSERT_EQ(fig3.axes.size(), 1u);
+  EXPECT_EQ(fig3.axes[0].name, "delta");
+  ASSERT_EQ(fig3.axes[0].values.size(), 41u);
+  EXPECT_EQ(fig3.axes[0].values[1], 0.025);
+  EXPECT_EQ(fig3.axes[0].values.back(), 1.0);
+  EXPECT_EQ(fig3.base.scene.elements, 200);  // the paper's rod
+
+  const Plan fig4 = load_plan(plans_dir() / "hht-delta-alpha.toml");
+  EXPECT_EQ(fig4.base.method.kind, MethodKind::hht);
+  const PointSet points(fig4);
+  EXPECT_EQ(points.dimension_names(), (std::vector<std::string>{"alpha", "delta"}));
+  EXPECT_EQ(points.shape(), (std::vector<long>{21, 41}));
+  EXPECT_EQ(points.dimension_values()[0].front(), -0.5);
+  EXPECT_EQ(points.dimension_values()[0].back(), 0.0);
+
+  const Plan line = load_plan(plans_dir() / "hht-period-error-line.toml");
+  ASSERT_EQ(line.coupled.size(), 1u);
+  EXPECT_EQ(line.coupled[0].name, "delta");
+  const PointSet line_points(line);
+  for (long k = 0; k < line_points.size(); ++k) {
+    const auto v = line_points.parameter_values(k);
+    EXPECT_EQ(v[1], -1.5 * v[0]);  // eq. 19
+  }
+
+  const Plan opt = load_plan(plans_dir() / "hht-optimize.toml");
+  EXPECT_EQ(opt.kind, StudyKind::optimize);
+  EXPECT_EQ(opt.optimize.algorithm, "LN_COBYLA");
+  ASSERT_EQ(opt.optimize.constraints.size(), 1u);
+  EXPECT_EQ(opt.optimize.constraints[0].indicator, "nop_p");
+  EXPECT_EQ(opt.optimize.constraints[0].max, 15.0);
+
+  EXPECT_EQ(load_plan(plans_dir() / "list-methods.toml").kind, StudyKind::list);
+  EXPECT_EQ(PointSet(load_plan(plans_dir() / "demo.toml")).size(), 11);
+}
+
+}  // namespace
+}  // namespace impactid

@@ -1,0 +1,211 @@
+// `impactid run` as a user drives it: a plan to a results file, --resume, Ctrl-C in the middle
+// of a sweep, bad plans and unreadable result files.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <array>
+#include <cmath>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <thread>
+
+#include "study/results_file.hpp"
+
+namespace impactid {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Output {
+  int status;
+  std::string text;
+};
+
+Output run(const std::string& arguments) {
+  const std::string command = std::string(IMPACTID_EXECUTABLE) + " " + arguments + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  std::string text;
+  std::array<char, 4096> buffer;
+  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) text += buffer.data();
+  const int raw = pclose(pipe.release());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
+}
+
+fs::path scratch(const std::string& name) {
+  // One folder per test process: parallel ctest runs and other users do not collide.
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("impactid_run_test_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  fs::remove_all(dir / name);
+  return dir / name;
+}
+
+fs::path write_plan(const std::string& name, const std::string& text) {
+  const fs::path path = scratch(name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+const char* kSmallPlan = R"(
+[scene]
+elements = 30
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0.0, partitions = 4 }
+delta = "-1.5*alpha"
+)";
+
+TEST(RunCommand, WritesResultsAndResumesWithNothingLeft) {
+  const fs::path plan = write_plan("small.toml", kSmallPlan);
+  const fs::path out = scratch("small.h5");
+  const Output first = run("run " + plan.string() + " --threads 2 --output " + out.string());
+  ASSERT_EQ(first.status, 0) << first.text;
+  EXPECT_NE(first.text.find("5 computed, 0 reused"), std::string::npos) << first.text;
+  const StudyResults r = read_results(out);
+  EXPECT_EQ(r.points_done(), 5);
+  EXPECT_EQ(r.threads, 2);
+  const ResultColumn* delta = r.find_column("delta");
+  ASSERT_NE(delta, nullptr);
+  EXPECT_DOUBLE_EQ(delta->values[0], 0.75);  // the coupled axis at alpha = -0.5
+
+  const Output again = run("run " + plan.string() + " --resume --output " + out.string());
+  ASSERT_EQ(again.status, 0) << again.text;
+  EXPECT_NE(again.text.find("0 computed, 5 reused"), std::string::npos) << again.text;
+}
+
+TEST(RunCommand, DryRunCountsPointsAndRunsNothing) {
+  const fs::path plan = write_plan("dry.toml", kSmallPlan);
+  const fs::path out = scratch("dry.h5");
+  const Output o = run("run " + plan.string() + " --dry-run --output " + out.string());
+  ASSERT_EQ(o.status, 0) << o.text;
+  EXPECT_NE(o.text.find("points      5"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("estimate"), std::string::npos) << o.text;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(RunCommand, BadPlanExitsTwoWithLocation) {
+  const fs::path plan = write_plan("bad.toml", "[scene]\nelements = 0\n[method]\nname = \"hht\"\n"
+                                               "[study]\nkind = \"grid\"\n[study.axes]\n"
+                                               "alpha = { values = [-0.1] }\n");
+  const Output o = run("run " + plan.string());
+  EXPECT_EQ(o.status, 2) << o.text;
+  EXPECT_NE(o.text.find(plan.string() + ":2:"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("scene.elements = 0"), std::string::npos) << o.text;
+}
+
+TEST(RunCommand, UnreadableResultsFileIsNeverOverwritten) {
+  const fs::path plan = write_plan("keep.toml", kSmallPlan);
+  const fs::path out = scratch("keep.h5");
+  std::ofstream(out) << "not an HDF5 file";
+  const Output o = run("run " + plan.string() + " --output " + out.string());
+  EXPECT_NE(o.status, 0);
+  EXPECT_NE(o.text.find("left untouched"), std::string::npos) << o.text;
+  std::ifstream in(out);
+  std::string content((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(content, "not an HDF5 file");
+}
+
+TEST(RunCommand, ResumeRefusesAFileOfAnotherPlan) {
+  const fs::path plan = write_plan("a.toml", kSmallPlan);
+  const fs::path out = scratch("a.h5");
+  ASSERT_EQ(run("run " + plan.string() + " --output " + out.string()).status, 0);
+  const fs::path other = write_plan("b.toml", std::string(kSmallPlan) + "\n# changed\n");
+  const Output o = run("run " + other.string() + " --resume --output " + out.string());
+  EXPECT_EQ(o.status, 2) << o.text;
+  EXPECT_NE(o.text.find("different plan"), std::string::npos) << o.text;
+}
+
+// Ctrl-C in the middle of a sweep: the finished points are saved, the exit status says
+// "interrupted", and --resume completes the same numbers as an uninterrupted run.
+TEST(RunCommand, InterruptedSweepResumesToTheUninterruptedResult) {
+  const std::string plan_text = R"(
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0.0, partitions = 20 }
+delta = { from = 0.0, to = 1.0, partitions = 20 }
+[output]
+checkpoint_seconds = 0.05
+)";
+  const fs::path plan = write_plan("long.toml", plan_text);
+  const fs::path out = scratch("long.h5");
+
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, 2);
+    execl(IMPACTID_EXECUTABLE, IMPACTID_EXECUTABLE, "run", plan.c_str(), "--threads", "1",
+          "--output", out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait for the first checkpoint: the handler is installed by then.
+  for (int i = 0; i < 400 && !fs::exists(out); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  ASSERT_TRUE(fs::exists(out)) << "no checkpoint written";
+  kill(child, SIGINT);
+  int raw = 0;
+  waitpid(child, &raw, 0);
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 130);
+  const StudyResults partial = read_results(out);
+  EXPECT_GT(partial.points_done(), 0);
+  EXPECT_LT(partial.points_done(), 441);
+
+  const Output resumed = run("run " + plan.string() + " --resume --threads 2 --output " +
+                             out.string());
+  ASSERT_EQ(resumed.status, 0) << resumed.text;
+  EXPECT_NE(resumed.text.find(std::to_string(partial.points_done()) + " reused"),
+            std::string::npos)
+      << resumed.text;
+
+  const fs::path fresh = scratch("fresh.h5");
+  ASSERT_EQ(run("run " + plan.string() + " --threads 2 --output " + fresh.string()).status, 0);
+  const StudyResults a = read_results(out), b = read_results(fresh);
+  EXPECT_EQ(a.status, b.status);
+  for (const char* name : {"eps_p", "eps_v", "nop_p", "nop_v", "energy_ratio"}) {
+    const auto& x = a.find_column(name)->values;
+    const auto& y = b.find_column(name)->values;
+    ASSERT_EQ(x.size(), y.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (std::isnan(y[i])) {
+        EXPECT_TRUE(std::isnan(x[i])) << name << " " << i;
+      } else {
+        EXPECT_EQ(x[i], y[i]) << name << " " << i;
+      }
+    }
+  }
+}
+
+TEST(RunCommand, ExportWritesCsv) {
+  const fs::path plan = write_plan("export.toml", kSmallPlan);
+  const fs::path out = scratch("export.h5");
+  ASSERT_EQ(run("run " + plan.string() + " --output " + out.string()).status, 0);
+  const fs::path dir = scratch("export_csv");
+  const Output o = run("export " + out.string() + " --csv " + dir.string());
+  ASSERT_EQ(o.status, 0) << o.text;
+  std::ifstream in(dir / "points.csv");
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_NE(header.find("eps_p"), std::string::npos) << header;
+  long rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(rows, 5);
+  EXPECT_NE(run("export " + scratch("missing.h5").string() + " --csv " + dir.string()).status, 0);
+}
+
+}  // namespace
+}  // namespace impactid

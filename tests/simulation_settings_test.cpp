@@ -1,0 +1,131 @@
+// The parameter table is the one source of names, defaults and errors for the command line,
+// plan files and sweep axes; these tests keep its text honest against the code.
+#include "study/simulation_settings.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
+#include <string>
+
+namespace impactid {
+namespace {
+
+Simulation built(const SimulationSettings& s) {
+  auto result = build(s);
+  if (auto* e = std::get_if<ParameterError>(&result)) {
+    ADD_FAILURE() << e->field << " = " << e->value << ": " << e->constraint;
+    return {};
+  }
+  return std::get<Simulation>(result);
+}
+
+ParameterError error_of(const SimulationSettings& s) {
+  auto result = build(s);
+  EXPECT_TRUE(std::holds_alternative<ParameterError>(result));
+  return std::holds_alternative<ParameterError>(result) ? std::get<ParameterError>(result)
+                                                        : ParameterError{};
+}
+
+// Every "(default X" written in a description must be the value the code uses, for a method
+// that takes the parameter: documentation that drifts from the code is a defect.
+TEST(SimulationSettings, DocumentedDefaultsAreTheCodeDefaults) {
+  const std::regex default_number(R"(default (-?[0-9.]+(e-?[0-9]+)?))");
+  int checked = 0;
+  for (const ParameterInfo& info : parameter_table()) {
+    if (info.kind == ParameterKind::choice) continue;
+    std::string description = info.description;
+    std::smatch match;
+    if (!std::regex_search(description, match, default_number)) continue;
+    const double documented = std::stod(match[1]);
+    SimulationSettings settings;
+    if (*info.methods) {
+      const std::string_view methods = info.methods;
+      const std::string first(methods.substr(0, methods.find('|')));
+      settings.method.kind = *method_kind_from_string(first);
+    }
+    const auto actual = numeric_value(built(settings), info.name);
+    ASSERT_TRUE(actual.has_value()) << info.name;
+    EXPECT_DOUBLE_EQ(*actual, documented) << info.name << ": " << info.description;
+    ++checked;
+  }
+  EXPECT_GE(checked, 12);  // the scene, delta, alpha, rho_inf, peak_prominence, ...
+}
+
+// The documented default of HHT's δ is −α (eq. 15), the others' defaults are in the table.
+TEST(SimulationSettings, HhtDeltaDefaultsToMinusAlpha) {
+  SimulationSettings s;
+  s.method.kind = MethodKind::hht;
+  ASSERT_FALSE(assign_text(s, "alpha", "-0.2"));
+  const Simulation sim = built(s);
+  EXPECT_DOUBLE_EQ(*numeric_value(sim, "delta"), 0.2);
+  EXPECT_DOUBLE_EQ(*numeric_value(sim, "beta"), 0.25 * 1.2 * 1.2);
+  EXPECT_DOUBLE_EQ(*numeric_value(sim, "gamma"), 0.7);
+}
+
+TEST(SimulationSettings, TextIsParsedStrictly) {
+  SimulationSettings s;
+  EXPECT_EQ(assign_text(s, "courant", "0.5x")->constraint, "must be a number");
+  EXPECT_EQ(assign_text(s, "courant", "")->constraint, "must be a number");
+  EXPECT_EQ(assign_text(s, "elements", "2.5")->constraint, "must be an integer below 2e9");
+  EXPECT_EQ(assign_text(s, "elements", "1e10")->constraint, "must be an integer below 2e9");
+  EXPECT_EQ(assign_text(s, "bogus", "1")->constraint, "is not a parameter");
+  EXPECT_EQ(assign_text(s, "mass", "heavy")->constraint, "must be one of lumped|consistent");
+  ASSERT_FALSE(assign_text(s, "elements", "50"));
+  EXPECT_EQ(s.scene.elements, 50);
+}
+
+TEST(SimulationSettings, NanIsRejectedByName) {
+  SimulationSettings s;
+  ASSERT_FALSE(assign_text(s, "velocity", "nan"));
+  const ParameterError e = error_of(s);
+  EXPECT_EQ(e.field, "velocity");
+  EXPECT_EQ(e.value, "nan");
+}
+
+TEST(SimulationSettings, ParameterTheMethodDoesNotTakeIsAnError) {
+  SimulationSettings s;
+  s.method.kind = MethodKind::central_difference;
+  ASSERT_FALSE(assign_text(s, "delta", "0.3"));
+  const ParameterError e = error_of(s);
+  EXPECT_EQ(e.field, "delta");
+  EXPECT_EQ(e.value, "0.3");
+  EXPECT_NE(e.constraint.find("cdm"), std::string::npos);
+}
+
+TEST(SimulationSettings, NewmarkTakesDeltaOrBothBetaAndGamma) {
+  SimulationSettings s;
+  s.method.kind = MethodKind::newmark;
+  ASSERT_FALSE(assign_text(s, "beta", "0.3"));
+  EXPECT_EQ(error_of(s).field, "gamma");
+  ASSERT_FALSE(assign_text(s, "gamma", "0.6"));
+  const Simulation sim = built(s);
+  EXPECT_DOUBLE_EQ(*numeric_value(sim, "beta"), 0.3);
+  EXPECT_FALSE(numeric_value(sim, "delta").has_value());
+  ASSERT_FALSE(assign_text(s, "delta", "0.1"));
+  EXPECT_EQ(error_of(s).field, "delta");
+}
+
+TEST(SimulationSettings, CourantAndDtExcludeEachOther) {
+  SimulationSettings s;
+  ASSERT_FALSE(assign_text(s, "courant", "1"));
+  EXPECT_EQ(assign_text(s, "dt", "1e-7")->field, "dt");
+  SimulationSettings t;
+  ASSERT_FALSE(assign_text(t, "dt", "1e-7"));
+  EXPECT_EQ(assign_text(t, "courant", "1")->field, "courant");
+  const Simulation sim = built(t);
+  EXPECT_DOUBLE_EQ(*numeric_value(sim, "dt"), 1e-7);
+}
+
+TEST(SimulationSettings, RangesAreCheckedNotClamped) {
+  SimulationSettings s;
+  s.method.kind = MethodKind::hht;
+  ASSERT_FALSE(assign_text(s, "alpha", "-0.7"));
+  const ParameterError e = error_of(s);
+  EXPECT_EQ(e.field, "alpha");
+  EXPECT_EQ(e.value, "-0.7");
+  EXPECT_EQ(e.constraint, "must lie in [-0.5, 0]");
+}
+
+}  // namespace
+}  // namespace impactid

@@ -1,0 +1,141 @@
+// Helpers shared by the tests: independent references (dense eigenpairs of a free rod), a
+// driver for ImplicitIntegrator, and observed convergence orders from step halving.
+// Nothing here calls into the code under test to produce an expected value.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/implicit_integrator.hpp"
+#include "core/rod_scene.hpp"
+#include "core/second_order_system.hpp"
+#include "core/simulation.hpp"
+#include "core/state.hpp"
+
+namespace impactid::testing {
+
+/// A free-free rod without a wall: L = E = ρ = A = 1, so c = 1 and h = 1/n.
+inline SecondOrderSystem free_rod(int elements, MassMatrix mass = MassMatrix::lumped) {
+  RodScene scene;
+  scene.length = 1.0;
+  scene.youngs_modulus = 1.0;
+  scene.density = 1.0;
+  scene.area = 1.0;
+  scene.elements = elements;
+  scene.mass = mass;
+  SecondOrderSystem system = assemble_rod(scene);
+  system.gap = std::numeric_limits<double>::infinity();
+  return system;
+}
+
+struct Mode {
+  double omega;         ///< angular frequency [rad/s]
+  Eigen::VectorXd phi;  ///< M-normalised: φᵀMφ = 1, contact-end entry positive
+};
+
+/// The k-th eigenpair of K φ = ω² M φ from Eigen's dense generalized solver (k = 0 is the rigid
+/// mode of a free rod).
+inline Mode dense_mode(const SecondOrderSystem& system, int k) {
+  const Eigen::MatrixXd m = system.mass.dense();
+  const Eigen::MatrixXd kk = system.stiffness.dense();
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(kk, m);
+  Mode mode{std::sqrt(std::max(0.0, solver.eigenvalues()[k])), solver.eigenvectors().col(k)};
+  mode.phi /= std::sqrt(mode.phi.dot(m * mode.phi));
+  if (mode.phi[mode.phi.size() - 1] < 0) mode.phi = -mode.phi;
+  return mode;
+}
+
+/// State with displacement u, velocity v, zero contact force, at t = 0 (acceleration unset).
+inline State make_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
+  State s;
+  s.u = u;
+  s.v = v;
+  s.a = Eigen::VectorXd::Zero(u.size());
+  return s;
+}
+
+/// Energy norm of the error, sqrt(ω²·eᵤᵀMeᵤ + eᵥᵀMeᵥ): sensitive to phase and amplitude errors
+/// alike, whatever the final time.
+inline double energy_norm_error(const SecondOrderSystem& system, double omega,
+                                const Eigen::VectorXd& du, const Eigen::VectorXd& dv) {
+  return std::sqrt(omega * omega * system.mass.quadratic_form(du) +
+                   system.mass.quadratic_form(dv));
+}
+
+/// Runs `steps` implicit steps of size dt from `initial` (acceleration made consistent here).
+inline State run_implicit(const SecondOrderSystem& system, const ImplicitCoefficients& c,
+                          double dt, long steps, State initial) {
+  ImplicitIntegrator integrator;
+  if (!integrator.initialize(system, c, dt)) {
+    initial.u.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return initial;
+  }
+  initial.a = consistent_acceleration(system, initial);
+  for (long i = 0; i < steps; ++i) integrator.step(system, initial);
+  return initial;
+}
+
+/// Spectral radius of the one-step amplification matrix of `c` on the undamped oscillator
+/// ü + u = 0 at Ω = ω·Δt = dt, measured by stepping ImplicitIntegrator from the three unit
+/// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem.
+inline double spectral_radius(const ImplicitCoefficients& c, double dt) {
+  SecondOrderSystem oscillator;
+  oscillator.mass = Tridiagonal::zero(1);
+  oscillator.mass.diag[0] = 1.0;
+  oscillator.stiffness = Tridiagonal::zero(1);
+  oscillator.stiffness.diag[0] = 1.0;
+  oscillator.damping = Tridiagonal::zero(1);
+  ImplicitIntegrator integrator;
+  if (!integrator.initialize(oscillator, c, dt)) return std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix3d amplification;
+  for (int j = 0; j < 3; ++j) {
+    State s;
+    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
+    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
+    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
+    integrator.step(oscillator, s);
+    amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
+  }
+  return amplification.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+/// log2(e_k / e_{k+1}) for errors at successively halved steps.
+inline std::vector<double> observed_orders(const std::vector<double>& errors) {
+  std::vector<double> orders;
+  for (std::size_t k = 0; k + 1 < errors.size(); ++k) {
+    orders.push_back(std::log2(errors[k] / errors[k + 1]));
+  }
+  return orders;
+}
+
+/// One simulate() run with its trace copied out of the workspace.
+struct Run {
+  RunSummary summary;
+  ContactTrace trace;
+};
+inline Run run(const RodScene& scene, const MethodParams& method, RunOptions options = {}) {
+  SimulationWorkspace workspace;
+  Run r;
+  r.summary = simulate(scene, method, options, workspace);
+  r.trace = workspace.trace;
+  return r;
+}
+
+/// Largest |a_i − b_i|; NaN if any difference is NaN, +inf if the sizes differ.
+inline double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return std::numeric_limits<double>::infinity();
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = std::abs(a[i] - b[i]);
+    if (std::isnan(d)) return d;
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
+}  // namespace impactid::testing
