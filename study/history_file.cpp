@@ -67,10 +67,16 @@ void write_csv(const std::filesystem::path& path, const std::vector<Column>& col
 }
 
 void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& columns,
-                const std::string& method_name) {
+                const Simulation& simulation) {
   try {
     Hdf5Writer file(path);
-    file.attribute("/", "method", method_name);
+    file.attribute("/", "method", std::string(to_string(kind_of(simulation.method))));
+    for (const ParameterInfo& info : parameter_table()) {
+      if (info.kind == ParameterKind::choice) continue;
+      if (const auto value = numeric_value(simulation, info.name)) {
+        file.attribute("/", info.name, *value);
+      }
+    }
     const Hdf5Dims dims{columns[0].values.size()};
     for (const Column& c : columns) {
       file.dataset(c.name, c.values, dims);
@@ -87,18 +93,18 @@ void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& co
 
 }  // namespace
 
-void write_history(const std::filesystem::path& path, const RodScene& scene,
-                   const ContactTrace& trace, const std::string& method_name) {
+void write_history(const std::filesystem::path& path, const Simulation& simulation,
+                   const ContactTrace& trace) {
   const std::string ext = path.extension().string();
   if (ext != ".csv" && ext != ".h5" && ext != ".hdf5") {
     throw HistoryFileError(path.string() +
                            ": unknown history format (use a .csv, .h5 or .hdf5 extension)");
   }
-  const std::vector<Column> columns = history_columns(scene, trace);
+  const std::vector<Column> columns = history_columns(simulation.scene, trace);
   if (ext == ".csv") {
     write_csv(path, columns);
   } else {
-    write_hdf5(path, columns, method_name);
+    write_hdf5(path, columns, simulation);
   }
 }
 

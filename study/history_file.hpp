@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "core/rod_scene.hpp"
 #include "core/simulation.hpp"
+#include "study/simulation_settings.hpp"
 
 namespace impactid {
 
@@ -15,8 +15,9 @@ struct HistoryFileError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Throws HistoryFileError (unknown extension, cannot write) naming the file.
-void write_history(const std::filesystem::path& path, const RodScene& scene,
-                   const ContactTrace& trace, const std::string& method_name);
+/// Throws HistoryFileError (unknown extension, cannot write) naming the file. HDF5 files carry
+/// the method and every numeric parameter of the simulation as root attributes.
+void write_history(const std::filesystem::path& path, const Simulation& simulation,
+                   const ContactTrace& trace);
 
 }  // namespace impactid

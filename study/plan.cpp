@@ -329,6 +329,10 @@ class PlanReader {
                    "a plan needs a [study] table with kind = \"grid\", \"list\" or \"optimize\"");
     }
     read_study(table(*study, "study", "must be a table ([study])"));
+    if (histories_node_ && plan_->kind == StudyKind::optimize) {
+      fail(*histories_node_, "output.histories",
+           "time histories are written for grid and list points, not for an optimisation");
+    }
   }
 
   // [scene]: every scene parameter of the settings table, by its own name.
@@ -362,7 +366,7 @@ class PlanReader {
   }
 
   void read_output(const toml::table& section) {
-    std::vector<std::string> known{"file", "indicators", "checkpoint_seconds"};
+    std::vector<std::string> known{"file", "indicators", "checkpoint_seconds", "histories"};
     for (const std::string& name : parameter_names(ParameterGroup::output)) known.push_back(name);
     for (const Entry& e : in_file_order(section)) {
       const std::string key = "output." + e.key;
@@ -389,6 +393,11 @@ class PlanReader {
           names.push_back(name);
         }
         plan_->output.indicators = names;
+      } else if (e.key == "histories") {
+        const std::string folder = string(node, key);
+        if (folder.empty()) fail(node, key, "must not be empty");
+        plan_->output.histories = folder;
+        histories_node_ = &node;
       } else if (e.key == "checkpoint_seconds") {
         const double v = number(node, key);
         if (!(v > 0.0)) fail(node, key, "must be > 0");
@@ -908,6 +917,7 @@ class PlanReader {
   const std::string& text_;
   std::string file_;
   std::vector<std::size_t> line_starts_;
+  const toml::node* histories_node_ = nullptr;  // for a message that needs the study kind
   const toml::table* root_ = nullptr;
   Plan* plan_ = nullptr;
   const toml::array* points_ = nullptr;

@@ -81,6 +81,9 @@ struct OutputSpec {
   std::filesystem::path file;           ///< default results/<plan name>.h5
   std::vector<std::string> indicators;  ///< default: every indicator of indicator_table()
   double checkpoint_seconds = 10.0;     ///< how often a long run is saved, > 0
+  /// When set (grid and list studies), the time histories of every point are written to
+  /// <histories>/point-<flat index>.h5 in the layout of `impactid simulate --history`.
+  std::optional<std::filesystem::path> histories;
 };
 
 struct Plan {

@@ -15,6 +15,7 @@
 
 #include "study/command_line.hpp"
 #include "study/hdf5_file.hpp"
+#include "study/history_file.hpp"
 #include "study/optimizer.hpp"
 #include "study/plan.hpp"
 #include "study/point_set.hpp"
@@ -138,6 +139,20 @@ std::optional<StudyResults> existing_results(const std::filesystem::path& output
     error = e.what();
     return std::nullopt;
   }
+}
+
+// The time histories of every point, one file each, for plots of the signals themselves
+// (a sweep keeps only indicators). Serial: lists of this kind are short.
+void write_point_histories(const PointSet& points, const std::filesystem::path& folder) {
+  SimulationWorkspace workspace;
+  for (long index = 0; index < points.size(); ++index) {
+    const Simulation simulation = std::get<Simulation>(build(points.settings(index)));
+    simulate(simulation.scene, simulation.method, simulation.run, workspace);
+    write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation,
+                  workspace.trace);
+  }
+  std::fprintf(stderr, "impactid run: wrote the time histories of %ld points to %s/\n",
+               points.size(), folder.string().c_str());
 }
 
 class ProgressLine {
@@ -274,6 +289,9 @@ int run_plan(const RunArguments& args) {
       const SweepOutcome outcome = run_sweep(points, indices, results, options);
       progress.finish();
       save(std::move(results), elapsed());
+      if (plan.output.histories && !outcome.interrupted) {
+        write_point_histories(points, *plan.output.histories);
+      }
       computed = outcome.computed;
       reused = outcome.reused;
       unstable = outcome.unstable;

@@ -128,8 +128,7 @@ std::function<int()> add_simulate_command(CLI::App& app) {
     }
     if (!options->history.empty()) {
       try {
-        write_history(options->history, sim->scene, workspace.trace,
-                      to_string(kind_of(sim->method)));
+        write_history(options->history, *sim, workspace.trace);
       } catch (const std::exception& error) {
         std::cerr << "impactid simulate: " << error.what() << '\n';
         return kExitFailure;
