@@ -303,7 +303,7 @@ TEST(PlanErrors, UnknownKeys) {
                      "bad.toml:2:12: method.elements = 3: unknown key (method keys: name,");
   EXPECT_STARTS_WITH(error_of("[output]\nfiel = \"a.h5\"\n"),
                      "bad.toml:2:8: output.fiel = \"a.h5\": unknown key (output keys: file, "
-                     "indicators, checkpoint_seconds, peak_prominence, energy_growth_limit)");
+                     "indicators, checkpoint_seconds, histories, peak_prominence, energy_growth_limit)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\nbogus = 2\n"),
             "bad.toml:3:9: study.bogus = 2: unknown key (grid keys: kind, axes)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\n"
@@ -659,6 +659,31 @@ TEST(ShippedPlans, PaperFiguresHaveThePapersGrids) {
 
   EXPECT_EQ(load_plan(plans_dir() / "list-methods.toml").kind, StudyKind::list);
   EXPECT_EQ(PointSet(load_plan(plans_dir() / "demo.toml")).size(), 11);
+}
+
+}  // namespace
+}  // namespace impactid
+
+namespace impactid {
+namespace {
+
+// [output] histories: a folder for grid and list studies, refused for an optimisation.
+TEST(PlanOutput, HistoriesFolder) {
+  const Plan plan = parse_plan(
+      "[study]\nkind = \"list\"\npoints = [{ delta = 0.3 }]\n[method]\nname = \"newmark\"\n"
+      "[output]\nhistories = \"results/h\"\n",
+      "h.toml");
+  ASSERT_TRUE(plan.output.histories.has_value());
+  EXPECT_EQ(*plan.output.histories, "results/h");
+  try {
+    parse_plan("[output]\nhistories = \"results/h\"\n[method]\nname = \"newmark\"\n[study]\n"
+               "kind = \"optimize\"\n[study.parameters]\ndelta = { from = 0.1, to = 1.0 }\n",
+               "o.toml");
+    ADD_FAILURE() << "optimize with histories accepted";
+  } catch (const PlanError& e) {
+    EXPECT_NE(std::string(e.what()).find("o.toml:2:13: output.histories"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
