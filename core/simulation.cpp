@@ -1,5 +1,6 @@
 #include "core/simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -19,39 +20,68 @@ const char* to_string(RunStatus status) {
 
 namespace {
 
-void reset_trace(ContactTrace& trace, long samples) {
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-  for (auto* series : {&trace.pressure, &trace.velocity, &trace.displacement, &trace.energy}) {
-    series->assign(static_cast<std::size_t>(samples), nan);
-  }
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+void reset_trace(ContactTrace& trace, long samples, bool history) {
+  const auto n = static_cast<std::size_t>(samples);
+  trace.pressure.assign(n, kNaN);
+  trace.velocity.assign(n, kNaN);
+  trace.displacement.assign(history ? n : 0, kNaN);
+  trace.energy.assign(history ? n : 0, kNaN);
 }
 
-// The step loop shared by every method. `advance` produces the state at the next sample time;
-// it is a lambda, so the call is inlined: no virtual dispatch inside the loop.
+// Samples before which the rod is certainly still in rigid free flight: every method computes
+// u = v0·t, v = v0, a = 0 there exactly, so they can be filled in. Central difference's λ at t_i
+// looks ahead to t_{i+1}, hence one step of margin beyond the last sample before the impact.
+long free_flight_samples(const RodScene& scene, const RodSceneDerived& d,
+                         const RunOptions& options) {
+  if (!options.skip_free_flight || scene.rayleigh_mass != 0.0 || !std::isfinite(d.impact_time)) {
+    return 0;
+  }
+  const double before_impact = std::floor(d.impact_time / d.time_step) - 2.0;
+  return std::clamp(static_cast<long>(before_impact), 0L, d.step_count);
+}
+
+// The step loop shared by every method, from sample `first` on. `advance` produces the state at
+// the next sample time; it is a lambda, so the call is inlined: no virtual dispatch inside the
+// loop.
 template <class Advance>
 void run_steps(const SecondOrderSystem& system, double area, const RunOptions& options,
-               State& state, ContactTrace& trace, RunSummary& summary, Advance&& advance) {
+               long first, State& state, ContactTrace& trace, RunSummary& summary,
+               Advance&& advance) {
   const Eigen::Index c = system.contact_dof;
   const double energy_bound = options.energy_growth_limit * summary.initial_energy;
-  for (long i = 0; i < summary.planned_steps; ++i) {
+  const bool history = options.record_history;
+  const long last = summary.planned_steps - 1;
+  for (long i = first; i <= last; ++i) {
     advance(state);
-    const double energy = system.energy(state.u, state.v);
     trace.pressure[i] = state.lambda / area;
     trace.velocity[i] = state.v[c];
-    trace.displacement[i] = state.u[c];
-    trace.energy[i] = energy;
     summary.steps = i + 1;
-    summary.final_energy = energy;
-    if (!std::isfinite(energy) || !std::isfinite(state.lambda)) {
+    const bool check = history || i == last || (i - first + 1) % options.energy_check_interval == 0;
+    if (check) {
+      const double energy = system.energy(state.u, state.v);
+      summary.final_energy = energy;
+      if (history) {
+        trace.displacement[i] = state.u[c];
+        trace.energy[i] = energy;
+      }
+      if (!std::isfinite(energy)) {
+        summary.status = RunStatus::unstable;
+        summary.message = "non-finite values at t = " + format_value(state.t) + " s";
+        return;
+      }
+      if (summary.initial_energy > 0.0 && energy > energy_bound) {
+        summary.status = RunStatus::unstable;
+        summary.message = "energy grew to " + format_value(energy / summary.initial_energy) +
+                          " times the initial energy at t = " + format_value(state.t) +
+                          " s (bound " + format_value(options.energy_growth_limit) + ")";
+        return;
+      }
+    }
+    if (!std::isfinite(state.lambda) || !std::isfinite(state.v[c])) {
       summary.status = RunStatus::unstable;
       summary.message = "non-finite values at t = " + format_value(state.t) + " s";
-      return;
-    }
-    if (summary.initial_energy > 0.0 && energy > energy_bound) {
-      summary.status = RunStatus::unstable;
-      summary.message = "energy grew to " + format_value(energy / summary.initial_energy) +
-                        " times the initial energy at t = " + format_value(state.t) +
-                        " s (bound " + format_value(options.energy_growth_limit) + ")";
       return;
     }
   }
@@ -65,11 +95,17 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   const RodSceneDerived derived = derive(scene);
   const SecondOrderSystem system = assemble_rod(scene);
   const Eigen::Index n = system.size();
+  const double dt = derived.time_step;
 
   RunSummary summary;
   summary.planned_steps = derived.step_count;
-  summary.dt = derived.time_step;
-  reset_trace(ws.trace, derived.step_count);
+  summary.dt = dt;
+  reset_trace(ws.trace, derived.step_count, options.record_history);
+  if (options.energy_check_interval < 1 || !(options.energy_growth_limit > 1.0)) {
+    summary.status = RunStatus::failed;
+    summary.message = "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
+    return summary;
+  }
 
   State& state = ws.state;
   state.u.setZero(n);
@@ -80,12 +116,27 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   summary.initial_energy = system.energy(state.u, state.v);
   summary.final_energy = summary.initial_energy;
 
-  const double dt = derived.time_step;
+  // Rigid free flight, filled in: the state at t_k = k·Δt and the samples 1..k.
+  const long skipped = free_flight_samples(scene, derived, options);
+  for (long i = 0; i < skipped; ++i) {
+    ws.trace.pressure[i] = 0.0;
+    ws.trace.velocity[i] = scene.velocity;
+    if (options.record_history) {
+      ws.trace.displacement[i] = scene.velocity * ((i + 1) * dt);
+      ws.trace.energy[i] = summary.initial_energy;
+    }
+  }
+  if (skipped > 0) {
+    state.t = skipped * dt;
+    state.u.setConstant(n, scene.velocity * state.t);
+  }
+  summary.steps = summary.skipped_steps = skipped;
+
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     CentralDifference& stepper = ws.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
-      stepper.step(system, state);  // the state at t = 0 is not a sample
-      run_steps(system, scene.area, options, state, ws.trace, summary,
+      stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
+      run_steps(system, scene.area, options, skipped, state, ws.trace, summary,
                 [&](State& s) { stepper.step(system, s); });
     } else {
       summary.status = RunStatus::failed;
@@ -94,7 +145,7 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   } else {
     ImplicitIntegrator& stepper = ws.implicit;
     if (stepper.initialize(system, implicit_coefficients(method), dt)) {
-      run_steps(system, scene.area, options, state, ws.trace, summary,
+      run_steps(system, scene.area, options, skipped, state, ws.trace, summary,
                 [&](State& s) { stepper.step(system, s); });
     } else {
       summary.status = RunStatus::failed;

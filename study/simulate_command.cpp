@@ -120,7 +120,9 @@ std::function<int()> add_simulate_command(CLI::App& app) {
       }
     }
     SimulationWorkspace workspace;
-    const Evaluation e = evaluate(*sim, workspace);
+    Simulation run = *sim;
+    run.run.record_history = !options->history.empty();
+    const Evaluation e = evaluate(run, workspace);
     if (options->json) {
       write_json(*sim, e);
     } else {

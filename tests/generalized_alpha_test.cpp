@@ -67,7 +67,7 @@ double max_difference(const std::vector<double>& a, const std::vector<double>& b
 TEST(GeneralizedAlpha, RhoInfOneWithWeightedContactEqualsTrapezoidalRule) {
   const RodScene scene;
   const double p_scale = derive(scene).pressure_scale;
-  const RunOptions options{.energy_growth_limit = 1e6};
+  const RunOptions options = testing::stepping_options(1e6);
   const testing::Run alpha = run(
       scene, GeneralizedAlphaParams{.rho_inf = 1.0, .contact = ContactWeighting::weighted}, options);
   const testing::Run trapezoid = run(scene, NewmarkParams{.delta = 0.0}, options);
@@ -91,7 +91,7 @@ TEST(GeneralizedAlpha, RhoInfOneWithWeightedContactEqualsTrapezoidalRule) {
 TEST(GeneralizedAlpha, TrapezoidalContactAmplifiesRoundOff) {
   RodScene scene, twin_scene;
   twin_scene.velocity = std::nextafter(scene.velocity, 2.0 * scene.velocity);
-  const RunOptions options{.energy_growth_limit = 1e6};
+  const RunOptions options = testing::stepping_options(1e6);
   const testing::Run trapezoid = run(scene, NewmarkParams{.delta = 0.0}, options);
   const testing::Run twin = run(twin_scene, NewmarkParams{.delta = 0.0}, options);
   const testing::Run alpha = run(

@@ -113,12 +113,24 @@ inline std::vector<double> observed_orders(const std::vector<double>& errors) {
   return orders;
 }
 
+/// Options for tests of the integrators: full histories, every step computed (free flight
+/// included) and the energy bound checked at every step.
+inline RunOptions stepping_options(double energy_growth_limit = RunOptions{}.energy_growth_limit) {
+  RunOptions options;
+  options.energy_growth_limit = energy_growth_limit;
+  options.record_history = true;
+  options.skip_free_flight = false;
+  options.energy_check_interval = 1;
+  return options;
+}
+
 /// One simulate() run with its trace copied out of the workspace.
 struct Run {
   RunSummary summary;
   ContactTrace trace;
 };
-inline Run run(const RodScene& scene, const MethodParams& method, RunOptions options = {}) {
+inline Run run(const RodScene& scene, const MethodParams& method,
+               RunOptions options = stepping_options()) {
   SimulationWorkspace workspace;
   Run r;
   r.summary = simulate(scene, method, options, workspace);

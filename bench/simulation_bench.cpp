@@ -1,0 +1,130 @@
+// Run time of the engine (Google Benchmark 1.7). Counters: dof_steps/s (degrees of freedom ×
+// steps per second), runs/s for sweeps. bench/report prints the ratios of one run.
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "core/simulation.hpp"
+#include "sparse_reference.hpp"
+#include "study/evaluation.hpp"
+
+namespace impactid {
+namespace {
+
+MethodParams method_by_index(int index) {
+  switch (index) {
+    case 0: return CentralDifferenceParams{};
+    case 1: return BackwardEulerParams{};
+    case 2: return NewmarkParams{};
+    case 3: return HhtParams{};
+    default: return GeneralizedAlphaParams{};
+  }
+}
+
+void set_dof_counters(benchmark::State& state, const RodScene& scene, double runs) {
+  const RodSceneDerived d = derive(scene);
+  const double dof_steps = (scene.elements + 1.0) * static_cast<double>(d.step_count);
+  state.counters["dof_steps/s"] =
+      benchmark::Counter(dof_steps * runs, benchmark::Counter::kIsRate);
+  state.counters["steps"] = static_cast<double>(d.step_count);
+}
+
+// One simulation of the default scene (201 dof, 1222 steps) with each method's defaults:
+// set-up and stepping, no indicators.
+void BM_Run(benchmark::State& state) {
+  const RodScene scene;
+  const MethodParams method = method_by_index(static_cast<int>(state.range(0)));
+  state.SetLabel(to_string(kind_of(method)));
+  SimulationWorkspace workspace;
+  for (auto _ : state) {
+    const RunSummary s = simulate(scene, method, RunOptions{}, workspace);
+    benchmark::DoNotOptimize(s.final_energy);
+  }
+  set_dof_counters(state, scene, static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_Run)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+
+// What each skip saves: HHT on a scene with a long free flight (gap 0.2 mm: 428 of 1650 steps
+// before the impact). 0: every skip on (the defaults); 1: free flight stepped; 2: energy checked
+// every step; 3: histories recorded (displacement and energy at every sample); 4: none.
+void BM_Skips(benchmark::State& state) {
+  RodScene scene;
+  scene.gap = 0.2;
+  RunOptions options;
+  const int variant = static_cast<int>(state.range(0));
+  if (variant == 1 || variant == 4) options.skip_free_flight = false;
+  if (variant == 2 || variant == 4) options.energy_check_interval = 1;
+  if (variant == 3 || variant == 4) options.record_history = true;
+  const char* labels[] = {"all skips", "free flight stepped", "energy every step",
+                          "histories recorded", "no skip"};
+  state.SetLabel(labels[variant]);
+  SimulationWorkspace workspace;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(simulate(scene, HhtParams{}, options, workspace).final_energy);
+  }
+  set_dof_counters(state, scene, static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_Skips)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+
+// A simulation and its indicators, as a sweep point computes them.
+void BM_Evaluate(benchmark::State& state) {
+  SimulationSettings settings;
+  const Simulation sim = std::get<Simulation>(build(settings));
+  SimulationWorkspace workspace;
+  for (auto _ : state) benchmark::DoNotOptimize(evaluate(sim, workspace).indicators.eps_p);
+  state.SetLabel("hht, default scene");
+}
+BENCHMARK(BM_Evaluate)->Unit(benchmark::kMicrosecond);
+
+// Sweep throughput: 64 HHT points over (δ, α) on 1 and 2 threads, a workspace per thread.
+void BM_Sweep(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  constexpr int kPoints = 64;
+  for (auto _ : state) {
+#pragma omp parallel num_threads(threads)
+    {
+      SimulationWorkspace workspace;
+#pragma omp for schedule(dynamic, 1)
+      for (int k = 0; k < kPoints; ++k) {
+        SimulationSettings s;
+        s.method.alpha = -0.5 * (k % 8) / 7.0;
+        s.method.delta = 0.3 + 0.1 * (k / 8);
+        benchmark::DoNotOptimize(evaluate(std::get<Simulation>(build(s)), workspace));
+      }
+    }
+  }
+  state.counters["runs/s"] =
+      benchmark::Counter(kPoints * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
+  set_dof_counters(state, RodScene{}, kPoints * static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_Sweep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The general sparse reference (SparseLU every step), checked to give the same pressures.
+void BM_SparseReference(benchmark::State& state) {
+  const RodScene scene;
+  const HhtParams hht{};
+  SimulationWorkspace workspace;
+  simulate(scene, hht, RunOptions{}, workspace);
+  const std::vector<double> reference = sparse_reference_pressure(scene, hht);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    worst = std::max(worst, std::abs(reference[i] - workspace.trace.pressure[i]));
+  }
+  if (!(worst <= 1e-9 * derive(scene).pressure_scale)) {
+    state.SkipWithError("the sparse reference disagrees with the kernel");
+    return;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(sparse_reference_pressure(scene, hht));
+  state.SetLabel("hht, SparseLU refactorised every step");
+  state.counters["max_pressure_difference"] = worst;
+  set_dof_counters(state, scene, static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_SparseReference)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace impactid
+
+BENCHMARK_MAIN();
