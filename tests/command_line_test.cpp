@@ -2,6 +2,8 @@
 // JSON that carries the indicators, and `simulate` agreeing with the library.
 #include <gtest/gtest.h>
 
+#include "cli_support.hpp"
+
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -13,20 +15,9 @@
 namespace impactid {
 namespace {
 
-struct Output {
-  int status;
-  std::string text;  // stdout and stderr together
-};
+using Output = testing::CommandOutput;
 
-Output run(const std::string& arguments) {
-  const std::string command = std::string(IMPACTID_EXECUTABLE) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string text;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) text += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
-}
+Output run(const std::string& arguments) { return testing::run_impactid(arguments); }
 
 void expect_bad_input(const std::string& arguments, const std::string& message) {
   const Output out = run(arguments);

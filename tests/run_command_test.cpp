@@ -1,6 +1,8 @@
 // `impactid run` as a user drives it: a plan to a results file, --resume, Ctrl-C in the middle
 // of a sweep, bad plans and unreadable result files.
 #include <gtest/gtest.h>
+
+#include "cli_support.hpp"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,20 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Output {
-  int status;
-  std::string text;
-};
+using Output = testing::CommandOutput;
 
-Output run(const std::string& arguments) {
-  const std::string command = std::string(IMPACTID_EXECUTABLE) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string text;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) text += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
-}
+Output run(const std::string& arguments) { return testing::run_impactid(arguments); }
 
 fs::path scratch(const std::string& name) {
   // One folder per test process: parallel ctest runs and other users do not collide.
