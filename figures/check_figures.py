@@ -1,0 +1,241 @@
+#!/usr/bin/python3
+"""End-to-end check of the figure generator, for ctest:
+
+    check_figures.py [--impactid PATH] [--keep DIR]
+
+1. writes small versions of the figure plans (a 40-element rod, a few grid points) to a
+   temporary folder and runs `impactid run` on each, from that folder, so the results and the
+   per-point histories land in TMP/results/;
+2. runs plans/spectral.toml of the project too, if it exists (its results go to
+   TMP/results/spectral.h5 through --output);
+3. runs figures/make_figures.py on TMP/results and checks that it exits with 0, prints one
+   `wrote` line per expected figure, and that every PNG exists, is a PNG and is larger than a
+   few kB (an empty set of axes is about 5 kB at 150 dpi; a drawn figure is far larger);
+4. runs make_figures.py on an empty folder and checks that it skips every figure, naming the
+   missing file and the command that produces it, with exit status 0.
+
+Exit status 0 if all holds, 1 otherwise (the failed checks are printed). Takes a few seconds.
+"""
+
+import argparse
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+PROJECT_ROOT = Path(__file__).resolve().parent.parent
+MAKE_FIGURES = PROJECT_ROOT / "figures" / "make_figures.py"
+PYTHON = "/usr/bin/python3"
+MIN_BYTES = 20_000  # every real figure here is 60 kB or more; a blank 12x5 in canvas is ~5 kB
+
+SCENE = """
+[scene]
+elements = 40
+"""
+
+# The thresholds of the figure plans: the results then carry the `practical` column and the
+# practical_* attributes that the figures shade and outline.
+PRACTICAL = """
+[study.practical]
+eps_p = 0.03
+nop_p = 15
+"""
+
+# Small stand-ins for the plans of plans/ (same names, so the same figures), on a 40-element rod.
+PLANS = {
+    "newmark-delta": f"""
+name = "newmark-delta"
+description = "check_figures: Newmark over delta, 40 elements"
+{SCENE}
+[method]
+name = "newmark"
+
+[study]
+kind = "grid"
+
+[study.axes]
+delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
+{PRACTICAL}""",
+    "hht-delta-alpha": f"""
+name = "hht-delta-alpha"
+description = "check_figures: HHT over delta x alpha, 40 elements"
+{SCENE}
+[method]
+name = "hht"
+
+[study]
+kind = "grid"
+
+[study.axes]
+alpha = {{ from = -0.5, to = 0.0, partitions = 5 }}
+delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
+{PRACTICAL}""",
+    "hht-period-error-line": f"""
+name = "hht-period-error-line"
+description = "check_figures: HHT along delta = -1.5 alpha, 40 elements"
+{SCENE}
+[method]
+name = "hht"
+
+[study]
+kind = "grid"
+
+[study.axes]
+alpha = {{ from = -0.5, to = 0.0, partitions = 10 }}
+delta = "-1.5*alpha"
+{PRACTICAL}""",
+    "hht-optimize": f"""
+name = "hht-optimize"
+description = "check_figures: HHT, minimise eps_p subject to NoP_p <= 15, 40 elements"
+{SCENE}
+[method]
+name = "hht"
+
+[study]
+kind = "optimize"
+algorithm = "COBYLA"
+objective = "eps_p"
+max_evaluations = 20
+
+[study.parameters]
+delta = {{ from = 0.0, to = 1.0, start = 0.75 }}
+alpha = {{ from = -0.5, to = 0.0, start = -0.5 }}
+
+[study.constraints]
+nop_p = {{ max = 15 }}
+""",
+    # The parameters are placeholders, not matched dissipation: the check tests the drawing.
+    "identical-dissipation": f"""
+name = "identical-dissipation"
+description = "check_figures: the five methods, 40 elements, with histories"
+{SCENE}
+[study]
+kind = "list"
+points = [
+  {{ method = "cdm" }},
+  {{ method = "backward-euler" }},
+  {{ method = "newmark", delta = 0.2 }},
+  {{ method = "hht", alpha = -0.3, delta = 0.45 }},
+  {{ method = "generalized-alpha", rho_inf = 0.6 }},
+]
+{PRACTICAL}
+[output]
+histories = "results/histories/identical-dissipation"
+""",
+}
+
+FIGURES = {
+    "fig3_newmark_delta.png": ["newmark-delta"],
+    "fig4_hht_delta_alpha.png": ["hht-delta-alpha"],
+    "fig_period_error_line.png": ["hht-period-error-line"],
+    "fig5_pressure_history.png": ["identical-dissipation"],
+    "fig6_velocity_history.png": ["identical-dissipation"],
+    "fig7_compare_pressure.png": ["identical-dissipation"],
+    "fig8_compare_velocity.png": ["identical-dissipation"],
+    "fig_spectral.png": ["spectral"],
+    "fig_optimize.png": ["hht-optimize", "hht-delta-alpha"],
+}
+
+
+def run(cmd, cwd, what):
+    start = time.monotonic()
+    p = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=120)
+    took = time.monotonic() - start
+    return p, took
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--impactid", default=str(PROJECT_ROOT / "build" / "study" / "impactid"),
+                        help="the impactid program (default: build/study/impactid)")
+    parser.add_argument("--keep", default=None, help="work in this folder and keep it (default: a temporary one)")
+    args = parser.parse_args()
+    impactid = Path(args.impactid).resolve()
+    if not impactid.exists():
+        print(f"check_figures: --impactid {impactid}: not found (build it first)")
+        return 1
+
+    failures = []
+    tmp = Path(args.keep) if args.keep else Path(tempfile.mkdtemp(prefix="impactid-figures-"))
+    tmp.mkdir(parents=True, exist_ok=True)
+    try:
+        (tmp / "plans").mkdir(exist_ok=True)
+        (tmp / "results").mkdir(exist_ok=True)
+        made = set()
+        for name, plan in PLANS.items():
+            path = tmp / "plans" / f"{name}.toml"
+            path.write_text(plan.lstrip())
+            p, took = run([str(impactid), "run", str(path), "--threads", "2", "--output",
+                           str(tmp / "results" / f"{name}.h5")], tmp, name)
+            if p.returncode != 0:
+                failures.append(f"impactid run {name}: exit {p.returncode}\n{p.stdout}{p.stderr}")
+            else:
+                made.add(name)
+                print(f"ran {name} in {took:.1f} s")
+        spectral_plan = PROJECT_ROOT / "plans" / "spectral.toml"
+        if spectral_plan.exists():
+            shutil.copy(spectral_plan, tmp / "plans" / "spectral.toml")
+            p, took = run([str(impactid), "run", str(tmp / "plans" / "spectral.toml"), "--output",
+                           str(tmp / "results" / "spectral.h5")], tmp, "spectral")
+            if p.returncode != 0:
+                failures.append(f"impactid run plans/spectral.toml: exit {p.returncode}\n{p.stdout}{p.stderr}")
+            else:
+                made.add("spectral")
+                print(f"ran spectral in {took:.1f} s")
+        else:
+            print("note: no plans/spectral.toml yet: fig_spectral.png is expected to be skipped")
+
+        # 3. every figure whose inputs exist is drawn
+        out = tmp / "figures"
+        p, took = run([PYTHON, str(MAKE_FIGURES), "--results", str(tmp / "results"), "--out", str(out)], tmp, "figures")
+        print(p.stdout, end="")
+        print(f"make_figures.py took {took:.1f} s")
+        if p.returncode != 0:
+            failures.append(f"make_figures.py: exit {p.returncode}\n{p.stderr}")
+        for fig, needs in FIGURES.items():
+            expected = all(n in made for n in needs)
+            png = out / fig
+            if expected:
+                if f"wrote   {png}" not in p.stdout:
+                    failures.append(f"{fig}: no 'wrote' line")
+                if not png.exists():
+                    failures.append(f"{fig}: not written")
+                    continue
+                data = png.read_bytes()
+                if not data.startswith(b"\x89PNG\r\n\x1a\n"):
+                    failures.append(f"{fig}: not a PNG file")
+                if len(data) < MIN_BYTES:
+                    failures.append(f"{fig}: only {len(data)} bytes (< {MIN_BYTES}): an empty figure?")
+            elif f"skipped {fig}:" not in p.stdout:
+                failures.append(f"{fig}: its input is missing but it was not reported as skipped")
+
+        # 4. with no results at all, every figure is skipped with the command that makes its data
+        empty = tmp / "empty"
+        empty.mkdir(exist_ok=True)
+        p, _ = run([PYTHON, str(MAKE_FIGURES), "--results", str(empty), "--out", str(tmp / "empty-figures")], tmp, "empty")
+        if p.returncode != 0:
+            failures.append(f"make_figures.py on an empty folder: exit {p.returncode}\n{p.stderr}")
+        lines = p.stdout.splitlines()
+        for fig in FIGURES:
+            line = next((l for l in lines if l.startswith(f"skipped {fig}:")), None)
+            if line is None:
+                failures.append(f"empty folder: {fig} not reported as skipped:\n{p.stdout}")
+            elif "impactid run plans/" not in line or "not found" not in line:
+                failures.append(f"empty folder: the skip message does not name the file and the command: {line}")
+        if list((tmp / "empty-figures").glob("*.png")):
+            failures.append("empty folder: PNG files were written anyway")
+    finally:
+        if not args.keep:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+    if failures:
+        print("\nFAILED:\n" + "\n".join(f"- {f}" for f in failures))
+        return 1
+    print("check_figures: all figures OK")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

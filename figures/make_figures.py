@@ -1,0 +1,1255 @@
+#!/usr/bin/python3
+"""Regenerate every figure of impactid from its HDF5 results.
+
+    figures/make_figures.py [--results DIR] [--out DIR]
+
+reads the results files of the plans in plans/ (layout: results/README.md) from DIR (default
+results/) and writes one PNG per figure to --out (default DIR/figures/). It prints one line per
+figure: `wrote PATH` or `skipped NAME: WHY`, where WHY names the missing file and the command
+that produces it. The exit status is 0 unless a figure failed with an unexpected error (1) or
+the arguments are wrong (2). What each figure shows: figures/README.md.
+
+Needs Debian's python3 with python3-matplotlib (>= 3.6), python3-h5py and numpy; no other
+package. Run it as /usr/bin/python3, or through scripts/figures.
+"""
+
+import argparse
+import math
+import sys
+import tomllib
+import traceback
+from pathlib import Path
+
+import numpy as np
+
+try:
+    import h5py
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib import colors as mcolors
+    from matplotlib import patheffects as mpatheffects
+    from matplotlib import ticker as mticker
+    from matplotlib import transforms as mtransforms
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch, Rectangle
+except ImportError as error:  # pragma: no cover - environment problem
+    sys.exit(
+        f"make_figures.py: {error}. Run it with Debian's /usr/bin/python3 (python3-matplotlib,"
+        " python3-h5py), e.g. through scripts/figures."
+    )
+
+PROJECT_ROOT = Path(__file__).resolve().parent.parent
+DPI = 150
+RUN = "build/study/impactid run plans/{}.toml"  # how a results file is produced (project root)
+
+# ---------------------------------------------------------------------------------------------
+# Style: one colour per method in every figure (Okabe & Ito's colour-blind-safe palette).
+# ---------------------------------------------------------------------------------------------
+
+METHODS = {
+    # plan name: (label, colour)
+    "cdm": ("central difference", "#E69F00"),
+    "backward-euler": ("backward Euler", "#56B4E9"),
+    "newmark": ("Newmark", "#009E73"),
+    "hht": ("HHT-α", "#0072B2"),
+    "generalized-alpha": ("generalized-α", "#CC79A7"),
+}
+UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
+EXACT_COLOR = "black"
+NOT_OK_COLOR = "0.15"  # near black: points that are not ok (grey hatching on maps)
+PRACTICAL_COLOR = "#D55E00"
+PAPER_COLOR = "0.35"
+CMAP = "viridis"
+
+STATUS_TEXT = {
+    -1: "not done",
+    1: "not ok: unstable (energy growth)",
+    2: "not ok: failed (singular matrix)",
+}
+
+# The default scene (README.md "simulate options"): a plan's [scene] overrides these.
+DEFAULT_SCENE = {
+    "length": 20.0,
+    "elements": 200,
+    "youngs_modulus": 90.0,
+    "density": 7.85e-9,
+    "area": 1.0,
+    "velocity": 1000.0,
+    "gap": 0.01,
+    "mass": "lumped",
+    "rayleigh_mass": 0.0,
+    "rayleigh_stiffness": 0.0,
+    "courant": 0.5,
+}
+
+IDENTICAL_DISSIPATION = (
+    r"Identical dissipation: equal algorithmic damping ratio $\bar\xi$ at Ω = ω·Δt = 1, matched to "
+    "HHT-α with α = −0.3, δ = 0.45; central difference and backward Euler at their own."
+)
+
+plt.rcParams.update(
+    {
+        "font.size": 9.5,
+        "axes.titlesize": 10,
+        "axes.labelsize": 10,
+        "legend.fontsize": 8.5,
+        "figure.titlesize": 11,
+        "axes.grid": True,
+        "grid.alpha": 0.3,
+        "grid.linewidth": 0.6,
+        "savefig.dpi": DPI,
+    }
+)
+
+
+INDICATOR_SYMBOLS = {"eps_p": "ε_p", "eps_v": "ε_v", "nop_p": "NoP_p", "nop_v": "NoP_v", "p_max": "p_max",
+                     "p_max_ratio": "p_max/(ρcv0)", "contact_episodes": "contact episodes", "energy_ratio": "energy ratio"}
+
+
+class Skip(Exception):
+    """A figure that cannot be drawn from the results at hand; the message says why."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading results files
+# ---------------------------------------------------------------------------------------------
+
+
+def text(value):
+    """An HDF5 attribute or string element as str."""
+    if isinstance(value, bytes):
+        return value.decode("utf-8")
+    if isinstance(value, np.ndarray) and value.shape == ():
+        return text(value[()])
+    return str(value)
+
+
+def texts(value):
+    """A string attribute or dataset that may be a scalar or 1-D: a list of str."""
+    if isinstance(value, (str, bytes)):
+        return [text(value)]
+    return [text(v) for v in np.atleast_1d(value)]
+
+
+def num(s):
+    """A number for a label: 4 significant digits, a true minus sign."""
+    if isinstance(s, str):
+        return s
+    s = float(s)
+    if s == int(s) and abs(s) < 1e6:
+        out = str(int(s))
+    else:
+        out = f"{s:.4g}"
+    return out.replace("-", "−")
+
+
+class Results:
+    """An impactid-results-1 file read into memory."""
+
+    def __init__(self, path):
+        self.path = Path(path)
+        with h5py.File(self.path, "r") as f:
+            self.attrs = {k: f.attrs[k] for k in f.attrs}
+            self.data = {}
+            self.meta = {}
+            for name, ds in f.items():
+                if not isinstance(ds, h5py.Dataset):
+                    continue
+                value = ds[()]
+                if ds.dtype.kind in ("S", "O", "U"):
+                    value = np.array(texts(value), dtype=object)
+                self.data[name] = value
+                self.meta[name] = {k: ds.attrs[k] for k in ds.attrs if k not in ("DIMENSION_LIST", "REFERENCE_LIST")}
+            self.dims = []
+            if "status" in f:
+                for dim in f["status"].dims:
+                    if len(dim):
+                        self.dims.append(dim[0].name.lstrip("/"))
+        fmt = text(self.attrs.get("format", ""))
+        if fmt != "impactid-results-1":
+            raise Skip(f"{self.path}: format is {fmt!r}, not 'impactid-results-1'")
+        try:
+            self.plan = tomllib.loads(text(self.attrs.get("plan", "")))
+        except tomllib.TOMLDecodeError:
+            self.plan = {}
+        self.status = np.asarray(self.data.get("status"), dtype=int)
+
+    def attr(self, name, default=None):
+        return self.attrs[name] if name in self.attrs else default
+
+    def has(self, name):
+        return name in self.data
+
+    def param_varies(self, name):
+        if name not in self.data:
+            return False
+        v = np.asarray(self.data[name], dtype=float)
+        v = v[np.isfinite(v)]
+        return v.size > 1 and np.ptp(v) > 0
+
+
+def load(results_dir, name):
+    path = Path(results_dir) / f"{name}.h5"
+    if not path.exists():
+        raise Skip(f"{path} not found; produce it with: {RUN.format(name)}")
+    r = Results(path)
+    if r.status is None or r.status.size == 0:
+        raise Skip(f"{path} holds no points")
+    if np.all(r.status == -1):
+        raise Skip(f"{path}: no point is done yet (status −1 everywhere); finish it with: {RUN.format(name)} --resume")
+    return r
+
+
+# ---------------------------------------------------------------------------------------------
+# Labels: the scene and the methods
+# ---------------------------------------------------------------------------------------------
+
+
+def scene_text(scene, varying=()):
+    """'rod L = 20 mm, n = 200, Courant 0.5, v0 = 1000 mm/s' plus whatever is not the default."""
+    s = dict(DEFAULT_SCENE)
+    s.update({k: v for k, v in scene.items() if v is not None})
+    parts = []
+    if "length" not in varying:
+        parts.append(f"rod L = {num(s['length'])} mm")
+    if "elements" not in varying:
+        parts.append(f"n = {num(s['elements'])}")
+    if "dt" in scene and "courant" not in scene and "dt" not in varying:
+        parts.append(f"Δt = {float(s['dt']):.3g} s")
+    elif "courant" not in varying and "dt" not in varying:
+        parts.append(f"Courant {num(s['courant'])}")
+    if "velocity" not in varying:
+        parts.append(f"v0 = {num(s['velocity'])} mm/s")
+    extras = [
+        ("youngs_modulus", "E = {} MPa"),
+        ("density", "ρ = {} t/mm³"),
+        ("area", "A = {} mm²"),
+        ("gap", "gap {} mm"),
+        ("rayleigh_mass", "a0 = {} 1/s"),
+        ("rayleigh_stiffness", "a1 = {} s"),
+    ]
+    for key, template in extras:
+        if key in varying:
+            continue
+        if not math.isclose(float(s[key]), float(DEFAULT_SCENE[key]), rel_tol=1e-12):
+            parts.append(template.format(num(s[key])))
+    if "mass" not in varying and text(s["mass"]) != "lumped":
+        parts.append(f"{text(s['mass'])} mass")
+    return ", ".join(parts)
+
+
+def results_scene(r):
+    """The scene of a results file: the plan's [scene] table, minus the parameters that vary."""
+    scene = dict(r.plan.get("scene", {}))
+    varying = {name for name in list(DEFAULT_SCENE) + ["dt"] if r.param_varies(name)}
+    return scene_text(scene, varying)
+
+
+def method_info(method):
+    method = text(method).strip().lower()
+    if method in METHODS:
+        return METHODS[method]
+    for key, value in METHODS.items():  # a label such as "HHT-α (…)" or "hht, eq. 15"
+        if method.startswith(key):
+            return value
+    return (method, UNKNOWN_COLORS[hash(method) % len(UNKNOWN_COLORS)])
+
+
+def method_color(method):
+    return method_info(method)[1]
+
+
+def method_params(method, params, sep=", "):
+    """The parameters that tell one setting of a method from another, as text."""
+    method = text(method)
+
+    def get(name):
+        v = params.get(name)
+        if v is None:
+            return None
+        if isinstance(v, (str, bytes)):
+            return text(v)
+        v = float(v)
+        return None if not math.isfinite(v) else v
+
+    parts = []
+    if method == "hht" and get("alpha") is not None:
+        parts.append(f"α = {num(round(get('alpha'), 4))}")
+    if method in ("newmark", "hht"):
+        if get("delta") is not None:
+            parts.append(f"δ = {num(round(get('delta'), 4))}")
+        elif get("beta") is not None and get("gamma") is not None:
+            parts.append(f"β = {num(round(get('beta'), 4))}")
+            parts.append(f"γ = {num(round(get('gamma'), 4))}")
+    if method == "generalized-alpha" and get("rho_inf") is not None:
+        parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")
+    if method == "cdm" and get("cdm_velocity") not in (None, "central"):
+        parts.append(f"{get('cdm_velocity')} velocity")
+    if method in ("hht", "generalized-alpha") and get("hht_contact") not in (None, "endpoint"):
+        parts.append(f"{get('hht_contact')} contact")
+    return sep.join(parts)
+
+
+SHORT_NAMES = {"cdm": "central\ndifference", "backward-euler": "backward\nEuler"}
+
+
+def method_label(method, params, sep=", "):
+    name = method_info(method)[0]
+    if sep == "\n":
+        name = SHORT_NAMES.get(text(method), name)
+    p = method_params(method, params, sep)
+    if not p:
+        return name
+    return f"{name} ({p})" if sep == ", " else f"{name}{sep}{p}"
+
+
+# ---------------------------------------------------------------------------------------------
+# Drawing helpers
+# ---------------------------------------------------------------------------------------------
+
+
+def save(fig, out_dir, name):
+    path = Path(out_dir) / name
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def cell_edges(v):
+    """Edges of the cells centred on the (sorted or reverse-sorted) values v."""
+    v = np.asarray(v, dtype=float)
+    if v.size == 1:
+        return np.array([v[0] - 0.5, v[0] + 0.5])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def runs(mask):
+    """(start, stop) index pairs, stop inclusive, of the runs of True in a 1-D mask."""
+    out, start = [], None
+    for i, m in enumerate(mask):
+        if m and start is None:
+            start = i
+        if not m and start is not None:
+            out.append((start, i - 1))
+            start = None
+    if start is not None:
+        out.append((start, len(mask) - 1))
+    return out
+
+
+def interval_text(x, mask, symbol):
+    parts = [f"[{num(x[a])}, {num(x[b])}]" if a != b else f"{{{num(x[a])}}}" for a, b in runs(mask)]
+    return f"{symbol} ∈ " + " ∪ ".join(parts) if parts else ""
+
+
+def practical_thresholds(r):
+    t = r.attr("practical_thresholds")
+    if t is None:
+        return ""
+    t = "; ".join(texts(t))
+    for a, b in (("eps_p", "ε_p"), ("eps_v", "ε_v"), ("nop_p", "NoP_p"), ("nop_v", "NoP_v"), ("<=", "≤"), (">=", "≥")):
+        t = t.replace(a, b)
+    return t
+
+
+def parse_thresholds(r):
+    """practical_thresholds ('eps_p <= 0.03, nop_p <= 15', 'a <= x <= b', 'x >= a') as
+    {indicator: (min or None, max or None)}; {} if absent or unreadable."""
+    import re
+
+    out = {}
+    t = r.attr("practical_thresholds")
+    if t is None:
+        return out
+    number = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)"
+    for part in "; ".join(texts(t)).replace(";", ",").split(","):
+        part = part.strip()
+        m = re.fullmatch(number + r"\s*<=\s*(\w+)\s*<=\s*" + number, part)
+        if m:
+            out[m.group(2)] = (float(m.group(1)), float(m.group(3)))
+            continue
+        m = re.fullmatch(r"(\w+)\s*(<=|>=)\s*" + number, part)
+        if m:
+            lo, hi = out.get(m.group(1), (None, None))
+            if m.group(2) == "<=":
+                hi = float(m.group(3))
+            else:
+                lo = float(m.group(3))
+            out[m.group(1)] = (lo, hi)
+    return out
+
+
+def threshold_lines(ax, r, key, symbol):
+    """Dashed horizontal lines at the practical thresholds of indicator `key`."""
+    bounds = parse_thresholds(r).get(key)
+    if not bounds:
+        return
+    label = "practical threshold"
+    for value, op in zip(bounds, ("≥", "≤")):
+        if value is not None:
+            ax.axhline(value, color=PRACTICAL_COLOR, lw=1.1, ls="--", zorder=2,
+                       label=f"{label} {symbol} {op} {num(value)}")
+
+
+def mark_not_ok(ax, x, status, y_axes=0.03):
+    """Crosses at the bottom of the axes where a 1-D study's point is not ok, one legend entry per status."""
+    trans = mtransforms.blended_transform_factory(ax.transData, ax.transAxes)
+    styles = {1: ("x", NOT_OK_COLOR), 2: ("+", NOT_OK_COLOR), -1: (".", "0.55")}
+    for code, (marker, color) in styles.items():
+        sel = status == code
+        if np.any(sel):
+            ax.plot(
+                x[sel], np.full(sel.sum(), y_axes), marker, color=color, ms=7, mew=2, ls="none",
+                transform=trans, clip_on=False, zorder=5, label=f"{STATUS_TEXT[code]} ({sel.sum()})",
+            )
+
+
+def log_axis_plain(axis):
+    """Plain numbers (0.02, 50) rather than powers of ten on a logarithmic axis."""
+    axis.set_major_formatter(mticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(mticker.FuncFormatter(lambda v, _: ""))
+
+
+def paper_bar(ax, lo, hi, label, y_axes=0.975):
+    """A thick bar along the top of the axes over [lo, hi], labelled: the paper's 'practical stage'."""
+    trans = mtransforms.blended_transform_factory(ax.transData, ax.transAxes)
+    ax.plot([lo, hi], [y_axes, y_axes], color=PAPER_COLOR, lw=4, solid_capstyle="butt",
+            transform=trans, clip_on=False, zorder=4)
+    ax.text(lo, y_axes - 0.02, " " + label, transform=trans, ha="left", va="top", fontsize=8,
+            color=PAPER_COLOR, zorder=4)
+
+
+def shade_practical_1d(ax, r, x, symbol):
+    """Shade the practical points of a 1-D study (the `practical` column); return whether any."""
+    if not r.has("practical"):
+        return False
+    pr = np.asarray(r.data["practical"], dtype=float) == 1
+    if not np.any(pr):
+        thresholds = practical_thresholds(r)
+        ax.axvspan(np.nan, np.nan, color=PRACTICAL_COLOR, alpha=0.13, lw=0,
+                   label="practical range: no point" + (f" ({thresholds})" if thresholds else ""))
+        return False
+    edges = cell_edges(x)
+    lo_clip, hi_clip = min(x[0], x[-1]), max(x[0], x[-1])
+    label = f"practical range {interval_text(x, pr, symbol)}"
+    thresholds = practical_thresholds(r)
+    if thresholds:
+        label += f"\n({thresholds})"
+    for a, b in runs(pr):
+        # a run spans its first to its last point; a single point gets its cell
+        lo, hi = sorted((x[a], x[b]) if a != b else (edges[a], edges[b + 1]))
+        ax.axvspan(max(lo, lo_clip), min(hi, hi_clip), color=PRACTICAL_COLOR, alpha=0.13, lw=0, label=label, zorder=0)
+        label = None
+    return True
+
+
+# ---------------------------------------------------------------------------------------------
+# Figure 3: Newmark over delta
+# ---------------------------------------------------------------------------------------------
+
+
+def indicator_panels_1d(r, x, xlabel, symbol, color, keys, paper=None, secondary=None):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.6), constrained_layout=True)
+    status = r.status
+    for ax, (key, ylabel, title) in zip(axes, keys):
+        if not r.has(key):
+            ax.text(0.5, 0.5, f"{key} not in {r.path.name}", transform=ax.transAxes, ha="center")
+            continue
+        y = np.where(status == 0, np.asarray(r.data[key], dtype=float), np.nan)
+        shade_practical_1d(ax, r, x, symbol)
+        threshold_lines(ax, r, key, ylabel.split(" ")[0])
+        ax.plot(x, y, "-o", color=color, ms=3.5, lw=1.3, label=f"{ylabel.split(' ')[0]} (ok points)", zorder=3)
+        if np.any(np.isfinite(y)):
+            i = int(np.nanargmin(y))
+            ties = int(np.sum(y == y[i]))
+            where = f"{symbol} = {num(round(x[i], 4))}" if ties == 1 else f"{ties} points, first {symbol} = {num(round(x[i], 4))}"
+            ax.plot(x[i], y[i], "*", ms=13, color="white", mec="black", mew=1.0, zorder=6, clip_on=False,
+                    label=f"smallest: {num(round(y[i], 4) if y[i] < 1 else y[i])} ({where})")
+        mark_not_ok(ax, x, status)
+        if paper:
+            paper_bar(ax, *paper)
+        ax.set_yscale("log")
+        ax.yaxis.set_major_locator(mticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+        log_axis_plain(ax.yaxis)
+        ax.set_xlim(min(x[0], x[-1]), max(x[0], x[-1]))
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.25)
+        if secondary:
+            sec = ax.secondary_xaxis("top", functions=secondary[0])
+            sec.set_xlabel(secondary[1])
+        ax.legend(loc="upper right", bbox_to_anchor=(1.0, 0.9), framealpha=0.92)
+    return fig, axes
+
+
+def fig3(results_dir, out_dir):
+    r = load(results_dir, "newmark-delta")
+    if r.dims != ["delta"]:
+        raise Skip(f"{r.path}: expected one grid axis 'delta', found {r.dims}")
+    x = np.asarray(r.data["delta"], dtype=float)
+    keys = [
+        ("eps_p", "ε_p [−]", "(a) relative error of the contact pressure (eq. 18)"),
+        ("nop_p", "NoP_p [−]", "(b) number of peaks of the contact pressure"),
+    ]
+    fig, _ = indicator_panels_1d(r, x, "δ [−]  (β = (1+δ)²/4, γ = ½+δ, eq. 13)", "δ", method_color("newmark"), keys,
+                                 paper=(0.3, 1.0, "paper's practical stage δ ∈ [0.3, 1]"))
+    fig.suptitle(f"Fig. 3 — Newmark method over δ; {results_scene(r)}")
+    return [save(fig, out_dir, "fig3_newmark_delta.png")]
+
+
+def fig_period_error_line(results_dir, out_dir):
+    r = load(results_dir, "hht-period-error-line")
+    if r.dims != ["alpha"] or not r.has("delta"):
+        raise Skip(f"{r.path}: expected the grid axis 'alpha' and the coupled column 'delta', found {r.dims}")
+    x = np.asarray(r.data["alpha"], dtype=float)
+    keys = [
+        ("eps_p", "ε_p [−]", "(a) relative error of the contact pressure (eq. 18)"),
+        ("nop_p", "NoP_p [−]", "(b) number of peaks of the contact pressure"),
+    ]
+    fig, _ = indicator_panels_1d(
+        r, x, "α [−]", "α", method_color("hht"), keys,
+        paper=(-0.5, -0.3, "paper's practical stage α ∈ [−0.5, −0.3]"),
+        secondary=((lambda a: -1.5 * a, lambda d: -d / 1.5), "δ = −1.5·α [−]"),
+    )
+    fig.suptitle(f"HHT-α along δ = −1.5·α (eq. 19, the minimal period error); {results_scene(r)}")
+    return [save(fig, out_dir, "fig_period_error_line.png")]
+
+
+# ---------------------------------------------------------------------------------------------
+# Figure 4: HHT over (delta, alpha)
+# ---------------------------------------------------------------------------------------------
+
+
+def grid_2d(r, key, xdim="delta", ydim="alpha"):
+    """The surface `key` of a 2-D grid as Z[y, x] with the axis values (x, y)."""
+    if sorted(r.dims) != sorted([xdim, ydim]):
+        raise Skip(f"{r.path}: expected the grid axes {ydim} × {xdim}, found {r.dims}")
+    z = np.asarray(r.data[key], dtype=float)
+    if r.dims[0] == xdim:
+        z = z.T
+    return np.asarray(r.data[xdim], dtype=float), np.asarray(r.data[ydim], dtype=float), z
+
+
+def hht_map(ax, r, key, norm_kind="log", cbar_label="", fig=None):
+    """pcolormesh of an HHT (δ, α) surface; not-ok cells hatched grey. Returns the mesh."""
+    x, y, z = grid_2d(r, key)
+    _, _, st = grid_2d(r, "status")
+    ok = st == 0
+    zm = np.ma.masked_where(~ok | ~np.isfinite(z), z)
+    xe, ye = cell_edges(x), cell_edges(y)
+    ax.add_patch(Rectangle((xe.min(), ye.min()), np.ptp(xe), np.ptp(ye), facecolor="0.86", edgecolor="0.55",
+                           hatch="///", lw=0, zorder=0))
+    vmin, vmax = float(zm.min()), float(zm.max())
+    if norm_kind == "log" and vmin > 0:
+        norm = mcolors.LogNorm(vmin=vmin, vmax=vmax)
+    else:
+        norm = mcolors.Normalize(vmin=vmin, vmax=vmax)
+    ax.grid(False)
+    mesh = ax.pcolormesh(xe, ye, zm, cmap=CMAP, norm=norm, shading="flat", zorder=1)
+    cb = fig.colorbar(mesh, ax=ax, pad=0.02)
+    cb.set_label(cbar_label)
+    if norm_kind == "log":
+        cb.ax.yaxis.set_major_locator(mticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+        log_axis_plain(cb.ax.yaxis)
+    ax.set_xlim(xe.min(), xe.max())
+    ax.set_ylim(ye.min(), ye.max())
+    ax.set_xlabel("δ [−]")
+    ax.set_ylabel("α [−]")
+    ax.grid(False)
+    ax.impactid_norm = norm
+    return x, y, z, st
+
+
+def hht_lines(ax, x, y, paper_stage=True):
+    """The lines δ = −1.5α (eq. 19) and δ = −α (eq. 15) over the α range of the map."""
+    a = np.linspace(y.min(), y.max(), 50)
+    handles = []
+    handles += ax.plot(-1.5 * a, a, color="white", lw=2.0, ls=(0, (5, 2)), zorder=4,
+                       path_effects=[mpatheffects.withStroke(linewidth=3.6, foreground="black")],
+                       label="δ = −1.5·α  (eq. 19: minimal period error)")
+    handles += ax.plot(-a, a, color="black", lw=1.6, ls=":", zorder=4,
+                       label="δ = −α  (eq. 15; HHT unstable for δ < −α)")
+    if paper_stage:
+        s = np.linspace(-0.5, -0.3, 10)
+        s = s[(s >= y.min()) & (s <= y.max())]
+        if s.size:
+            handles += ax.plot(-1.5 * s, s, color="0.78", lw=10, alpha=0.9, solid_capstyle="butt", zorder=3,
+                               label="paper's practical stage α ∈ [−0.5, −0.3] on eq. 19")
+    return handles
+
+
+def outline_practical(ax, r):
+    if not r.has("practical"):
+        return []
+    x, y, pr = grid_2d(r, "practical")
+    pr = np.where(np.isfinite(pr), pr, 0.0)
+    if not np.any(pr == 1):
+        return []
+    # outline the union of practical cells (their edges), not a contour through the centres
+    xe, ye = cell_edges(x), cell_edges(y)
+    fine = np.kron(pr, np.ones((4, 4)))
+    xf = np.interp(np.arange(fine.shape[1]) / 4 + 0.125, np.arange(len(xe)), xe)
+    yf = np.interp(np.arange(fine.shape[0]) / 4 + 0.125, np.arange(len(ye)), ye)
+    ax.contour(xf, yf, fine, levels=[0.5], colors=[PRACTICAL_COLOR], linewidths=2.0, zorder=5)
+    # name the region inside it, at its practical cell nearest the centroid
+    jj, ii = np.nonzero(pr == 1)
+    cx, cy = x[ii].mean(), y[jj].mean()
+    k = np.argmin(((x[ii] - cx) / np.ptp(x)) ** 2 + ((y[jj] - cy) / np.ptp(y)) ** 2)
+    ax.text(x[ii[k]], y[jj[k]], "practical", color="white", fontsize=10, fontweight="bold", ha="center",
+            va="center", zorder=6, path_effects=[mpatheffects.withStroke(linewidth=2.5, foreground=PRACTICAL_COLOR)])
+    label = f"practical region ({int(np.sum(pr == 1))} points"
+    thresholds = practical_thresholds(r)
+    label += f": {thresholds})" if thresholds else ")"
+    return [Line2D([], [], color=PRACTICAL_COLOR, lw=2.0, label=label)]
+
+
+def not_ok_handle(st):
+    codes = sorted({int(c) for c in np.unique(st) if c != 0})
+    if not codes:
+        return []
+    label = "; ".join(f"{STATUS_TEXT[c]} ({int(np.sum(st == c))} points)" for c in codes)
+    if 1 in codes:
+        label += " — region δ ≲ −α"
+    return [Patch(facecolor="0.86", edgecolor="0.55", hatch="///", label=label)]
+
+
+def fig4(results_dir, out_dir):
+    r = load(results_dir, "hht-delta-alpha")
+    fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.6), constrained_layout=True)
+    handles = []
+    for ax, key, label, title in (
+        (axes[0], "eps_p", "ε_p [−]", "(a) relative error of the contact pressure ε_p (eq. 18)"),
+        (axes[1], "nop_p", "NoP_p [−]", "(b) number of peaks of the contact pressure NoP_p"),
+    ):
+        x, y, z, st = hht_map(ax, r, key, "log", label, fig)
+        lines = hht_lines(ax, x, y)
+        zok = np.where(st == 0, z, np.nan)
+        if key == "eps_p" and np.any(np.isfinite(zok)):
+            j, i = np.unravel_index(np.nanargmin(zok), zok.shape)
+            star = ax.plot(x[i], y[j], "*", ms=15, color="white", mec="black", mew=1.0, zorder=6,
+                           label=f"smallest ε_p = {zok[j, i]:.4f} at δ = {num(x[i])}, α = {num(y[j])}")
+        practical = outline_practical(ax, r)
+        ax.set_title(title)
+        if not handles:
+            handles = lines + star + not_ok_handle(st) + practical
+    fig.legend(handles=handles, loc="lower center", ncol=2, frameon=False, bbox_to_anchor=(0.5, 0.0))
+    fig.get_layout_engine().set(rect=(0, 0.13, 1, 0.87))
+    fig.suptitle(f"Fig. 4 — HHT-α with independent δ (eq. 13) and α (eq. 14); {results_scene(r)}")
+    return [save(fig, out_dir, "fig4_hht_delta_alpha.png")]
+
+
+# ---------------------------------------------------------------------------------------------
+# Figures 5 and 6: time histories at identical dissipation
+# ---------------------------------------------------------------------------------------------
+
+
+class History:
+    def __init__(self, path):
+        self.path = Path(path)
+        with h5py.File(self.path, "r") as f:
+            self.attrs = {k: (text(f.attrs[k]) if isinstance(f.attrs[k], (bytes, str)) else f.attrs[k]) for k in f.attrs}
+            self.data = {k: np.asarray(f[k][()], dtype=float) for k in f if isinstance(f[k], h5py.Dataset)}
+        for key in ("t", "pressure", "velocity", "exact_pressure", "exact_velocity"):
+            if key not in self.data:
+                raise Skip(f"{self.path}: dataset {key!r} missing (layout of `impactid simulate --history`)")
+        self.method = text(self.attrs.get("method", "?"))
+        self.t_us = self.data["t"] * 1e6
+
+    def label(self):
+        return method_label(self.method, self.attrs)
+
+    def jump_times(self):
+        """(t_impact, t_release) in µs: from the scene attributes, or from the exact pressure."""
+        a = self.attrs
+        try:
+            c = math.sqrt(float(a["youngs_modulus"]) / float(a["density"]))
+            t_imp = float(a["gap"]) / float(a["velocity"])
+            return t_imp * 1e6, (t_imp + 2 * float(a["length"]) / c) * 1e6
+        except (KeyError, ValueError, ZeroDivisionError):
+            on = np.nonzero(self.data["exact_pressure"] > 0)[0]
+            if on.size == 0:
+                raise Skip(f"{self.path}: the exact pressure is zero throughout: no impact")
+            return self.t_us[on[0]], self.t_us[on[-1]]
+
+
+def find_history_dir(results_dir, name):
+    """The folder of a list study's per-point histories: results/histories/<name>/, or the plan's
+    [output] histories (relative to the project root or to the results folder's parent)."""
+    results_dir = Path(results_dir)
+    candidates = [results_dir / "histories" / name]
+    path = results_dir / f"{name}.h5"
+    if path.exists():
+        try:
+            r = Results(path)
+            h = r.plan.get("output", {}).get("histories")
+            if h:
+                h = Path(h)
+                candidates += [h] if h.is_absolute() else [PROJECT_ROOT / h, results_dir.parent / h, Path.cwd() / h]
+        except Skip:
+            pass
+    for c in candidates:
+        if (c / "point-0.h5").exists():
+            return c
+    raise Skip(f"no time histories: {candidates[0]}/point-*.h5 not found; produce them with: {RUN.format(name)}")
+
+
+def load_histories(results_dir, name="identical-dissipation"):
+    folder = find_history_dir(results_dir, name)
+    files = sorted(folder.glob("point-*.h5"), key=lambda p: int(p.stem.split("-")[1]))
+    # keep only the points of the results file, if there is one with status
+    hist = [History(p) for p in files]
+    for h, p in zip(hist, files):
+        h.point = int(p.stem.split("-")[1])
+        h.indicators = {}
+    path = Path(results_dir) / f"{name}.h5"
+    if path.exists():  # keep only the points of the results file, and take their indicators
+        r = Results(path)
+        n = r.status.size
+        hist = [h for h in hist if h.point < n]
+        for h in hist:
+            if r.status[h.point] == 0:
+                h.indicators = {k: float(np.atleast_1d(r.data[k])[h.point]) for k in INDICATOR_SYMBOLS if r.has(k)}
+    return folder, hist
+
+
+def window_ylim(lines_xy, lo, hi, pad=0.08):
+    ymin, ymax = np.inf, -np.inf
+    for x, y in lines_xy:
+        sel = (x >= lo) & (x <= hi) & np.isfinite(y)
+        if np.any(sel):
+            ymin, ymax = min(ymin, y[sel].min()), max(ymax, y[sel].max())
+    if not np.isfinite(ymin):
+        return None
+    span = (ymax - ymin) or 1.0
+    return ymin - pad * span, ymax + pad * span
+
+
+def history_figure(results_dir, out_dir, quantity):
+    folder, hist = load_histories(results_dir)
+    if not hist:
+        raise Skip(f"{folder}: no point-*.h5 files")
+    if quantity == "pressure":
+        key, exact_key, ylabel, scale = "pressure", "exact_pressure", "contact pressure p [MPa]", 1.0
+        name = "fig5_pressure_history.png"
+        title = "Fig. 5 — Time evolution of the contact pressure"
+    else:
+        key, exact_key, ylabel, scale = "velocity", "exact_velocity", "contact-node velocity v [mm/s]", 1.0
+        name = "fig6_velocity_history.png"
+        title = "Fig. 6 — Time evolution of the velocity of the contact node"
+    ref = hist[0]
+    t_imp, t_rel = ref.jump_times()
+    dt_us = float(ref.attrs.get("dt", np.median(np.diff(ref.data["t"])))) * 1e6
+    # the pressure falls before the release; the velocity overshoots after it
+    release = (t_rel - 85 * dt_us, t_rel + 15 * dt_us) if quantity == "pressure" else (t_rel - 15 * dt_us, t_rel + 85 * dt_us)
+    windows = [("impact", t_imp - 6 * dt_us, t_imp + 45 * dt_us), ("release", *release)]
+
+    fig = plt.figure(figsize=(11, 7.6), layout="constrained")
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.15, 1])
+    ax = fig.add_subplot(gs[0, :])
+    zooms = [fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[1, 1])]
+    series = []
+    # the roughest curves behind the smooth ones (total variation), the legend in point order
+    variation = [np.nansum(np.abs(np.diff(h.data[key]))) for h in hist]
+    rank = {id(h): r for r, h in enumerate(sorted(hist, key=lambda h: -variation[hist.index(h)]))}
+    ind = ("eps_p", "nop_p") if quantity == "pressure" else ("eps_v", "nop_v")
+    for a in [ax] + zooms:
+        for h in hist:
+            y = h.data[key] * scale
+            label = h.label()
+            if all(k in h.indicators for k in ind):
+                label += (f": {INDICATOR_SYMBOLS[ind[0]]} = {h.indicators[ind[0]]:.4f},"
+                          f" {INDICATOR_SYMBOLS[ind[1]]} = {num(h.indicators[ind[1]])}")
+            a.plot(h.t_us, y, color=method_color(h.method), lw=1.0 if a is ax else 1.3, label=label,
+                   zorder=2 + 0.1 * rank[id(h)])
+        a.plot(ref.t_us, ref.data[exact_key] * scale, color=EXACT_COLOR, lw=1.3, ls="--", label="exact (d'Alembert)", zorder=3)
+    for h in hist:
+        series.append((h.t_us, h.data[key] * scale))
+    series.append((ref.t_us, ref.data[exact_key] * scale))
+    ax.set_xlim(0, ref.t_us[-1])
+    ax.set_xlabel("t [µs]")
+    ax.set_ylabel(ylabel)
+    ax.set_title("(a) the whole run; boxes: the zoomed windows")
+    letters = "bc"
+    for z, (what, lo, hi), letter in zip(zooms, windows, letters):
+        z.set_xlim(lo, hi)
+        ylim = window_ylim(series, lo, hi)
+        if ylim:
+            z.set_ylim(*ylim)
+        z.set_xlabel("t [µs]")
+        z.set_ylabel(ylabel)
+        when = t_imp if what == "impact" else t_rel
+        z.axvline(when, color="0.5", lw=0.8, ls=":", zorder=1)
+        z.set_title(f"({letter}) zoom at {what}, t = {when:.1f} µs")
+        _, connectors = ax.indicate_inset_zoom(z, edgecolor="0.3", alpha=0.9)
+        for c in connectors:  # they would cross the figure: keep only the box
+            c.set_visible(False)
+    if quantity == "pressure":
+        ax.legend(loc="upper right", framealpha=0.92)
+    else:  # the velocity oscillates after the release: the empty band between 0 and −v0 before it
+        ax.legend(loc="center left", bbox_to_anchor=(0.2, 0.40), framealpha=0.92, fontsize=8)
+    scene = scene_text({k: ref.attrs[k] for k in DEFAULT_SCENE if k in ref.attrs} | ({"dt": ref.attrs["dt"]} if "courant" not in ref.attrs and "dt" in ref.attrs else {}))
+    fig.suptitle(f"{title} at identical dissipation; {scene}")
+    return [save(fig, out_dir, name)]
+
+
+def fig5(results_dir, out_dir):
+    return history_figure(results_dir, out_dir, "pressure")
+
+
+def fig6(results_dir, out_dir):
+    return history_figure(results_dir, out_dir, "velocity")
+
+
+# ---------------------------------------------------------------------------------------------
+# Figures 7 and 8: the indicators of the methods at identical dissipation
+# ---------------------------------------------------------------------------------------------
+
+
+def list_methods(results_dir, r, name="identical-dissipation"):
+    """The method and parameters of each point of a list study, in point order."""
+    n = r.status.size
+    methods = [None] * n
+    if r.has("method"):  # a per-point method column, if the file has one
+        methods = [text(m) for m in np.atleast_1d(r.data["method"])]
+    if any(m is None for m in methods):
+        try:
+            folder = find_history_dir(results_dir, name)
+            for k in range(n):
+                p = folder / f"point-{k}.h5"
+                if p.exists() and methods[k] is None:
+                    with h5py.File(p, "r") as f:
+                        methods[k] = text(f.attrs.get("method", ""))
+        except Skip:
+            pass
+    if any(m is None for m in methods):
+        default = r.plan.get("method", {}).get("name", text(r.attr("method", "hht")))
+        points = r.plan.get("study", {}).get("points", [])
+        for k in range(n):
+            if methods[k] is None:
+                methods[k] = points[k].get("method", default) if k < len(points) else default
+    params = []
+    for k in range(n):
+        p = {}
+        for key, meta in r.meta.items():
+            if text(meta.get("role", "")) == "parameter":
+                v = np.atleast_1d(r.data[key])[k]
+                p[key] = v
+        params.append(p)
+    return methods, params
+
+
+def compare_figure(results_dir, out_dir, which):
+    r = load(results_dir, "identical-dissipation")
+    if r.dims != ["point"]:
+        raise Skip(f"{r.path}: expected a list study (dimension 'point'), found {r.dims}")
+    methods, params = list_methods(results_dir, r)
+    if which == "pressure":
+        keys = [("eps_p", "ε_p [−]", "(a) relative error ε_p (eq. 18)"), ("nop_p", "NoP_p [−]", "(b) number of peaks NoP_p")]
+        name, title = "fig7_compare_pressure.png", "Fig. 7 — Comparison of the methods: contact pressure"
+    else:
+        keys = [("eps_v", "ε_v [−]", "(a) relative error ε_v (eq. 18)"), ("nop_v", "NoP_v [−]", "(b) number of peaks NoP_v")]
+        name, title = "fig8_compare_velocity.png", "Fig. 8 — Comparison of the methods: velocity of the contact node"
+    n = len(methods)
+    labels = [method_label(m, p, sep="\n") for m, p in zip(methods, params)]
+    colors = [method_color(m) for m in methods]
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.2), layout="constrained")
+    xpos = np.arange(n)
+    for ax, (key, ylabel, sub) in zip(axes, keys):
+        if not r.has(key):
+            ax.text(0.5, 0.5, f"{key} not in {r.path.name}", transform=ax.transAxes, ha="center")
+            continue
+        v = np.where(r.status == 0, np.asarray(r.data[key], dtype=float), np.nan)
+        bars = ax.bar(xpos, np.nan_to_num(v), color=colors, edgecolor="black", lw=0.6, width=0.7, zorder=3)
+        top = np.nanmax(v) if np.any(np.isfinite(v)) else 1.0
+        for i, (b, val) in enumerate(zip(bars, v)):
+            if np.isfinite(val):
+                s = f"{val:.4f}" if key.startswith("eps") else f"{int(round(val))}"
+                ax.text(b.get_x() + b.get_width() / 2, val + 0.015 * top, s, ha="center", va="bottom", fontsize=9)
+            else:
+                code = int(r.status[i])
+                ax.text(b.get_x() + b.get_width() / 2, 0.02 * top, STATUS_TEXT.get(code, "not ok").replace(": ", ":\n"),
+                        ha="center", va="bottom", fontsize=8, color=NOT_OK_COLOR, rotation=90)
+        bounds = parse_thresholds(r).get(key, (None, None))
+        if bounds[1] is not None:
+            top = max(top, bounds[1])
+        threshold_lines(ax, r, key, ylabel.split(" ")[0])
+        headroom = 1.12
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper left", framealpha=0.92)
+            headroom = 1.3  # the legend above the tallest bar and its value
+        ax.set_ylim(0, headroom * top)
+        ax.set_xticks(xpos, labels, fontsize=8.5)
+        ax.set_ylabel(ylabel)
+        ax.set_title(sub)
+        ax.grid(True, axis="y")
+        ax.grid(False, axis="x")
+    scene = results_scene(r)
+    fig.suptitle(f"{title}, identical dissipation; {scene}\n{IDENTICAL_DISSIPATION}", fontsize=10)
+    if r.has("practical") and practical_thresholds(r):
+        pr = np.asarray(r.data["practical"], dtype=float) == 1
+        names = [method_label(m, p) for m, p, ok in zip(methods, params, pr) if ok]
+        fig.text(0.5, 0.005, f"Practical ({practical_thresholds(r)}): " + ("; ".join(names) if names else "none"),
+                 ha="center", va="bottom", fontsize=9)
+        fig.get_layout_engine().set(rect=(0, 0.04, 1, 0.96))
+    return [save(fig, out_dir, name)]
+
+
+def fig7(results_dir, out_dir):
+    return compare_figure(results_dir, out_dir, "pressure")
+
+
+def fig8(results_dir, out_dir):
+    return compare_figure(results_dir, out_dir, "velocity")
+
+
+# ---------------------------------------------------------------------------------------------
+# Spectral analysis
+# ---------------------------------------------------------------------------------------------
+
+
+def load_spectral(results_dir):
+    path = Path(results_dir) / "spectral.h5"
+    if not path.exists():
+        raise Skip(f"{path} not found; produce it with: {RUN.format('spectral')}")
+    s = {}
+    with h5py.File(path, "r") as f:
+        fmt = text(f.attrs.get("format", ""))
+        if fmt != "impactid-spectral-1":
+            raise Skip(f"{path}: format is {fmt!r}, not 'impactid-spectral-1'")
+        s["attrs"] = {k: f.attrs[k] for k in f.attrs}
+        for k in f:
+            if isinstance(f[k], h5py.Dataset):
+                v = f[k][()]
+                s[k] = np.array(texts(v), dtype=object) if f[k].dtype.kind in ("S", "O", "U") else np.asarray(v)
+    # the method names: `method_name` (strings; `method` is then the dimension 0..M-1), or
+    # `method` itself when it holds strings
+    if "method_name" in s:
+        s["method"] = s["method_name"]
+    elif "method" in s and s["method"].dtype != object:
+        s["method"] = s.get("method_label")
+    for key in ("omega_dt", "method", "spectral_radius", "period_error"):
+        if key not in s or s[key] is None:
+            raise Skip(f"{path}: dataset {key!r} missing")
+    return path, s
+
+
+def pretty_spectral_label(method, label):
+    """'hht alpha=-0.3 delta=0.45' -> 'HHT-α (α = −0.3, δ = 0.45)'; other labels unchanged."""
+    words = label.split()
+    if not words or words[0] != method or not all("=" in w for w in words[1:]):
+        return label
+    params = {}
+    for w in words[1:]:
+        key, value = w.split("=", 1)
+        try:
+            params[key] = float(value)
+        except ValueError:
+            params[key] = value
+    out = method_label(method, params)
+    if method == "hht" and "alpha" in params and "delta" not in params:
+        out = out[:-1] + ", δ = −α: eq. 15)" if out.endswith(")") else out + " (δ = −α: eq. 15)"
+    return out
+
+
+def spectral_styles(methods):
+    """A colour per method and, for repeats of a method, different line styles."""
+    seen = {}
+    styles = []
+    dashes = ["-", "--", "-.", ":"]
+    for m in methods:
+        k = seen.get(m, 0)
+        seen[m] = k + 1
+        styles.append((method_color(m), dashes[k % len(dashes)]))
+    return styles
+
+
+def fig_spectral(results_dir, out_dir):
+    path, s = load_spectral(results_dir)
+    W = np.asarray(s["omega_dt"], dtype=float)
+    methods = [text(m) for m in s["method"]]
+    labels = [pretty_spectral_label(m, text(l)) for m, l in zip(methods, s.get("method_label", s["method"]))]
+    styles = spectral_styles(methods)
+    ref = s["attrs"].get("omega_dt_reference")
+    has_map = all(k in s for k in ("alpha", "delta", "stable"))
+    has_dmin = "alpha" in s and ("delta_min_period_error_limit" in s or "delta_min_period_error" in s)
+    fig, axs = plt.subplots(2, 2, figsize=(12, 9.4), layout="constrained")
+    ax_rho, ax_pe, ax_dmin, ax_map = axs.ravel()
+
+    # (a) spectral radius
+    for i, (lab, (c, ls)) in enumerate(zip(labels, styles)):
+        rho = np.asarray(s["spectral_radius"][i], dtype=float)
+        extra = ""
+        if "rho_inf" in s and not np.isnan(s["rho_inf"][i]):
+            ri = float(s["rho_inf"][i])
+            extra = ", ρ∞ = ∞" if ri > 1e6 else f", ρ∞ = {ri:.3g}" if ri > 1e-6 else ", ρ∞ = 0"
+        ax_rho.semilogx(W, rho, color=c, ls=ls, lw=1.6, label=lab + extra)
+    ax_rho.set_ylim(0, 1.12)
+    ax_rho.axhline(1, color="0.4", lw=0.7)
+    ax_rho.set_xlabel("Ω = ω·Δt [−]")
+    ax_rho.set_ylabel("spectral radius ρ [−]")
+    ax_rho.set_title("(a) spectral radius of the amplification matrix")
+    if any(m == "cdm" for m in methods):
+        ax_rho.axvline(2, color=method_color("cdm"), lw=0.8, ls=":")
+        ax_rho.text(2.3, 1.015, "central difference: ρ > 1 for Ω > 2", color="0.2", fontsize=8, va="bottom")
+    # (b) period error, |PE| on log-log; negative values dashed
+    for i, (lab, (c, ls)) in enumerate(zip(labels, styles)):
+        pe = np.asarray(s["period_error"][i], dtype=float)
+        pos = np.where(pe > 0, pe, np.nan)
+        neg = np.where(pe < 0, -pe, np.nan)
+        coef = ""
+        if "period_error_coefficient" in s and np.isfinite(s["period_error_coefficient"][i]):
+            coef = f"  (≈ {num(round(float(s['period_error_coefficient'][i]), 4))}·Ω²)"
+        if np.any(np.isfinite(pos)):
+            ax_pe.loglog(W, pos, color=c, ls=ls, lw=1.6, label=lab + coef)
+        if np.any(np.isfinite(neg)):
+            ax_pe.loglog(W, neg, color=c, ls=(0, (1, 1.5)), lw=2.0,
+                         label=lab + coef)
+    ax_pe.set_xlabel("Ω = ω·Δt [−]")
+    ax_pe.set_ylabel(r"|relative period error $(\bar T - T)/T$| [−]")
+    ax_pe.set_title(r"(b) relative period error; dotted: negative ($\bar T < T$)")
+    lo = np.nanmin(np.abs(np.asarray(s["period_error"], dtype=float))[np.abs(np.asarray(s["period_error"], dtype=float)) > 0])
+    ax_pe.set_ylim(max(lo, 1e-8), None)
+    for a in (ax_rho, ax_pe):
+        if ref is not None:
+            a.axvline(float(ref), color="0.3", lw=0.9, ls="--", zorder=1,
+                      label=f"Ω = {num(float(ref))}: the reference Ω of (c)")
+        a.set_xlim(W.min(), W.max())
+        a.grid(True, which="major", alpha=0.3)
+    ax_rho.legend(loc="lower left", fontsize=8, framealpha=0.92)
+    ax_pe.legend(loc="upper left", fontsize=7.5, framealpha=0.92)
+
+    # (c) the delta of minimal period error over alpha
+    if has_dmin:
+        A = np.asarray(s["alpha"], dtype=float)
+        a_line = np.linspace(A.min(), A.max(), 50)
+        if "delta_min_period_error_limit" in s:
+            ax_dmin.plot(A, s["delta_min_period_error_limit"], color=method_color("hht"), lw=5, alpha=0.45,
+                         label="δ minimising the period error, Ω → 0")
+        ax_dmin.plot(a_line, -1.5 * a_line, color="black", lw=1.2, ls="--", label="δ = −1.5·α (eq. 19)")
+        ax_dmin.plot(a_line, -a_line, color="black", lw=1.2, ls=":", label="δ = −α (eq. 15; stability limit)")
+        if "delta_min_period_error" in s:
+            ax_dmin.plot(A, s["delta_min_period_error"], color="#D55E00", lw=1.6, ls="--", marker="o", ms=2.5,
+                         label=f"δ minimising the period error at Ω = {num(float(ref)) if ref is not None else '?'}")
+        ax_dmin.set_xlabel("α [−]")
+        ax_dmin.set_ylabel("δ [−]")
+        ax_dmin.set_title("(c) HHT-α: the δ of minimal period error")
+        ax_dmin.legend(loc="upper right", fontsize=8)
+    else:
+        ax_dmin.set_visible(False)
+
+    # (d) the HHT stability map
+    if has_map:
+        A = np.asarray(s["alpha"], dtype=float)
+        D = np.asarray(s["delta"], dtype=float)
+        st = np.asarray(s["stable"], dtype=float)
+        if st.shape != (A.size, D.size) and st.shape == (D.size, A.size):
+            st = st.T
+        ae, de = cell_edges(A), cell_edges(D)
+        cmap = mcolors.ListedColormap(["0.80", "#d9ecf7"])
+        ax_map.grid(False)
+        ax_map.pcolormesh(de, ae, st, cmap=cmap, vmin=0, vmax=1, shading="flat", zorder=0)
+        uns = np.ma.masked_where(st != 0, st)
+        ax_map.pcolor(de, ae, uns, hatch="///", alpha=0.0, zorder=1)
+        hs = [Patch(facecolor="#d9ecf7", edgecolor="0.5", label="stable: ρ ≤ 1 for all Ω ≤ "
+                    f"{num(float(s['attrs'].get('stability_omega_max', np.nan)))}"),
+              Patch(facecolor="0.80", edgecolor="0.5", hatch="///", label="unstable")]
+        hs += hht_lines(ax_map, D, A, paper_stage=False)
+        # the points where simulation ended not ok, for comparison
+        try:
+            rr = load(results_dir, "hht-delta-alpha")
+            x, y, stt = grid_2d(rr, "status")
+            xe, ye = cell_edges(x), cell_edges(y)
+            bad = (stt > 0).astype(float)
+            fine = np.kron(bad, np.ones((4, 4)))
+            xf = np.interp(np.arange(fine.shape[1]) / 4 + 0.125, np.arange(len(xe)), xe)
+            yf = np.interp(np.arange(fine.shape[0]) / 4 + 0.125, np.arange(len(ye)), ye)
+            ax_map.contour(xf, yf, fine, levels=[0.5], colors=["#D55E00"], linewidths=1.8, zorder=5)
+            hs.append(Line2D([], [], color="#D55E00", lw=1.8,
+                             label="edge of the not-ok runs of hht-delta-alpha.h5 (energy growth)"))
+        except Skip:
+            pass
+        ax_map.set_xlim(de.min(), de.max())
+        ax_map.set_ylim(ae.min(), ae.max())
+        ax_map.set_xlabel("δ [−]")
+        ax_map.set_ylabel("α [−]")
+        ax_map.set_title("(d) HHT-α stability (β, γ from δ, eq. 13)")
+        ax_map.grid(False)
+        ax_map.legend(handles=hs, loc="upper right", fontsize=7.5, framealpha=0.92)
+    else:
+        ax_map.set_visible(False)
+    fig.suptitle("Spectral analysis on the undamped oscillator ü + ω²u = 0 (no contact)")
+    return [save(fig, out_dir, "fig_spectral.png")]
+
+
+# ---------------------------------------------------------------------------------------------
+# The NLopt search over the HHT surface
+# ---------------------------------------------------------------------------------------------
+
+
+def objective_text(objective):
+    if isinstance(objective, dict):
+        return " + ".join(f"{num(w)}·{INDICATOR_SYMBOLS.get(k, k)}" if w != 1 else INDICATOR_SYMBOLS.get(k, k)
+                          for k, w in objective.items())
+    return INDICATOR_SYMBOLS.get(str(objective), str(objective))
+
+
+def draw_evaluations(ax, o, best_ms=20):
+    """The evaluations of an optimisation over (δ, α), in order, and its best point. Returns handles."""
+    d = np.asarray(o.data["delta"], dtype=float)
+    a = np.asarray(o.data["alpha"], dtype=float)
+    feas = np.asarray(o.data.get("feasible", np.ones_like(d)), dtype=float) == 1
+    ok = o.status == 0
+    handles = []
+    ax.plot(d, a, "-", color="white", lw=0.8, alpha=0.9, zorder=5)
+    handles += ax.plot(d[feas], a[feas], "o", mfc="white", mec="black", ms=5.5, zorder=6, ls="none",
+                       label=f"feasible evaluation ({int(feas.sum())})")
+    handles += ax.plot(d[~feas & ok], a[~feas & ok], "o", mfc="0.15", mec="white", ms=5.5, zorder=6, ls="none",
+                       label=f"infeasible evaluation ({int((~feas & ok).sum())})")
+    if np.any(~ok):
+        handles += ax.plot(d[~ok], a[~ok], "x", color=NOT_OK_COLOR, ms=7, mew=2, zorder=6, ls="none",
+                           label=f"not ok ({int((~ok).sum())})")
+    bd, ba = o.attr("best_delta"), o.attr("best_alpha")
+    if bd is not None and ba is not None:
+        lab = f"best: δ = {num(round(float(bd), 4))}, α = {num(round(float(ba), 4))}"
+        for key in ("eps_p", "nop_p"):
+            v = o.attr(f"best_{key}")
+            if v is not None:
+                lab += f", {INDICATOR_SYMBOLS[key]} = {num(round(float(v), 4))}"
+        handles += ax.plot([float(bd)], [float(ba)], "*", ms=best_ms, color="#F0E442", mec="black", mew=1.2,
+                           zorder=7, ls="none", label=lab, clip_on=False)
+    return handles
+
+
+def fig_optimize(results_dir, out_dir):
+    o = load(results_dir, "hht-optimize")
+    for key in ("delta", "alpha"):
+        if not o.has(key):
+            raise Skip(f"{o.path}: no {key!r} column: the figure needs a search over δ and α")
+    try:
+        r = load(results_dir, "hht-delta-alpha")
+    except Skip as why:
+        raise Skip(f"the ε_p surface is missing: {why}")
+    fig, ax = plt.subplots(figsize=(9.0, 6.8), layout="constrained")
+    x, y, z, st = hht_map(ax, r, "eps_p", "log", "ε_p [−] (the grid of hht-delta-alpha.h5)", fig)
+    handles = hht_lines(ax, x, y, paper_stage=False)
+    # each constraint on an indicator of the grid, as a contour of the grid
+    study = o.plan.get("study", {})
+    constraint_text = []
+    stroke = [mpatheffects.withStroke(linewidth=3.4, foreground="white")]
+    for key, bounds in study.get("constraints", {}).items():
+        sym = INDICATOR_SYMBOLS.get(key, key)
+        for side, op in (("min", "≥"), ("max", "≤")):
+            if side not in bounds:
+                continue
+            limit = float(bounds[side])
+            constraint_text.append(f"{sym} {op} {num(limit)}")
+            if not r.has(key):
+                continue
+            _, _, grid = grid_2d(r, key)
+            grid = np.where(st == 0, grid, np.nan)
+            level = limit + (0.5 if key.startswith("nop") and side == "max" else -0.5 if key.startswith("nop") else 0)
+            if np.nanmin(grid) < level < np.nanmax(grid):
+                cs = ax.contour(x, y, grid, levels=[level], colors=["black"], linewidths=1.6, linestyles="-.",
+                                zorder=4)
+                for c in cs.collections:  # matplotlib 3.6: a ContourSet is not an Artist
+                    c.set_path_effects(stroke)
+                handles.append(Line2D([], [], color="black", lw=1.6, ls="-.", path_effects=stroke,
+                                      label=f"{sym} = {num(limit)} on the grid (the constraint {sym} {op} {num(limit)})"))
+    handles += draw_evaluations(ax, o)
+    # a zoom on where the search ended
+    d = np.asarray(o.data["delta"], dtype=float)
+    a = np.asarray(o.data["alpha"], dtype=float)
+    tail = slice(len(d) // 2, None)
+    if len(d) >= 6:
+        dl, dh = np.nanmin(d[tail]), np.nanmax(d[tail])
+        al, ah = np.nanmin(a[tail]), np.nanmax(a[tail])
+        pd = max(0.15 * (dh - dl), 0.01 * np.ptp(x), 0.004)
+        pa = max(0.15 * (ah - al), 0.01 * np.ptp(y), 0.002)
+        if (dh - dl) < 0.3 * np.ptp(x) and (ah - al) < 0.3 * np.ptp(y):
+            ins = ax.inset_axes([0.6, 0.3, 0.37, 0.3])
+            ins.grid(False)
+            xe, ye = cell_edges(x), cell_edges(y)
+            ins.pcolormesh(xe, ye, np.ma.masked_where(st != 0, z), cmap=CMAP,
+                           norm=ax.impactid_norm, shading="flat")
+            draw_evaluations(ins, o, best_ms=11)
+            bounds = study.get("parameters", {})
+            dlo, dhi = bounds.get("delta", {}).get("from", x.min()), bounds.get("delta", {}).get("to", x.max())
+            alo, ahi = bounds.get("alpha", {}).get("from", y.min()), bounds.get("alpha", {}).get("to", y.max())
+            ins.set_xlim(max(dl - pd, dlo - 0.2 * pd), min(dh + pd, dhi + 0.2 * pd))
+            ins.set_ylim(max(al - pa, alo - 0.2 * pa), min(ah + pa, ahi + 0.2 * pa))
+            ins.xaxis.set_major_locator(mticker.MaxNLocator(4))
+            ins.yaxis.set_major_locator(mticker.MaxNLocator(4))
+            ins.tick_params(labelsize=7)
+            ins.set_title(f"zoom: evaluations {len(d) // 2}–{len(d) - 1}", fontsize=7.5, pad=2)
+            ax.indicate_inset_zoom(ins, edgecolor="white", alpha=1.0)
+    algo = text(o.attr("algorithm", study.get("algorithm", "?")))
+    term = text(o.attr("termination", "?"))
+    ax.legend(handles=handles, loc="upper right", fontsize=7.5, framealpha=0.92)
+    ax.set_title(f"{algo}: minimise {objective_text(study.get('objective', 'eps_p'))}"
+                 + (f" subject to {', '.join(constraint_text)}" if constraint_text else "")
+                 + f"; {len(d)} evaluations, {term}", fontsize=9.5)
+    fig.suptitle(f"HHT-α parameter search; {results_scene(o)}")
+    return [save(fig, out_dir, "fig_optimize.png")]
+
+
+# ---------------------------------------------------------------------------------------------
+
+FIGURES = [
+    ("fig3_newmark_delta.png", fig3),
+    ("fig4_hht_delta_alpha.png", fig4),
+    ("fig_period_error_line.png", fig_period_error_line),
+    ("fig5_pressure_history.png", fig5),
+    ("fig6_velocity_history.png", fig6),
+    ("fig7_compare_pressure.png", fig7),
+    ("fig8_compare_velocity.png", fig8),
+    ("fig_spectral.png", fig_spectral),
+    ("fig_optimize.png", fig_optimize),
+]
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="make_figures.py",
+        description="Regenerate every impactid figure (PNG) from the HDF5 results files.",
+    )
+    parser.add_argument("--results", default=None, help="folder of the results files (default: results/ of the project)")
+    parser.add_argument("--out", default=None, help="folder for the PNG files (default: RESULTS/figures/)")
+    parser.add_argument("--only", action="append", default=None, metavar="NAME",
+                        help="draw only this figure (file name, with or without .png); may repeat")
+    args = parser.parse_args(argv)
+    results_dir = Path(args.results) if args.results else PROJECT_ROOT / "results"
+    out_dir = Path(args.out) if args.out else results_dir / "figures"
+    if not results_dir.is_dir():
+        parser.error(f"--results {results_dir}: not a folder")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    wanted = None
+    if args.only:
+        wanted = {w if w.endswith(".png") else w + ".png" for w in args.only}
+        unknown = wanted - {n for n, _ in FIGURES}
+        if unknown:
+            parser.error(f"--only {', '.join(sorted(unknown))}: no such figure ({', '.join(n for n, _ in FIGURES)})")
+    failed = 0
+    for name, draw in FIGURES:
+        if wanted and name not in wanted:
+            continue
+        try:
+            for path in draw(results_dir, out_dir):
+                print(f"wrote   {path}")
+        except Skip as why:
+            print(f"skipped {name}: {why}")
+        except Exception as error:  # keep drawing the others; report and fail at the end
+            failed += 1
+            print(f"FAILED  {name}: {type(error).__name__}: {error}")
+            traceback.print_exc(file=sys.stderr)
+        finally:
+            plt.close("all")
+        sys.stdout.flush()
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
