@@ -8,6 +8,7 @@
 #include "study/command_line.hpp"
 #include "study/run_command.hpp"
 #include "study/simulate_command.hpp"
+#include "study/spectral_command.hpp"
 #include "study/version.hpp"
 
 int main(int argc, char** argv) {
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   std::vector<std::function<int()>> commands{
       impactid::add_simulate_command(app),
       impactid::add_compare_command(app),
+      impactid::add_spectral_command(app),
       impactid::add_run_command(app),
       impactid::add_export_command(app),
   };
@@ -34,8 +36,15 @@ int main(int argc, char** argv) {
     app.exit(e);  // prints CLI11's message
     return impactid::kExitBadInput;
   }
-  for (const auto& run : commands) {
-    if (const int status = run(); status >= 0) return status;
+  // The commands report their own errors; this is the last line of defence (out of memory, a
+  // defect), so that nothing ends in an abort without a word.
+  try {
+    for (const auto& run : commands) {
+      if (const int status = run(); status >= 0) return status;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "impactid: " << e.what() << '\n';
+    return impactid::kExitFailure;
   }
   return impactid::kExitBadInput;
 }

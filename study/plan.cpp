@@ -13,6 +13,7 @@
 #include <string_view>
 #include <variant>
 
+#include "core/amplification.hpp"
 #include "study/indicator_table.hpp"
 #include "study/point_set.hpp"
 
@@ -27,6 +28,8 @@ using namespace std::string_literals;
 constexpr long kMaxGridPoints = 1'000'000;
 /// Values longer than this are cut in messages.
 constexpr std::size_t kMaxValueText = 80;
+/// The study kinds, as plans spell them, for messages.
+constexpr const char* kStudyKinds = "\"grid\", \"list\", \"optimize\" or \"spectral\"";
 
 struct Algorithm {
   const char* name;   ///< as written in a plan
@@ -325,10 +328,10 @@ class PlanReader {
       }
     }
     if (!study) {
-      fail_missing(*root_, "study",
-                   "a plan needs a [study] table with kind = \"grid\", \"list\" or \"optimize\"");
+      fail_missing(*root_, "study", "a plan needs a [study] table with kind = "s + kStudyKinds);
     }
     read_study(table(*study, "study", "must be a table ([study])"));
+    if (plan_->kind == StudyKind::spectral) check_spectral_sections();
     if (histories_node_ && plan_->kind == StudyKind::optimize) {
       fail(*histories_node_, "output.histories",
            "time histories are written for grid and list points, not for an optimisation");
@@ -413,7 +416,7 @@ class PlanReader {
 
   void read_study(const toml::table& study) {
     const toml::node* kind = study.get("kind");
-    if (!kind) fail_missing(study, "study.kind", "must be \"grid\", \"list\" or \"optimize\"");
+    if (!kind) fail_missing(study, "study.kind", "must be "s + kStudyKinds);
     const std::string text = string(*kind, "study.kind");
     if (text == "grid") {
       plan_->kind = StudyKind::grid;
@@ -421,8 +424,10 @@ class PlanReader {
       plan_->kind = StudyKind::list;
     } else if (text == "optimize") {
       plan_->kind = StudyKind::optimize;
+    } else if (text == "spectral") {
+      plan_->kind = StudyKind::spectral;
     } else {
-      fail(*kind, "study.kind", "must be \"grid\", \"list\" or \"optimize\"");
+      fail(*kind, "study.kind", "must be "s + kStudyKinds);
     }
 
     switch (plan_->kind) {
@@ -434,6 +439,9 @@ class PlanReader {
         break;
       case StudyKind::optimize:
         read_optimize(study);
+        break;
+      case StudyKind::spectral:
+        read_spectral(study);
         break;
     }
   }
@@ -470,8 +478,10 @@ class PlanReader {
     for (const Entry& e : in_file_order(study)) {
       if (e.key == "axes") {
         axes_node = e.node;
+      } else if (e.key == "practical") {
+        plan_->practical = practical(*e.node);
       } else if (e.key != "kind") {
-        fail_unknown(*e.node, "study." + e.key, "grid keys", {"kind", "axes"});
+        fail_unknown(*e.node, "study." + e.key, "grid keys", {"kind", "axes", "practical"});
       }
     }
     if (!axes_node) fail_missing(study, "study.axes", "a grid study needs a table [study.axes]");
@@ -598,8 +608,10 @@ class PlanReader {
     for (const Entry& e : in_file_order(study)) {
       if (e.key == "points") {
         points_node = e.node;
+      } else if (e.key == "practical") {
+        plan_->practical = practical(*e.node);
       } else if (e.key != "kind") {
-        fail_unknown(*e.node, "study." + e.key, "list keys", {"kind", "points"});
+        fail_unknown(*e.node, "study." + e.key, "list keys", {"kind", "points", "practical"});
       }
     }
     if (!points_node) {
@@ -675,6 +687,10 @@ class PlanReader {
       } else if (e.key == "constraints") {
         out.constraints =
             constraints(table(node, key, "must be a table of indicator = { max, min }"));
+      } else if (e.key == "practical") {
+        fail(node, key,
+             "is for grid and list studies; an optimisation states its limits as "
+             "[study.constraints]");
       } else {
         fail_unknown(node, key, "optimize keys", known);
       }
@@ -780,6 +796,268 @@ class PlanReader {
     return out;
   }
 
+  // [study.practical]: indicator = maximum, or indicator = { max = .., min = .. }. Every
+  // indicator is >= 0 by definition, so a negative bound is a mistake, not a filter.
+  std::vector<IndicatorConstraint> practical(const toml::node& node) const {
+    const std::string key = "study.practical";
+    const toml::table& t = table(node, key,
+                                 "must be a table of indicator = maximum, e.g. "
+                                 "{ eps_p = 0.03, nop_p = 15 }");
+    const auto bound = [&](const toml::node& where, const std::string& where_key) {
+      const double v = number(where, where_key);
+      if (!(v >= 0.0)) fail(where, where_key, "must be >= 0 (indicators are never negative)");
+      return v;
+    };
+    std::vector<IndicatorConstraint> out;
+    for (const Entry& e : in_file_order(t)) {
+      const std::string indicator_key = key + "." + e.key;
+      if (!find_indicator(e.key)) {
+        fail(*e.node, indicator_key,
+             "unknown indicator (indicators: " + join(indicator_names()) + ")");
+      }
+      const auto& stored = plan_->output.indicators;
+      if (!stored.empty() && std::find(stored.begin(), stored.end(), e.key) == stored.end()) {
+        fail(*e.node, indicator_key,
+             "is not among [output] indicators (" + join(stored) + "), so it is not stored");
+      }
+      IndicatorConstraint threshold{e.key, std::nullopt, std::nullopt};
+      if (number_of(*e.node)) {
+        threshold.max = bound(*e.node, indicator_key);
+      } else if (const auto* limits = e.node->as_table()) {
+        for (const Entry& f : in_file_order(*limits)) {
+          if (f.key == "max") {
+            threshold.max = bound(*f.node, indicator_key + ".max");
+          } else if (f.key == "min") {
+            threshold.min = bound(*f.node, indicator_key + ".min");
+          } else {
+            fail_unknown(*f.node, indicator_key + "." + f.key, "threshold keys", {"max", "min"});
+          }
+        }
+        if (!threshold.min && !threshold.max) {
+          fail(*e.node, indicator_key, "needs max, min or both");
+        }
+        if (threshold.min && threshold.max && !(*threshold.min <= *threshold.max)) {
+          fail(*limits->get("max"), indicator_key + ".max", "must be >= min");
+        }
+      } else {
+        fail(*e.node, indicator_key,
+             "must be a number (the largest practical value) or { max = .., min = .. }");
+      }
+      out.push_back(threshold);
+    }
+    if (out.empty()) fail(node, key, "must name at least one indicator");
+    return out;
+  }
+
+  // ---- kind = "spectral" ------------------------------------------------------------------
+
+  void read_spectral(const toml::table& study) {
+    SpectralStudy& out = plan_->spectral;
+    const std::vector<std::string> known{"kind",  "omega_dt", "methods",
+                                         "alpha", "delta",    "omega_dt_reference",
+                                         "stability_omega_max"};
+    const toml::node *omega_dt = nullptr, *methods = nullptr, *alpha = nullptr, *delta = nullptr;
+    for (const Entry& e : in_file_order(study)) {
+      const std::string key = "study." + e.key;
+      const toml::node& node = *e.node;
+      if (e.key == "kind") {
+      } else if (e.key == "omega_dt") {
+        omega_dt = &node;
+        out.omega_dt = log_axis_values(node, key);
+      } else if (e.key == "methods") {
+        methods = &node;
+        out.methods = spectral_methods(node, key);
+      } else if (e.key == "alpha" || e.key == "delta") {
+        (e.key == "alpha" ? alpha : delta) = &node;
+        const toml::table& axis = table(
+            node, key, "must be { from = .., to = .., partitions = .. } or { values = [..] }");
+        std::vector<double> values = axis_values(axis, key);
+        for (const double v : values) {
+          // The same rule as the method's own (validate), so the map holds no invalid HHT.
+          HhtParams hht{.alpha = e.key == "alpha" ? v : -0.5, .delta = 0.5};
+          if (e.key == "delta") hht.delta = v;
+          if (const auto error = validate(MethodParams{hht})) {
+            fail(node, key,
+                 "holds " + e.key + " = " + format_value(v) + ", which " + error->constraint);
+          }
+        }
+        (e.key == "alpha" ? out.alpha : out.delta) = std::move(values);
+      } else if (e.key == "omega_dt_reference" || e.key == "stability_omega_max") {
+        const double v = number(node, key);
+        if (!(v > 0.0)) fail(node, key, "must be > 0");
+        (e.key == "omega_dt_reference" ? out.omega_dt_reference : out.stability_omega_max) = v;
+      } else if (e.key == "practical") {
+        fail(node, key, "is for grid and list studies (a spectral study has no indicators)");
+      } else {
+        fail_unknown(node, key, "spectral keys", known);
+      }
+    }
+    if (!omega_dt) {
+      fail_missing(study, "study.omega_dt",
+                   "a spectral study needs omega_dt = { from = .., to = .., points = .. } "
+                   "(log-spaced) or { values = [..] }");
+    }
+    if (!methods) {
+      fail_missing(study, "study.methods",
+                   "a spectral study needs methods = [{ method = \"..\", .. }, ..]");
+    }
+    const auto linear = [](double from, double to, int partitions) {
+      std::vector<double> v(static_cast<std::size_t>(partitions) + 1);
+      for (int i = 0; i < partitions; ++i) v[i] = from + i * (to - from) / partitions;
+      v.back() = to;
+      return v;
+    };
+    if (!alpha) out.alpha = linear(-0.5, 0.0, 20);
+    if (!delta) out.delta = linear(0.0, 1.0, 40);
+  }
+
+  // { from, to, points }: `points` values spaced evenly in log(Ω), both ends included (the last
+  // exactly `to`); or { values = [..] }. Every value > 0.
+  std::vector<double> log_axis_values(const toml::node& node, const std::string& key) const {
+    const toml::table& axis = table(
+        node, key, "must be { from = .., to = .., points = .. } (log-spaced) or { values = [..] }");
+    const toml::node *from = nullptr, *to = nullptr, *points = nullptr, *values = nullptr;
+    for (const Entry& e : in_file_order(axis)) {
+      if (e.key == "from") {
+        from = e.node;
+      } else if (e.key == "to") {
+        to = e.node;
+      } else if (e.key == "points") {
+        points = e.node;
+      } else if (e.key == "values") {
+        values = e.node;
+      } else {
+        fail_unknown(*e.node, key + "." + e.key, "omega_dt keys",
+                     {"from", "to", "points", "values"});
+      }
+    }
+    if (values) {
+      if (from || to || points) {
+        fail(axis, key, "give either values or from, to and points, not both");
+      }
+      const auto* array = values->as_array();
+      const std::string values_key = key + ".values";
+      if (!array) fail(*values, values_key, "must be an array of numbers");
+      if (array->empty()) fail(*values, values_key, "must hold at least one value");
+      if (array->size() > static_cast<std::size_t>(kMaxGridPoints)) {
+        fail(*values, values_key, "holds more than " + std::to_string(kMaxGridPoints) + " values");
+      }
+      std::vector<double> out;
+      for (std::size_t k = 0; k < array->size(); ++k) {
+        const std::string item_key = values_key + "[" + std::to_string(k) + "]";
+        const double v = number(*array->get(k), item_key);
+        if (!(v > 0.0)) fail(*array->get(k), item_key, "must be > 0");
+        if (std::find(out.begin(), out.end(), v) != out.end()) {
+          fail(*array->get(k), item_key, "repeats an earlier value");
+        }
+        out.push_back(v);
+      }
+      return out;
+    }
+    if (!from) fail_missing(axis, key + ".from", "omega_dt needs from, to and points, or values");
+    if (!to) fail_missing(axis, key + ".to", "omega_dt needs from, to and points, or values");
+    if (!points) {
+      fail_missing(axis, key + ".points",
+                   "omega_dt needs points (the number of log-spaced values), or values");
+    }
+    const double lo = number(*from, key + ".from");
+    const double hi = number(*to, key + ".to");
+    if (!(lo > 0.0)) fail(*from, key + ".from", "must be > 0 (the values are log-spaced)");
+    if (!(hi > 0.0)) fail(*to, key + ".to", "must be > 0 (the values are log-spaced)");
+    if (lo == hi) fail(*to, key + ".to", "equals from; use values = [..] for a single value");
+    const std::int64_t n = integer(*points, key + ".points");
+    if (n < 2) fail(*points, key + ".points", "must be >= 2 (both ends are included)");
+    if (n > kMaxGridPoints) {
+      fail(*points, key + ".points", "must be <= " + std::to_string(kMaxGridPoints));
+    }
+    std::vector<double> out(static_cast<std::size_t>(n));
+    const double step = std::log(hi / lo) / static_cast<double>(n - 1);
+    for (std::int64_t i = 0; i + 1 < n; ++i) {
+      out[static_cast<std::size_t>(i)] = lo * std::exp(static_cast<double>(i) * step);
+    }
+    out.front() = lo;
+    out.back() = hi;  // exactly as written
+    return out;
+  }
+
+  // methods = [{ method = "newmark", delta = 0.3 }, ..]: each a method and its parameters, by
+  // the names of [method] (with `method` for the name, as in list points), built by build().
+  std::vector<SpectralMethod> spectral_methods(const toml::node& node,
+                                               const std::string& key) const {
+    const auto* array = node.as_array();
+    if (!array) fail(node, key, "must be an array of tables { method = \"..\", .. }");
+    if (array->empty()) fail(node, key, "must hold at least one method");
+    std::vector<std::string> known;
+    for (const ParameterInfo& info : parameter_table()) {
+      if (info.group == ParameterGroup::method) known.push_back(info.name);
+    }
+    std::vector<SpectralMethod> out;
+    for (std::size_t k = 0; k < array->size(); ++k) {
+      const std::string item_key = key + "[" + std::to_string(k) + "]";
+      const toml::table& item =
+          table(*array->get(k), item_key, "must be a table { method = \"..\", .. }");
+      SimulationSettings settings;
+      std::string name, parameters;
+      const toml::node* method_node = nullptr;
+      for (const Entry& e : in_file_order(item)) {
+        const std::string entry_key = item_key + "." + e.key;
+        const ParameterInfo* info = find_parameter(e.key);
+        if (!info || info->group != ParameterGroup::method) {
+          fail_unknown(*e.node, entry_key, "method keys", known);
+        }
+        assign_at(settings, *info, *e.node, entry_key);
+        const ParameterValue value = parameter_value(*e.node, *info, entry_key);
+        const std::string text = std::holds_alternative<double>(value)
+                                     ? format_value(std::get<double>(value))
+                                     : std::get<std::string>(value);
+        if (e.key == "method") {
+          name = text;
+          method_node = e.node;
+        } else {
+          parameters += " " + e.key + "=" + text;
+        }
+      }
+      if (!method_node) {
+        fail_missing(item, item_key + ".method",
+                     "each method needs method = \"cdm\", \"backward-euler\", \"newmark\", "
+                     "\"hht\" or \"generalized-alpha\"");
+      }
+      auto built = build(settings);
+      if (const auto* error = std::get_if<ParameterError>(&built)) {
+        const toml::node* where = item.get(error->field);
+        if (where) fail(*where, item_key + "." + error->field, error->constraint);
+        fail_at(item, item_key + "." + error->field, error->value, error->constraint);
+      }
+      SpectralMethod method{std::get<Simulation>(built).method, name + parameters};
+      for (std::size_t j = 0; j < out.size(); ++j) {
+        if (out[j].label == method.label) {
+          fail(*array->get(k), item_key,
+               "repeats " + key + "[" + std::to_string(j) + "] (" + method.label + ")");
+        }
+      }
+      out.push_back(std::move(method));
+    }
+    return out;
+  }
+
+  // A spectral study runs no simulation: [scene] and [method] would be ignored, so they are
+  // errors; of [output] only `file` applies.
+  void check_spectral_sections() const {
+    for (const char* section : {"scene", "method"}) {
+      if (const toml::node* node = root_->get(section)) {
+        fail(*node, section,
+             "a spectral study runs no simulation; give each method in study.methods");
+      }
+    }
+    if (const toml::node* output = root_->get("output"); output && output->is_table()) {
+      for (const Entry& e : in_file_order(*output->as_table())) {
+        if (e.key != "file") {
+          fail(*e.node, "output." + e.key, "is not used by a spectral study (only output.file is)");
+        }
+      }
+    }
+  }
+
   // ---- checks across parameters -----------------------------------------------------------
 
   // Where a build() error about `field` is reported when the study does not vary it: its key
@@ -825,6 +1103,7 @@ class PlanReader {
       check_optimize();
       return;
     }
+    if (plan_->kind == StudyKind::spectral) return;  // its methods were built as they were read
     const PointSet points(*plan_);
     for (long k = 0; k < points.size(); ++k) {
       SimulationSettings settings = plan_->base;
@@ -935,6 +1214,8 @@ const char* to_string(StudyKind kind) {
       return "list";
     case StudyKind::optimize:
       return "optimize";
+    case StudyKind::spectral:
+      return "spectral";
   }
   return "unknown";
 }

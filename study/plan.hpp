@@ -1,5 +1,7 @@
 // Plan files: what users launch. A TOML file (toml++ 3.3) with sections [scene], [method],
-// [study] and [output]; every key is documented in plans/README.md.
+// [study] and [output]; every key is documented in plans/README.md. A study is a grid, a list
+// or an optimisation of simulations, or a spectral study of the integrators themselves (no
+// simulation: amplification-matrix curves, core/amplification.hpp).
 //
 // load_plan() checks everything before anything runs — unknown keys, wrong types, values out
 // of range, parameters the method does not take, and every point of a grid or list — and
@@ -27,7 +29,7 @@ struct PlanError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class StudyKind { grid, list, optimize };
+enum class StudyKind { grid, list, optimize, spectral };
 const char* to_string(StudyKind kind);
 
 /// An independent grid axis: `delta = { from = 0.0, to = 1.0, partitions = 40 }` (k partitions
@@ -55,10 +57,33 @@ struct OptimizeParameter {
   double initial() const { return start.value_or(0.5 * (lower + upper)); }
 };
 
-/// indicator <= max and/or indicator >= min.
+/// indicator <= max and/or indicator >= min. Also the thresholds of a practical range
+/// ([study.practical] of a grid or list, study/practical_range.hpp).
 struct IndicatorConstraint {
   std::string indicator;
   std::optional<double> min, max;
+};
+
+/// One method of a spectral study, `{ method = "hht", alpha = -0.3 }` in the plan.
+struct SpectralMethod {
+  MethodParams params;  ///< built and validated by build() (simulation_settings.hpp)
+  /// "hht alpha=-0.3": the method name, then the keys as given, in file order (numbers in
+  /// their shortest round-trip form). Unique within a study.
+  std::string label;
+};
+
+/// `kind = "spectral"`: the spectral properties of the integrators on ü + ω²u = 0
+/// (core/amplification.hpp), written by study/spectral_study.hpp; no simulation runs.
+struct SpectralStudy {
+  std::vector<double> omega_dt;         ///< Ω = ω·Δt, each > 0 and finite, no value twice
+  std::vector<SpectralMethod> methods;  ///< at least one
+  /// HHT α for δ_min(α) and the stability map, each in [−0.5, 0]; default −0.5 … 0 in 20
+  /// partitions (the grid of plans/hht-delta-alpha.toml).
+  std::vector<double> alpha;
+  /// HHT δ of the stability map, each >= 0; default 0 … 1 in 40 partitions.
+  std::vector<double> delta;
+  double omega_dt_reference = 1.0;   ///< finite Ω of δ_min (besides Ω → 0), > 0
+  double stability_omega_max = 1e4;  ///< upper end of the stability scan (is_stable), > 0
 };
 
 struct OptimizeStudy {
@@ -96,7 +121,11 @@ struct Plan {
   std::vector<GridAxis> axes;  ///< grid: in file order; the last varies fastest
   std::vector<CoupledAxis> coupled;
   std::vector<ListPoint> points;  ///< list
-  OptimizeStudy optimize;         ///< optimize
+  /// grid and list: [study.practical], the thresholds that make a point practical (status ok
+  /// and every indicator within its bounds); empty when the plan has none.
+  std::vector<IndicatorConstraint> practical;
+  OptimizeStudy optimize;  ///< optimize
+  SpectralStudy spectral;  ///< spectral
   OutputSpec output;
 };
 

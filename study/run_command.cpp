@@ -19,7 +19,9 @@
 #include "study/optimizer.hpp"
 #include "study/plan.hpp"
 #include "study/point_set.hpp"
+#include "study/practical_range.hpp"
 #include "study/results_file.hpp"
+#include "study/spectral_study.hpp"
 #include "study/sweep.hpp"
 #include "study/version.hpp"
 
@@ -85,7 +87,31 @@ double seconds_per_point(const PointSet& points) {
          static_cast<double>(sample.size());
 }
 
+// What a spectral study computes; it takes seconds, so there is no estimate to measure.
+int dry_run_spectral(const Plan& plan, const std::filesystem::path& output) {
+  const SpectralStudy& s = plan.spectral;
+  std::printf("plan        %s (spectral study)\n", plan.path.string().c_str());
+  std::printf("output      %s\n", output.string().c_str());
+  for (const SpectralMethod& m : s.methods) std::printf("method      %s\n", m.label.c_str());
+  std::printf(
+      "omega_dt    %4zu values from %g to %g: spectral_radius, damping_ratio, "
+      "period_error per method; rho_inf and period_error_coefficient per method\n",
+      s.omega_dt.size(), s.omega_dt.front(), s.omega_dt.back());
+  std::printf(
+      "alpha       %4zu values from %g to %g: HHT delta minimising the period error "
+      "as omega_dt -> 0 and at omega_dt = %g\n",
+      s.alpha.size(), s.alpha.front(), s.alpha.back(), s.omega_dt_reference);
+  std::printf(
+      "delta       %4zu values from %g to %g: HHT stability map over (alpha, delta), "
+      "omega_dt up to %g\n",
+      s.delta.size(), s.delta.front(), s.delta.back(), s.stability_omega_max);
+  std::printf("evaluations %ld amplification matrices for the stability map\n",
+              stability_map_evaluations(s));
+  return 0;
+}
+
 int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) {
+  if (plan.kind == StudyKind::spectral) return dry_run_spectral(plan, output);
   std::printf("plan        %s (%s study, method %s)\n", plan.path.string().c_str(),
               to_string(plan.kind), to_string(plan.base.method.kind));
   std::printf("output      %s\n", output.string().c_str());
@@ -120,6 +146,9 @@ int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) 
     std::printf("coupled     %-12s = %s\n", c.name.c_str(), c.expression.text().c_str());
   }
   std::printf("points      %ld\n", points.size());
+  if (!plan.practical.empty()) {
+    std::printf("practical   %s\n", thresholds_text(plan.practical).c_str());
+  }
   const double t = seconds_per_point(points);
   std::printf("estimate    %s on %d thread(s) (%.3g s per point, measured on up to 3 points)\n",
               duration_text(t * static_cast<double>(points.size()) / threads).c_str(), threads,
@@ -146,13 +175,50 @@ std::optional<StudyResults> existing_results(const std::filesystem::path& output
 void write_point_histories(const PointSet& points, const std::filesystem::path& folder) {
   SimulationWorkspace workspace;
   for (long index = 0; index < points.size(); ++index) {
-    const Simulation simulation = std::get<Simulation>(build(points.settings(index)));
+    Simulation simulation = std::get<Simulation>(build(points.settings(index)));
+    simulation.run.record_history = true;
     simulate(simulation.scene, simulation.method, simulation.run, workspace);
     write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation,
                   workspace.trace);
   }
   std::fprintf(stderr, "impactid run: wrote the time histories of %ld points to %s/\n",
                points.size(), folder.string().c_str());
+}
+
+// A spectral study: no simulation, no checkpoints; computed in full every time (--resume too),
+// in seconds. Like a results file, an existing file of another kind is never overwritten.
+int run_spectral(const Plan& plan, const RunArguments& args, const std::filesystem::path& output,
+                 int threads) {
+  if (std::filesystem::exists(output) && !is_spectral_results_file(output)) {
+    std::cerr << "impactid run: " << output.string()
+              << " exists but is not an impactid spectral results file; it was left untouched "
+                 "(remove it, or choose another file with --output)\n";
+    return kExitFailure;
+  }
+  if (args.resume) {
+    std::fprintf(stderr, "impactid run: --resume: a spectral study is recomputed in full\n");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  SpectralResults r = compute_spectral_study(plan.spectral, threads);
+  r.plan_name = plan.name;
+  r.plan_text = plan.text;
+  r.impactid_version = kVersion;
+  r.git_revision = kGitRevision;
+  r.date = utc_now();
+  r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  try {
+    write_spectral_results(output, r);
+  } catch (const std::exception& e) {
+    std::cerr << "impactid run: " << e.what() << '\n';
+    return kExitFailure;
+  }
+  std::fprintf(stderr,
+               "impactid run: %s: spectral study of %zu methods at %zu omega_dt values, "
+               "delta_min over %zu alpha, stability map %zu x %zu; %.3g s on %d thread(s); "
+               "wrote %s\n",
+               plan.name.c_str(), r.method_label.size(), r.omega_dt.size(), r.alpha.size(),
+               r.alpha.size(), r.delta.size(), r.wall_time_s, threads, output.string().c_str());
+  return 0;
 }
 
 class ProgressLine {
@@ -190,6 +256,7 @@ int run_plan(const RunArguments& args) {
       args.output.empty() ? plan.output.file : std::filesystem::path(args.output);
   const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
   if (args.dry_run) return dry_run(plan, threads, output);
+  if (plan.kind == StudyKind::spectral) return run_spectral(plan, args, output, threads);
 
   bool unreadable = false;
   std::string read_error;
@@ -276,6 +343,8 @@ int run_plan(const RunArguments& args) {
     } else {
       const PointSet points(plan);
       StudyResults results = previous ? std::move(*previous) : empty_results(plan, points);
+      // The practical range is derived from the rest of the table: recomputed below.
+      remove_practical_range(results);
       std::vector<long> indices(static_cast<std::size_t>(points.size()));
       std::iota(indices.begin(), indices.end(), 0L);
       SweepOptions options;
@@ -288,6 +357,12 @@ int run_plan(const RunArguments& args) {
       options.stop = &g_stop_requested;
       const SweepOutcome outcome = run_sweep(points, indices, results, options);
       progress.finish();
+      if (!plan.practical.empty()) {
+        const PracticalRange range = practical_range(results, plan.practical);
+        store_practical_range(results, range);
+        std::fprintf(stderr, "impactid run: practical range (%s): %s\n", range.thresholds.c_str(),
+                     practical_summary(range).c_str());
+      }
       save(std::move(results), elapsed());
       if (plan.output.histories && !outcome.interrupted) {
         write_point_histories(points, *plan.output.histories);

@@ -305,7 +305,7 @@ TEST(PlanErrors, UnknownKeys) {
                      "bad.toml:2:8: output.fiel = \"a.h5\": unknown key (output keys: file, "
                      "indicators, checkpoint_seconds, histories, peak_prominence, energy_growth_limit)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\nbogus = 2\n"),
-            "bad.toml:3:9: study.bogus = 2: unknown key (grid keys: kind, axes)");
+            "bad.toml:3:9: study.bogus = 2: unknown key (grid keys: kind, axes, practical)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\n"
                      "alpha = { from = -0.5, to = 0, partitions = 4, step = 1 }\n"),
             "bad.toml:4:55: study.axes.alpha.step = 1: unknown key (axis keys: from, to, "
@@ -327,7 +327,8 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("scene = 3\n"), "bad.toml:1:9: scene = 3: must be a table ([scene])");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
   EXPECT_EQ(error_of("[study]\nkind = \"sweep\"\n"),
-            "bad.toml:2:8: study.kind = \"sweep\": must be \"grid\", \"list\" or \"optimize\"");
+            "bad.toml:2:8: study.kind = \"sweep\": must be \"grid\", \"list\", \"optimize\" or "
+            "\"spectral\"");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\nalpha = 3\n"),
             "bad.toml:4:9: study.axes.alpha = 3: must be { from = .., to = .., partitions = .. }, "
             "{ values = [..] } or a coupled-axis expression such as \"-1.5*alpha\"");
@@ -577,9 +578,10 @@ TEST(PlanErrors, OptimizeErrors) {
 TEST(PlanErrors, MissingStudy) {
   EXPECT_EQ(error_of("name = \"x\"\n"),
             "bad.toml:1:1: study = (missing): a plan needs a [study] table with kind = \"grid\", "
-            "\"list\" or \"optimize\"");
+            "\"list\", \"optimize\" or \"spectral\"");
   EXPECT_EQ(error_of("[scene]\nelements = 10\n[study]\n"),
-            "bad.toml:3:1: study.kind = (missing): must be \"grid\", \"list\" or \"optimize\"");
+            "bad.toml:3:1: study.kind = (missing): must be \"grid\", \"list\", \"optimize\" or "
+            "\"spectral\"");
 }
 
 TEST(PlanErrors, ColumnsCountCharactersNotBytes) {
@@ -684,6 +686,242 @@ TEST(PlanOutput, HistoriesFolder) {
     EXPECT_NE(std::string(e.what()).find("o.toml:2:13: output.histories"), std::string::npos)
         << e.what();
   }
+}
+
+}  // namespace
+}  // namespace impactid
+
+namespace impactid {
+namespace {
+
+// ---- [study.practical] ----------------------------------------------------------------------
+
+const char* kGridHead = "[method]\nname = \"newmark\"\n[study]\nkind = \"grid\"\n[study.axes]\n"
+                        "delta = { from = 0.0, to = 1.0, partitions = 4 }\n";
+
+TEST(PlanPractical, ThresholdsOfGridAndListStudies) {
+  const Plan grid = plan_of(std::string(kGridHead) +
+                            "[study.practical]\neps_p = 0.03\nnop_p = { max = 15, min = 1 }\n"
+                            "p_max_ratio = { min = 0.5 }\n");
+  ASSERT_EQ(grid.practical.size(), 3u);
+  EXPECT_EQ(grid.practical[0].indicator, "eps_p");  // file order
+  EXPECT_EQ(grid.practical[0].max, 0.03);
+  EXPECT_FALSE(grid.practical[0].min);
+  EXPECT_EQ(grid.practical[1].indicator, "nop_p");
+  EXPECT_EQ(grid.practical[1].max, 15.0);  // an integer where a number is expected
+  EXPECT_EQ(grid.practical[1].min, 1.0);
+  EXPECT_EQ(grid.practical[2].min, 0.5);
+  EXPECT_FALSE(grid.practical[2].max);
+
+  const Plan list = plan_of(
+      "[study]\nkind = \"list\"\npoints = [{ method = \"cdm\" }]\npractical = { nop_p = 15 }\n");
+  ASSERT_EQ(list.practical.size(), 1u);
+  EXPECT_EQ(list.practical[0].max, 15.0);
+  EXPECT_TRUE(plan_of(kGridHead).practical.empty());
+}
+
+TEST(PlanPractical, ErrorsAreLocated) {
+  const std::string head = std::string(kGridHead) + "[study.practical]\n";  // line 7
+  EXPECT_STARTS_WITH(error_of(head + "bogus = 1\n"),
+                     "bad.toml:8:9: study.practical.bogus = 1: unknown indicator (indicators: "
+                     "eps_p, eps_v, ");
+  EXPECT_EQ(error_of(head + "eps_p = \"small\"\n"),
+            "bad.toml:8:9: study.practical.eps_p = \"small\": must be a number (the largest "
+            "practical value) or { max = .., min = .. }");
+  EXPECT_EQ(error_of(head + "eps_p = -0.1\n"),
+            "bad.toml:8:9: study.practical.eps_p = -0.1: must be >= 0 (indicators are never "
+            "negative)");
+  EXPECT_EQ(error_of(head + "eps_p = nan\n"),
+            "bad.toml:8:9: study.practical.eps_p = nan: must be finite");
+  EXPECT_EQ(error_of(head + "eps_p = { max = 0.1, min = 0.2 }\n"),
+            "bad.toml:8:17: study.practical.eps_p.max = 0.1: must be >= min");
+  EXPECT_EQ(error_of(head + "eps_p = { min = -1 }\n"),
+            "bad.toml:8:17: study.practical.eps_p.min = -1: must be >= 0 (indicators are never "
+            "negative)");
+  EXPECT_EQ(error_of(head + "eps_p = { maximum = 1 }\n"),
+            "bad.toml:8:21: study.practical.eps_p.maximum = 1: unknown key (threshold keys: "
+            "max, min)");
+  EXPECT_EQ(error_of(head + "eps_p = {}\n"),
+            "bad.toml:8:9: study.practical.eps_p = {}: needs max, min or both");
+  EXPECT_EQ(error_of(std::string(kGridHead) + "[study.practical]\n"),
+            "bad.toml:7:1: study.practical = {}: must name at least one indicator");
+  EXPECT_EQ(error_of(std::string(kGridHead) + "[study]\npractical = 3\n"),
+            "bad.toml:7:1: Error while parsing table header: cannot redefine existing table "
+            "'study'");
+  EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = [{ delta = 0.3 }]\npractical = 3\n"
+                     "[method]\nname = \"newmark\"\n"),
+            "bad.toml:4:13: study.practical = 3: must be a table of indicator = maximum, e.g. "
+            "{ eps_p = 0.03, nop_p = 15 }");
+  // Only stored indicators can be thresholds.
+  EXPECT_EQ(error_of(head + "nop_p = 15\n[output]\nindicators = [\"eps_p\"]\n"),
+            "bad.toml:8:9: study.practical.nop_p = 15: is not among [output] indicators (eps_p), "
+            "so it is not stored");
+  // Not for an optimisation: it has constraints.
+  EXPECT_EQ(error_of("[method]\nname = \"newmark\"\n[study]\nkind = \"optimize\"\n"
+                     "practical = { eps_p = 0.03 }\n[study.parameters]\n"
+                     "delta = { from = 0.1, to = 1.0 }\n"),
+            "bad.toml:5:13: study.practical = { eps_p = 0.03 }: is for grid and list studies; an "
+            "optimisation states its limits as [study.constraints]");
+}
+
+// ---- kind = "spectral" ----------------------------------------------------------------------
+
+const char* kSpectral = R"(name = "s"
+[study]
+kind = "spectral"
+omega_dt = { from = 0.01, to = 100.0, points = 5 }
+methods = [
+  { method = "newmark", delta = 0.3 },
+  { alpha = -0.3, method = "hht", delta = 0.45 },
+  { method = "generalized-alpha", rho_inf = 0.8, hht_contact = "weighted" },
+  { method = "cdm" },
+]
+alpha = { from = -0.5, to = 0.0, partitions = 2 }
+delta = { values = [0.0, 0.5] }
+omega_dt_reference = 2
+stability_omega_max = 1.0e3
+[output]
+file = "out/s.h5"
+)";
+
+TEST(PlanSpectral, ParsesToItsContent) {
+  const Plan plan = plan_of(kSpectral);
+  EXPECT_EQ(plan.kind, StudyKind::spectral);
+  EXPECT_STREQ(to_string(plan.kind), "spectral");
+  const SpectralStudy& s = plan.spectral;
+  ASSERT_EQ(s.omega_dt.size(), 5u);
+  EXPECT_EQ(s.omega_dt.front(), 0.01);
+  EXPECT_EQ(s.omega_dt.back(), 100.0);  // exactly as written
+  EXPECT_NEAR(s.omega_dt[1], 0.1, 1e-15);
+  EXPECT_NEAR(s.omega_dt[2], 1.0, 1e-15);
+  ASSERT_EQ(s.methods.size(), 4u);
+  EXPECT_EQ(s.methods[0].label, "newmark delta=0.3");
+  EXPECT_EQ(s.methods[1].label, "hht alpha=-0.3 delta=0.45");  // the method first
+  EXPECT_EQ(s.methods[2].label, "generalized-alpha rho_inf=0.8 hht_contact=weighted");
+  EXPECT_EQ(s.methods[3].label, "cdm");
+  const auto* hht = std::get_if<HhtParams>(&s.methods[1].params);
+  ASSERT_NE(hht, nullptr);
+  EXPECT_EQ(hht->alpha, -0.3);
+  EXPECT_EQ(hht->delta, 0.45);
+  EXPECT_EQ(kind_of(s.methods[3].params), MethodKind::central_difference);
+  EXPECT_EQ(s.alpha, (std::vector<double>{-0.5, -0.25, 0.0}));
+  EXPECT_EQ(s.delta, (std::vector<double>{0.0, 0.5}));
+  EXPECT_EQ(s.omega_dt_reference, 2.0);
+  EXPECT_EQ(s.stability_omega_max, 1e3);
+  EXPECT_EQ(plan.output.file, "out/s.h5");
+}
+
+TEST(PlanSpectral, Defaults) {
+  const Plan plan = plan_of("[study]\nkind = \"spectral\"\nomega_dt = { values = [1, 0.5] }\n"
+                            "methods = [{ method = \"hht\" }]\n");
+  const SpectralStudy& s = plan.spectral;
+  EXPECT_EQ(s.omega_dt, (std::vector<double>{1.0, 0.5}));
+  EXPECT_EQ(s.alpha.size(), 21u);
+  EXPECT_EQ(s.alpha.front(), -0.5);
+  EXPECT_EQ(s.alpha.back(), 0.0);
+  EXPECT_EQ(s.delta.size(), 41u);
+  EXPECT_EQ(s.delta.back(), 1.0);
+  EXPECT_EQ(s.omega_dt_reference, 1.0);
+  EXPECT_EQ(s.stability_omega_max, 1e4);
+  EXPECT_EQ(plan.output.file, "results/test.h5");
+  EXPECT_EQ(s.methods[0].label, "hht");
+}
+
+TEST(PlanSpectral, ErrorsAreLocated) {
+  const std::string head = "[study]\nkind = \"spectral\"\n";
+  const std::string omega = "omega_dt = { values = [1] }\n";
+  const std::string methods = "methods = [{ method = \"cdm\" }]\n";
+  EXPECT_EQ(error_of(head + methods),
+            "bad.toml:1:1: study.omega_dt = (missing): a spectral study needs omega_dt = "
+            "{ from = .., to = .., points = .. } (log-spaced) or { values = [..] }");
+  EXPECT_EQ(error_of(head + omega),
+            "bad.toml:1:1: study.methods = (missing): a spectral study needs methods = "
+            "[{ method = \"..\", .. }, ..]");
+  EXPECT_EQ(error_of(head + methods + "omega_dt = { from = 0, to = 1, points = 3 }\n"),
+            "bad.toml:4:21: study.omega_dt.from = 0: must be > 0 (the values are log-spaced)");
+  EXPECT_EQ(error_of(head + methods + "omega_dt = { from = 1, to = 10, points = 1 }\n"),
+            "bad.toml:4:42: study.omega_dt.points = 1: must be >= 2 (both ends are included)");
+  EXPECT_EQ(error_of(head + methods + "omega_dt = { values = [1, -2] }\n"),
+            "bad.toml:4:27: study.omega_dt.values[1] = -2: must be > 0");
+  EXPECT_EQ(error_of(head + methods + "omega_dt = { from = 1, to = 10, partitions = 3 }\n"),
+            "bad.toml:4:46: study.omega_dt.partitions = 3: unknown key (omega_dt keys: from, to, "
+            "points, values)");
+  EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"hht\", alpha = -0.7 }]\n"),
+            "bad.toml:4:38: study.methods[0].alpha = -0.7: must lie in [-0.5, 0]");
+  EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"cdm\" }, { method = \"cdm\", "
+                                    "delta = 0.3 }]\n"),
+            "bad.toml:4:58: study.methods[1].delta = 0.3: is not a parameter of method cdm (it "
+            "applies to newmark|hht)");
+  EXPECT_STARTS_WITH(error_of(head + omega + "methods = [{ method = \"cdm\", elements = 3 }]\n"),
+                     "bad.toml:4:41: study.methods[0].elements = 3: unknown key (method keys: "
+                     "method, delta, alpha, ");
+  EXPECT_EQ(error_of(head + omega + "methods = [{ delta = 0.3 }]\n"),
+            "bad.toml:4:12: study.methods[0].method = (missing): each method needs method = "
+            "\"cdm\", \"backward-euler\", \"newmark\", \"hht\" or \"generalized-alpha\"");
+  EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"rk4\" }]\n"),
+            "bad.toml:4:23: study.methods[0].method = \"rk4\": must be one of "
+            "cdm|backward-euler|newmark|hht|generalized-alpha");
+  EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"cdm\" }, { method = \"cdm\" }]\n"),
+            "bad.toml:4:32: study.methods[1] = { method = \"cdm\" }: repeats study.methods[0] "
+            "(cdm)");
+  EXPECT_EQ(error_of(head + omega + "methods = []\n"),
+            "bad.toml:4:11: study.methods = []: must hold at least one method");
+  EXPECT_EQ(error_of(head + omega + methods + "alpha = { from = -0.7, to = 0, partitions = 2 }\n"),
+            "bad.toml:5:9: study.alpha = { from = -0.7, to = 0, partitions = 2 }: holds alpha = "
+            "-0.7, which must lie in [-0.5, 0]");
+  EXPECT_EQ(error_of(head + omega + methods + "delta = { values = [0.5, -0.1] }\n"),
+            "bad.toml:5:9: study.delta = { values = [0.5, -0.1] }: holds delta = -0.1, which "
+            "must be >= 0 and finite (eq. 13)");
+  EXPECT_EQ(error_of(head + omega + methods + "stability_omega_max = 0\n"),
+            "bad.toml:5:23: study.stability_omega_max = 0: must be > 0");
+  EXPECT_EQ(error_of(head + omega + methods + "omega_dt_reference = \"one\"\n"),
+            "bad.toml:5:22: study.omega_dt_reference = \"one\": must be a number");
+  EXPECT_EQ(error_of(head + omega + methods + "practical = { eps_p = 0.03 }\n"),
+            "bad.toml:5:13: study.practical = { eps_p = 0.03 }: is for grid and list studies (a "
+            "spectral study has no indicators)");
+  EXPECT_STARTS_WITH(error_of(head + omega + methods + "axes = {}\n"),
+                     "bad.toml:5:8: study.axes = {}: unknown key (spectral keys: kind, omega_dt, ");
+  // Sections that a spectral study would ignore are errors.
+  EXPECT_EQ(error_of("[scene]\nelements = 3\n" + head + omega + methods),
+            "bad.toml:1:1: scene = { elements = 3 }: a spectral study runs no simulation; give "
+            "each method in study.methods");
+  EXPECT_EQ(error_of("[method]\nname = \"hht\"\n" + head + omega + methods),
+            "bad.toml:1:1: method = { name = \"hht\" }: a spectral study runs no simulation; "
+            "give each method in study.methods");
+  EXPECT_EQ(error_of(head + omega + methods + "[output]\nhistories = \"h\"\n"),
+            "bad.toml:6:13: output.histories = \"h\": is not used by a spectral study (only "
+            "output.file is)");
+}
+
+}  // namespace
+}  // namespace impactid
+
+namespace impactid {
+namespace {
+
+// A list point starts from [scene], [method] and [output], never from the point before it: a
+// method and its parameters do not leak into the next point (plans/identical-dissipation.toml
+// relies on it).
+TEST(PlanList, MethodParametersDoNotLeakBetweenPoints) {
+  const Plan plan = plan_of(
+      "[study]\nkind = \"list\"\npoints = [\n  { method = \"newmark\", delta = 0.2 },\n"
+      "  { method = \"cdm\" },\n  { method = \"hht\", alpha = -0.3 },\n"
+      "  { method = \"generalized-alpha\", rho_inf = 0.5 },\n]\n");
+  const PointSet points(plan);
+  ASSERT_EQ(points.size(), 4);
+  EXPECT_EQ(points.parameter_names(), (std::vector<std::string>{"delta", "alpha", "rho_inf"}));
+  const auto sim = [&](long k) { return std::get<Simulation>(build(points.settings(k))); };
+  EXPECT_EQ(kind_of(sim(1).method), MethodKind::central_difference);
+  const Simulation third = sim(2);
+  const auto* hht = std::get_if<HhtParams>(&third.method);
+  ASSERT_NE(hht, nullptr);
+  EXPECT_FALSE(hht->delta.has_value());  // not newmark's 0.2: the default -alpha
+  const std::vector<double> cdm = points.parameter_values(1);
+  for (const double v : cdm) EXPECT_TRUE(std::isnan(v));
+  const std::vector<double> hht_values = points.parameter_values(2);
+  EXPECT_EQ(hht_values[0], 0.3);  // delta in effect: -alpha
+  EXPECT_EQ(hht_values[1], -0.3);
+  EXPECT_TRUE(std::isnan(hht_values[2]));
 }
 
 }  // namespace

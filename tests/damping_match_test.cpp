@@ -1,0 +1,172 @@
+// Matching the algorithmic damping ratio across method families, and the shipped plan
+// plans/identical-dissipation.toml held to its definition: every adjustable method at the ξ̄ of
+// HHT (α = −0.3, δ = 0.45) at Ω = ω·Δt = 1, the highest mode of the default rod.
+#include "study/damping_match.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <filesystem>
+
+#include "core/amplification.hpp"
+#include "core/implicit_integrator.hpp"
+#include "study/plan.hpp"
+#include "study/point_set.hpp"
+
+namespace impactid {
+namespace {
+
+double xi(const MethodParams& params, double omega_dt) {
+  return spectral_properties(params, omega_dt).damping_ratio;
+}
+
+// ξ̄ measured independently of core/amplification: one step of ImplicitIntegrator on
+// ü + u = 0 from each unit state (u, Δt·v, Δt²·a) gives the amplification matrix column by
+// column; its complex pair a ± ib gives ξ̄ = −ln(a² + b²)/(2·atan2(b, a)).
+double stepped_damping_ratio(const MethodParams& params, double dt) {
+  SecondOrderSystem oscillator;
+  oscillator.mass = Tridiagonal::zero(1);
+  oscillator.mass.diag[0] = 1.0;
+  oscillator.stiffness = Tridiagonal::zero(1);
+  oscillator.stiffness.diag[0] = 1.0;
+  oscillator.damping = Tridiagonal::zero(1);
+  ImplicitIntegrator integrator;
+  if (!integrator.initialize(oscillator, implicit_coefficients(params), dt)) return NAN;
+  Eigen::Matrix3d amplification;
+  for (int j = 0; j < 3; ++j) {
+    State s;
+    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
+    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
+    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
+    integrator.step(oscillator, s);
+    amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
+  }
+  for (const std::complex<double>& lambda : amplification.eigenvalues()) {
+    if (lambda.imag() > 1e-12) {
+      return -std::log(std::norm(lambda)) / (2.0 * std::atan2(lambda.imag(), lambda.real()));
+    }
+  }
+  return NAN;
+}
+
+TEST(DampingMatch, EveryFamilyHitsAReachableTarget) {
+  // Targets within every family's range but HHT eq. 15's (too little damping: below).
+  for (const auto& [omega, target] : {std::pair{0.3, 0.008}, {1.0, 0.05}, {3.0, 0.15}}) {
+    for (const DampingFamilyInfo& f : damping_families()) {
+      if (f.family == DampingFamily::hht_eq15) continue;
+      SCOPED_TRACE(std::string(f.name) + " at omega*dt = " + std::to_string(omega));
+      const DampingMatch m = match_damping(f.family, omega, target);
+      ASSERT_TRUE(m.reachable);
+      EXPECT_EQ(m.roots, 1);
+      EXPECT_GE(m.parameter, std::min(f.undamped_end, f.damped_end));
+      EXPECT_LE(m.parameter, std::max(f.undamped_end, f.damped_end));
+      EXPECT_NEAR(m.damping_ratio, target, 1e-14);
+      EXPECT_EQ(m.damping_ratio, xi(family_params(f.family, m.parameter), omega));
+      // The integrator itself damps the mode at that rate.
+      EXPECT_NEAR(stepped_damping_ratio(family_params(f.family, m.parameter), omega), target, 1e-9);
+      EXPECT_LE(m.attainable_min, target);
+      EXPECT_GE(m.attainable_max, target);
+    }
+  }
+}
+
+TEST(DampingMatch, KnownAnswers) {
+  // Newmark with delta = 1 has backward Euler's damping ratio (README: the same
+  // displacements), so matching backward Euler gives delta = 1.
+  const double be = xi(BackwardEulerParams{}, 1.0);
+  const DampingMatch newmark = match_damping(DampingFamily::newmark, 1.0, be);
+  ASSERT_TRUE(newmark.reachable);
+  EXPECT_NEAR(newmark.parameter, 1.0, 1e-12);
+  // HHT on eq. 19 matched to its own point returns that point.
+  const double hht = xi(HhtParams{.alpha = -0.3, .delta = 0.45}, 1.0);
+  const DampingMatch eq19 = match_damping(DampingFamily::hht_eq19, 1.0, hht);
+  ASSERT_TRUE(eq19.reachable);
+  EXPECT_NEAR(eq19.parameter, -0.3, 1e-14);
+  // No damping: the undamped end, exactly.
+  EXPECT_EQ(match_damping(DampingFamily::newmark, 1.0, 0.0).parameter, 0.0);
+  EXPECT_EQ(match_damping(DampingFamily::hht_eq19, 1.0, 0.0).parameter, 0.0);
+}
+
+TEST(DampingMatch, OutOfRangeIsNotReachableAndSaysWhatIs) {
+  // HHT with delta = -alpha damps little: xi(1) stays near 0.012 at most.
+  const DampingMatch m = match_damping(DampingFamily::hht_eq15, 1.0, 0.05);
+  EXPECT_FALSE(m.reachable);
+  EXPECT_EQ(m.roots, 0);
+  EXPECT_TRUE(std::isnan(m.parameter));
+  EXPECT_EQ(m.attainable_min, 0.0);
+  EXPECT_GT(m.attainable_max, 0.011);
+  EXPECT_LT(m.attainable_max, 0.0125);
+  // Generalized-alpha cannot exceed rho_inf = 0's damping.
+  const DampingMatch ga = match_damping(DampingFamily::generalized_alpha, 1.0, 0.5);
+  EXPECT_FALSE(ga.reachable);
+  EXPECT_NEAR(ga.attainable_max, xi(GeneralizedAlphaParams{.rho_inf = 0.0}, 1.0), 1e-15);
+  // Invalid input.
+  EXPECT_FALSE(match_damping(DampingFamily::newmark, 0.0, 0.1).reachable);
+  EXPECT_FALSE(match_damping(DampingFamily::newmark, NAN, 0.1).reachable);
+  EXPECT_FALSE(match_damping(DampingFamily::newmark, 1.0, NAN).reachable);
+}
+
+TEST(DampingMatch, NonMonotoneFamilyReturnsTheLeastDissipativeRoot) {
+  // xi(1) of HHT with delta = -alpha rises to a maximum near alpha = -1/3 and falls again.
+  const double target = 0.0115;
+  const DampingMatch m = match_damping(DampingFamily::hht_eq15, 1.0, target);
+  ASSERT_TRUE(m.reachable);
+  EXPECT_EQ(m.roots, 2);
+  EXPECT_GT(m.parameter, -1.0 / 3.0);  // the root on the alpha = 0 side
+  EXPECT_NEAR(m.damping_ratio, target, 1e-14);
+}
+
+// ---- plans/identical-dissipation.toml ------------------------------------------------------
+
+TEST(ShippedPlans, IdenticalDissipationMatchesItsDefinition) {
+  const Plan plan =
+      load_plan(std::filesystem::path(IMPACTID_SOURCE_DIR) / "plans/identical-dissipation.toml");
+  ASSERT_EQ(plan.kind, StudyKind::list);
+  ASSERT_TRUE(plan.output.histories.has_value());
+  const PointSet points(plan);
+  ASSERT_EQ(points.size(), 5);
+
+  std::vector<Simulation> sims;
+  for (long k = 0; k < points.size(); ++k) {
+    sims.push_back(std::get<Simulation>(build(points.settings(k))));
+  }
+  // The reference: HHT on eq. 19 at alpha = -0.3.
+  const auto* reference = std::get_if<HhtParams>(&sims[0].method);
+  ASSERT_NE(reference, nullptr);
+  EXPECT_EQ(reference->alpha, -0.3);
+  EXPECT_EQ(reference->delta, 0.45);
+
+  std::vector<MethodKind> kinds;
+  for (const Simulation& sim : sims) {
+    kinds.push_back(kind_of(sim.method));
+    // Omega = 1 is the highest mode of each point's own rod: 2*Courant with a lumped mass.
+    const RodSceneDerived d = derive(sim.scene);
+    const double courant = d.time_step * d.wave_speed / d.element_length;
+    EXPECT_NEAR(rod_max_omega_dt(sim.scene.mass, courant), 1.0, 1e-12);
+  }
+  for (const MethodKind kind :
+       {MethodKind::central_difference, MethodKind::backward_euler, MethodKind::newmark,
+        MethodKind::hht, MethodKind::generalized_alpha}) {
+    EXPECT_NE(std::find(kinds.begin(), kinds.end(), kind), kinds.end()) << to_string(kind);
+  }
+
+  const double target = xi(sims[0].method, 1.0);
+  int matched = 0;
+  for (const Simulation& sim : sims) {
+    const MethodKind kind = kind_of(sim.method);
+    if (kind == MethodKind::backward_euler || kind == MethodKind::central_difference) continue;
+    SCOPED_TRACE(to_string(kind));
+    EXPECT_NEAR(xi(sim.method, 1.0), target, 1e-6 * target);
+    EXPECT_NEAR(stepped_damping_ratio(sim.method, 1.0), target, 1e-6 * target);
+    ++matched;
+  }
+  EXPECT_EQ(matched, 3);  // hht (the reference), newmark, generalized-alpha
+  // HHT with delta = -alpha is left out because it cannot reach the target.
+  EXPECT_FALSE(match_damping(DampingFamily::hht_eq15, 1.0, target).reachable);
+}
+
+}  // namespace
+}  // namespace impactid
