@@ -110,8 +110,16 @@ RodSceneDerived derive(const RodScene& s) {
     const double start = std::isfinite(d.impact_time) ? d.impact_time : 0.0;
     d.end_time = start + 1.5 * d.contact_duration;
   }
-  d.step_count = static_cast<long>(std::ceil(d.end_time / d.time_step - 1e-9));
-  if (d.step_count < 1) d.step_count = 1;
+  // Converted with care: validate() calls this before it rejects absurd inputs, and casting an
+  // out-of-range (or NaN) double to long is undefined behaviour.
+  const double steps = std::ceil(d.end_time / d.time_step - 1e-9);
+  if (!(steps >= 1.0)) {
+    d.step_count = 1;
+  } else if (steps < 9.0e18) {
+    d.step_count = static_cast<long>(steps);
+  } else {
+    d.step_count = std::numeric_limits<long>::max();
+  }
   d.pressure_scale = s.density * d.wave_speed * std::abs(s.velocity);
   d.initial_energy = 0.5 * s.density * s.area * s.length * s.velocity * s.velocity;
   return d;

@@ -206,3 +206,19 @@ TEST(AssembleRod, EnergyOfRigidTranslation) {
 
 }  // namespace
 }  // namespace impactid
+
+namespace impactid {
+namespace {
+
+// derive() runs before validate() has rejected absurd inputs: a step count beyond long (here
+// 1e297 steps) must not be computed by an undefined float-to-long cast (found by UBSan).
+TEST(RodSceneDerive, HugeStepCountsSaturate) {
+  RodScene scene;
+  scene.dt = 1e-300;
+  EXPECT_EQ(derive(scene).step_count, std::numeric_limits<long>::max());
+  ASSERT_TRUE(validate(scene).has_value());
+  EXPECT_EQ(validate(scene)->field, "dt");
+}
+
+}  // namespace
+}  // namespace impactid
