@@ -22,6 +22,10 @@ template <class... Ts>
 struct Overloaded : Ts... {
   using Ts::operator()...;
 };
+// C++20 deduces this guide for aggregates (P1816R0); clang 14, which builds the sanitizer and
+// fuzzer targets (scripts/sanitize), does not yet, so it is spelled out.
+template <class... Ts>
+Overloaded(Ts...) -> Overloaded<Ts...>;
 
 }  // namespace
 
