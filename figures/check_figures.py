@@ -124,6 +124,24 @@ points = [
 [output]
 histories = "results/histories/identical-dissipation"
 """,
+    "stability-map": f"""
+name = "stability-map"
+description = "check_figures: HHT status over Courant x alpha x delta, 40 elements"
+{SCENE}
+[method]
+name = "hht"
+
+[study]
+kind = "grid"
+
+[study.axes]
+courant = {{ values = [0.5, 20.0] }}
+alpha = {{ from = -0.5, to = 0.0, partitions = 4 }}
+delta = {{ from = 0.0, to = 1.0, partitions = 4 }}
+
+[output]
+indicators = ["energy_ratio"]
+""",
 }
 
 FIGURES = {
@@ -136,6 +154,7 @@ FIGURES = {
     "fig8_compare_velocity.png": ["identical-dissipation"],
     "fig_spectral.png": ["spectral"],
     "fig_optimize.png": ["hht-optimize", "hht-delta-alpha"],
+    "fig_stability_map.png": ["stability-map"],
 }
 
 

@@ -1086,6 +1086,81 @@ def fig_spectral(results_dir, out_dir):
 
 
 # ---------------------------------------------------------------------------------------------
+# The stability map of simulations beside the spectral prediction
+# ---------------------------------------------------------------------------------------------
+
+
+def predicted_stable(results_dir, alpha, delta):
+    """HHT stability over (alpha, delta) as the spectral study predicts it: the `stable` map of
+    spectral.h5 at the nearest grid point (it is computed by core/amplification.hpp, not by a
+    simulation), or, without that file, the closed form δ ≥ −α. Returns (map[a, d], source)."""
+    try:
+        _, s = load_spectral(results_dir)
+        A, D = np.asarray(s["alpha"], dtype=float), np.asarray(s["delta"], dtype=float)
+        st = np.asarray(s["stable"], dtype=float)
+        if st.shape != (A.size, D.size) and st.shape == (D.size, A.size):
+            st = st.T
+        ia = np.abs(A[None, :] - alpha[:, None]).argmin(axis=1)
+        idd = np.abs(D[None, :] - delta[:, None]).argmin(axis=1)
+        if np.max(np.abs(A[ia] - alpha)) > 1e-9 or np.max(np.abs(D[idd] - delta)) > 1e-9:
+            raise Skip("grids differ")
+        return st[np.ix_(ia, idd)] > 0.5, "spectral.h5 (ρ ≤ 1 up to Ω = " + \
+            f"{num(float(s['attrs'].get('stability_omega_max', np.nan)))})"
+    except (Skip, KeyError):
+        return delta[None, :] >= -alpha[:, None] - 1e-12, "δ ≥ −α (closed form)"
+
+
+def fig_stability_map(results_dir, out_dir):
+    r = load(results_dir, "stability-map")
+    if sorted(r.dims) != sorted(["courant", "alpha", "delta"]):
+        raise Skip(f"{r.path}: expected the grid axes courant × alpha × delta, found {r.dims}")
+    order = [r.dims.index(d) for d in ("courant", "alpha", "delta")]
+    status = np.transpose(np.asarray(r.data["status"], dtype=float), order)
+    C, A, D = (np.asarray(r.data[d], dtype=float) for d in ("courant", "alpha", "delta"))
+    stable, source = predicted_stable(results_dir, A, D)
+    # 0: ok and predicted stable; 1: not ok and predicted unstable (agreement);
+    # 2: ok although predicted unstable; 3: not ok although predicted stable; −1: not run
+    colors = ["#d9ecf7", "0.72", "#F0B000", "#B00000"]
+    labels = ["ok, predicted stable", "unstable, predicted unstable",
+              "ok although predicted unstable", "unstable although predicted stable"]
+    cmap = mcolors.ListedColormap(colors)
+    cmap.set_bad("white")
+    ncol = min(4, C.size)
+    nrow = int(np.ceil(C.size / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.4 * ncol, 3.1 * nrow + 0.9), squeeze=False,
+                             sharex=True, sharey=True)
+    de, ae = cell_edges(D), cell_edges(A)
+    for k, ax in enumerate(axes.flat):
+        if k >= C.size:
+            ax.set_visible(False)
+            continue
+        st = status[k]
+        ok = st == 0
+        cls = np.where(stable, np.where(ok, 0, 3), np.where(ok, 2, 1)).astype(float)
+        cls[st < 0] = np.nan
+        ax.grid(False)
+        ax.pcolormesh(de, ae, np.ma.masked_invalid(cls), cmap=cmap, vmin=-0.5, vmax=3.5, shading="flat")
+        line = np.linspace(ae.min(), ae.max(), 50)
+        ax.plot(-line, line, color="black", lw=1.0, ls=":")
+        n_dis = int(np.sum((cls == 2) | (cls == 3)))
+        ax.set_title(f"Courant {num(C[k])}: {n_dis} disagree", fontsize=9)
+        ax.set_xlim(de.min(), de.max())
+        ax.set_ylim(ae.min(), ae.max())
+        if k % ncol == 0:
+            ax.set_ylabel("α [−]")
+        if k // ncol == nrow - 1:
+            ax.set_xlabel("δ [−]")
+    handles = [Patch(facecolor=c, edgecolor="0.5", label=l) for c, l in zip(colors, labels)]
+    handles.append(Line2D([], [], color="black", ls=":", lw=1.0, label="δ = −α (eq. 15; the stability edge)"))
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    fig.suptitle(f"HHT-α on the rod: simulated status over (δ, α) at each Courant number, beside the "
+                 f"prediction of {source}\n(orange: slow growth near the edge not caught in the horizon, "
+                 f"or below the lowest mode; red: chattering on the wall — plans/README.md)", fontsize=9.5)
+    fig.tight_layout(rect=(0, 0.07, 1, 0.95))
+    return [save(fig, out_dir, "fig_stability_map.png")]
+
+
+# ---------------------------------------------------------------------------------------------
 # The NLopt search over the HHT surface
 # ---------------------------------------------------------------------------------------------
 
@@ -1208,6 +1283,7 @@ FIGURES = [
     ("fig8_compare_velocity.png", fig8),
     ("fig_spectral.png", fig_spectral),
     ("fig_optimize.png", fig_optimize),
+    ("fig_stability_map.png", fig_stability_map),
 ]
 
 
