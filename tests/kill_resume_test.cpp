@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "scratch_folder.hpp"
 #include "study/results_file.hpp"
 
 namespace impactid {
@@ -34,18 +35,10 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-fs::path scratch(const std::string& name) {
-  // One folder per test process: parallel ctest runs and other users do not collide.
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("impactid_kill_resume_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  fs::remove_all(dir / name);
-  return dir / name;
-}
+using testing::write_file;
 
-fs::path write_file(const fs::path& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-  return path;
+fs::path scratch(const std::string& name) {
+  return testing::scratch_path("kill_resume_test", name);
 }
 
 std::string read_bytes(const fs::path& path) {

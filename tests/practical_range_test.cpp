@@ -1,6 +1,8 @@
 // The practical range: which points pass the plan's thresholds and how far they extend, on
 // hand-made tables whose answer is known; then `impactid run` storing it in a results file and
 // recomputing it on --resume.
+#include "cli_support.hpp"
+#include "scratch_folder.hpp"
 #include "study/practical_range.hpp"
 
 #include <gtest/gtest.h>
@@ -250,27 +252,12 @@ TEST(PracticalRange, StoredAsAColumnAndAttributesThatSurviveTheFile) {
 
 // ---- end to end: `impactid run` -----------------------------------------------------------
 
-struct Output {
-  int status;
-  std::string text;
-};
+using Output = testing::CommandOutput;
 
-Output run(const std::string& arguments) {
-  const std::string command = std::string(IMPACTID_EXECUTABLE) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string text;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) text += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
-}
+Output run(const std::string& arguments) { return testing::run_impactid(arguments); }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("impactid_practical_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  fs::remove_all(dir / name);
-  return dir / name;
+  return testing::scratch_path("practical_test", name);
 }
 
 // Newmark over delta on a coarse rod: delta = 0 chatters (unstable), small delta rings (many

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_support.hpp"
+#include "scratch_folder.hpp"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -29,14 +30,7 @@ using Output = testing::CommandOutput;
 
 Output run(const std::string& arguments) { return testing::run_impactid(arguments); }
 
-fs::path scratch(const std::string& name) {
-  // One folder per test process: parallel ctest runs and other users do not collide.
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("impactid_run_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  fs::remove_all(dir / name);
-  return dir / name;
-}
+fs::path scratch(const std::string& name) { return testing::scratch_path("run_test", name); }
 
 fs::path write_plan(const std::string& name, const std::string& text) {
   const fs::path path = scratch(name);

@@ -1,6 +1,7 @@
 // Spectral studies (`kind = "spectral"`): the computation against what it must reproduce (eq. 19,
 // the HHT stability boundary δ = −α, closed forms), the HDF5 layout the figure scripts rely on
 // (read back with Hdf5Reader), and `impactid run` on plans/spectral.toml.
+#include "scratch_folder.hpp"
 #include "study/spectral_study.hpp"
 
 #include <gtest/gtest.h>
@@ -23,11 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("impactid_spectral_study_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  fs::remove_all(dir / name);
-  return dir / name;
+  return testing::scratch_path("spectral_study_test", name);
 }
 
 struct Output {
