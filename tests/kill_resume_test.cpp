@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "scratch_folder.hpp"
+#include "test_files.hpp"
 #include "study/results_file.hpp"
 
 namespace impactid {
@@ -285,17 +285,7 @@ TEST(KillResume, SigkillAtRandomMomentsThenResumeEqualsTheUninterruptedRun) {
   expect_same_results(resumed, expected);
 }
 
-const char* kSmallPlan = R"(
-[scene]
-elements = 30
-[method]
-name = "hht"
-[study]
-kind = "grid"
-[study.axes]
-alpha = { from = -0.5, to = 0.0, partitions = 4 }
-delta = "-1.5*alpha"
-)";
+using testing::kSmallPlan;
 
 // A results file cut short (a full disk, a copy interrupted): `run`, `run --resume` and
 // `export` all refuse it with a message naming the file and the reason, and leave it as it is.

@@ -2,7 +2,7 @@
 // hand-made tables whose answer is known; then `impactid run` storing it in a results file and
 // recomputing it on --resume.
 #include "cli_support.hpp"
-#include "scratch_folder.hpp"
+#include "test_files.hpp"
 #include "study/practical_range.hpp"
 
 #include <gtest/gtest.h>

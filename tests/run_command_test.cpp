@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_support.hpp"
-#include "scratch_folder.hpp"
+#include "test_files.hpp"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -38,17 +38,7 @@ fs::path write_plan(const std::string& name, const std::string& text) {
   return path;
 }
 
-const char* kSmallPlan = R"(
-[scene]
-elements = 30
-[method]
-name = "hht"
-[study]
-kind = "grid"
-[study.axes]
-alpha = { from = -0.5, to = 0.0, partitions = 4 }
-delta = "-1.5*alpha"
-)";
+using testing::kSmallPlan;
 
 TEST(RunCommand, WritesResultsAndResumesWithNothingLeft) {
   const fs::path plan = write_plan("small.toml", kSmallPlan);

@@ -1,7 +1,7 @@
 // Spectral studies (`kind = "spectral"`): the computation against what it must reproduce (eq. 19,
 // the HHT stability boundary δ = −α, closed forms), the HDF5 layout the figure scripts rely on
 // (read back with Hdf5Reader), and `impactid run` on plans/spectral.toml.
-#include "scratch_folder.hpp"
+#include "test_files.hpp"
 #include "study/spectral_study.hpp"
 
 #include <gtest/gtest.h>

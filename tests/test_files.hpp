@@ -1,4 +1,4 @@
-// Scratch files for tests that write plans and results files.
+// Files for tests that write plans and results files: where they go, and a small plan.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -25,5 +25,19 @@ inline std::filesystem::path write_file(const std::filesystem::path& path, const
   std::ofstream(path, std::ios::binary) << bytes;
   return path;
 }
+
+/// A grid plan of five HHT points along δ = −1.5α on a 30-element rod: a results file in a
+/// few tens of milliseconds.
+inline constexpr const char* kSmallPlan = R"(
+[scene]
+elements = 30
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0.0, partitions = 4 }
+delta = "-1.5*alpha"
+)";
 
 }  // namespace impactid::testing
