@@ -4,8 +4,11 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <vector>
 
+#include "core/batched_simulation.hpp"
 #include "core/simulation.hpp"
 #include "sparse_reference.hpp"
 #include "study/evaluation.hpp"
@@ -101,6 +104,110 @@ void BM_Sweep(benchmark::State& state) {
   set_dof_counters(state, RodScene{}, kPoints * static_cast<double>(state.iterations()));
 }
 BENCHMARK(BM_Sweep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The batched kernel (core/batched_simulation.hpp): kBatchLanes HHT runs of the default scene
+// with α from −0.05 to −0.4, set-up and stepping, no indicators. Time per run = time / lanes.
+void BM_BatchedRun(benchmark::State& state) {
+  const std::vector<RodScene> scenes(kBatchLanes);
+  std::vector<MethodParams> methods;
+  for (int l = 0; l < kBatchLanes; ++l) methods.push_back(HhtParams{.alpha = -0.05 * (l + 1)});
+  BatchWorkspace workspace;
+  std::vector<RunSummary> summaries(kBatchLanes);
+  for (auto _ : state) {
+    simulate_batch(scenes, methods, RunOptions{}, workspace, summaries);
+    benchmark::DoNotOptimize(summaries[0].final_energy);
+  }
+  state.SetLabel("hht x " + std::to_string(kBatchLanes) + " lanes");
+  state.counters["lanes"] = kBatchLanes;
+  state.counters["runs/s"] = benchmark::Counter(
+      kBatchLanes * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  set_dof_counters(state, RodScene{}, kBatchLanes * static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_BatchedRun)->Unit(benchmark::kMicrosecond);
+
+// BM_Sweep's 64 points through evaluate_batch, kBatchLanes points per unit of work, as
+// run_sweep groups them.
+void BM_BatchedSweep(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  constexpr int kPoints = 64;
+  std::vector<Simulation> simulations;
+  for (int k = 0; k < kPoints; ++k) {
+    SimulationSettings s;
+    s.method.alpha = -0.5 * (k % 8) / 7.0;
+    s.method.delta = 0.3 + 0.1 * (k / 8);
+    simulations.push_back(std::get<Simulation>(build(s)));
+  }
+  constexpr int kUnits = (kPoints + kBatchLanes - 1) / kBatchLanes;
+  for (auto _ : state) {
+#pragma omp parallel num_threads(threads)
+    {
+      BatchWorkspace workspace;
+      std::vector<Evaluation> out(kBatchLanes);
+#pragma omp for schedule(dynamic, 1)
+      for (int u = 0; u < kUnits; ++u) {
+        const int first = u * kBatchLanes, count = std::min(kBatchLanes, kPoints - first);
+        evaluate_batch(std::span(simulations).subspan(first, count), workspace,
+                       std::span(out).first(count));
+        benchmark::DoNotOptimize(out[0].indicators.eps_p);
+      }
+    }
+  }
+  state.counters["runs/s"] =
+      benchmark::Counter(kPoints * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
+  set_dof_counters(state, RodScene{}, kPoints * static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_BatchedSweep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The core clock under load: a chain of dependent integer adds retires one add per cycle, so
+// adds/s is cycles/s (turbo included, which /proc/cpuinfo's nominal MHz is not).
+void BM_Clock(benchmark::State& state) {
+  constexpr long kAdds = 8 * 1'000'000;
+  for (auto _ : state) {
+    std::uint64_t x = 0;
+    for (long i = 0; i < kAdds / 8; ++i) {
+      asm volatile(
+          "add $1, %0\n\tadd $1, %0\n\tadd $1, %0\n\tadd $1, %0\n\t"
+          "add $1, %0\n\tadd $1, %0\n\tadd $1, %0\n\tadd $1, %0"
+          : "+r"(x));
+    }
+    benchmark::DoNotOptimize(x);
+  }
+  state.counters["Hz"] =
+      benchmark::Counter(kAdds * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Clock)->Unit(benchmark::kMillisecond);
+
+// The kernel's own arithmetic ceiling: separate vector multiplies and adds (as
+// -ffp-contract=off issues them) on kBatchLanes doubles, 16 independent chains, compiled like
+// the kernel for the best of AVX-512, AVX2 and baseline. flops/s ÷ Hz ÷ lanes = how many
+// vector multiply-or-add units issue per cycle (2 FMA units: 2).
+using BenchLanes = double __attribute__((vector_size(sizeof(double) * kBatchLanes)));
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) double
+mul_add_chains(long iterations) {
+  BenchLanes acc[16];
+  for (int k = 0; k < 16; ++k) {
+    for (int l = 0; l < kBatchLanes; ++l) acc[k][l] = k + l;
+  }
+  BenchLanes m, c;
+  for (int l = 0; l < kBatchLanes; ++l) m[l] = 0.999999, c[l] = 1e-3;
+  for (long i = 0; i < iterations; ++i) {
+    for (int k = 0; k < 16; ++k) acc[k] = acc[k] * m + c;
+  }
+  double sum = 0.0;
+  for (int k = 0; k < 16; ++k) sum += acc[k][0];
+  return sum;
+}
+
+void BM_MulAddPeak(benchmark::State& state) {
+  constexpr long kIterations = 1'000'000;
+  for (auto _ : state) benchmark::DoNotOptimize(mul_add_chains(kIterations));
+  state.counters["flops/s"] =
+      benchmark::Counter(2.0 * 16 * kBatchLanes * kIterations * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_MulAddPeak)->Unit(benchmark::kMillisecond);
 
 // The general sparse reference (SparseLU every step), checked to give the same pressures.
 void BM_SparseReference(benchmark::State& state) {

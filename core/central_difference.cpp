@@ -1,5 +1,7 @@
 #include "core/central_difference.hpp"
 
+#include "core/two_wall_contact.hpp"
+
 namespace impactid {
 
 bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity velocity,
@@ -16,6 +18,13 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   contact_influence_ = Eigen::VectorXd::Zero(n);
   contact_influence_[system.contact_dof] = 1.0;
   factorization_.solve_in_place(contact_influence_);
+  if (system.has_far_contact()) {
+    far_influence_ = Eigen::VectorXd::Zero(n);
+    far_influence_[system.far_contact_dof] = 1.0;
+    factorization_.solve_in_place(far_influence_);
+  } else {
+    far_influence_.resize(0);
+  }
   u_ = initial.u;
   // Taylor start, second order: u₋ = u₀ − Δt·v₀ + ½Δt²·a₀. For the rod (a₀ = 0) this is the
   // convention u₋₁ = u₀ − Δt·v0; without the a₀ term a displaced start is only first order.
@@ -45,7 +54,19 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
 
   double lambda = 0.0;
   const Eigen::Index contact = system.contact_dof;
-  if (system.has_contact() && u_next_[contact] > system.gap) {
+  if (system.has_far_contact()) {
+    const Eigen::Index far = system.far_contact_dof;
+    const TwoWallForces forces = solve_two_wall_contact(
+        u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
+        contact_influence_[contact], far_influence_[far], far_influence_[contact],
+        contact_influence_[far]);
+    if (forces.main > 0.0) u_next_ -= forces.main * contact_influence_;
+    if (forces.far > 0.0) u_next_ += forces.far * far_influence_;
+    if (forces.main > 0.0) u_next_[contact] = system.gap;
+    if (forces.far > 0.0) u_next_[far] = -system.far_gap;
+    lambda = forces.main;
+    at_t.far_lambda = forces.far;
+  } else if (system.has_contact() && u_next_[contact] > system.gap) {
     lambda = (u_next_[contact] - system.gap) / contact_influence_[contact];
     u_next_ -= lambda * contact_influence_;
     u_next_[contact] = system.gap;  // exact, not a few ulps off

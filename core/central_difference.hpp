@@ -11,6 +11,11 @@
 // highest mode of the lumped rod has Ω = ω·Δt = 2·Courant, and at exactly Ω = 2 its repeated
 // eigenvalue −1 grows linearly.
 //
+// With a far wall the same forward-increment multiplier acts at node 0 too (λ_0 >= 0, force +λ_0),
+// and both come from the 2×2 problem of core/two_wall_contact.hpp. With a lumped mass and no
+// stiffness damping the left-hand matrix is diagonal, the two ends do not interact within a step,
+// and this is Carpenter's multiplier at each end independently.
+//
 // Thread safety: one object per thread.
 #pragma once
 
@@ -31,7 +36,7 @@ class CentralDifference {
   /// Computes λ_t and u_{t+Δt} and fills `at_t` with the state at the current time t
   /// (u, the velocity of the chosen variant, a = (u₊ − 2u + u₋)/Δt², λ_t, t), then moves on
   /// to t + Δt. The state at t is only complete once u_{t+Δt} is known, hence this shape.
-  /// Returns true if λ_t > 0.
+  /// Returns true if λ_t > 0 (the main wall's; a far wall's λ_0 at t is at_t.far_lambda).
   bool step(const SecondOrderSystem& system, State& at_t);
 
  private:
@@ -40,6 +45,7 @@ class CentralDifference {
   double t_ = 0.0;
   TridiagonalFactorization factorization_;
   Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
+  Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
   Eigen::VectorXd u_previous_, u_, u_next_, scratch_;
 };
 

@@ -1,6 +1,8 @@
 #include "core/exact_solution.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace impactid {
 
@@ -12,6 +14,61 @@ RodImpactExact::RodImpactExact(const RodScene& scene) {
   dt_ = d.time_step;
   impact_time_ = d.impact_time;
   release_time_ = d.impact_time + d.contact_duration;
+  period_ = std::numeric_limits<double>::infinity();
+  if (scene.far_gap) {
+    two_walls_ = true;
+    far_gap_ = *scene.far_gap;
+    speed_ = std::abs(scene.velocity);
+    contact_ = d.contact_duration;
+    if (speed_ > 0.0) {
+      flight_ = (gap_ + far_gap_) / speed_;
+      period_ = 2.0 * contact_ + 2.0 * flight_;
+      if (scene.velocity > 0.0) {
+        first_impact_ = gap_ / speed_;
+        phase_origin_ = first_impact_;
+      } else {
+        // The far contact starts at τ = D + F.
+        first_impact_ = far_gap_ / speed_;
+        phase_origin_ = first_impact_ - (contact_ + flight_);
+      }
+    }
+  }
+}
+
+ContactNodeValues RodImpactExact::two_walls_phase(double tau, bool from_left) const {
+  const auto before = [&](double boundary) { return from_left ? tau <= boundary : tau < boundary; };
+  const double d = contact_, f = flight_, v = speed_;
+  if (tau == 0.0 && from_left) tau = period_;  // the end of the previous period
+  if (before(d)) return {pressure_, 0.0, gap_};
+  if (before(d + f)) return {0.0, -v, gap_ - v * (tau - d)};
+  if (before(d + f + 0.5 * d)) return {0.0, -v, -far_gap_ - v * (tau - d - f)};
+  if (before(2.0 * d + f)) return {0.0, v, -far_gap_ - v * (0.5 * d) + v * (tau - d - f - 0.5 * d)};
+  if (before(period_)) return {0.0, v, -far_gap_ + v * (tau - 2.0 * d - f)};
+  return {pressure_, 0.0, gap_};  // τ = T from the right: the next main contact
+}
+
+ContactNodeValues RodImpactExact::two_walls_at(double t, double jump_tolerance) const {
+  const auto mean = [](const ContactNodeValues& a, const ContactNodeValues& b) {
+    return ContactNodeValues{0.5 * (a.pressure + b.pressure), 0.5 * (a.velocity + b.velocity),
+                             0.5 * (a.displacement + b.displacement)};
+  };
+  if (speed_ == 0.0) return {0.0, 0.0, 0.0};
+  const ContactNodeValues flying{0.0, velocity_, velocity_ * t};
+  if (t < first_impact_ - jump_tolerance) return flying;
+  const double tau_first = velocity_ > 0.0 ? 0.0 : contact_ + flight_;
+  if (std::abs(t - first_impact_) <= jump_tolerance) {
+    return mean(ContactNodeValues{0.0, velocity_, velocity_ * first_impact_},
+                two_walls_phase(tau_first, false));
+  }
+  const double since = t - phase_origin_;
+  double tau = since - period_ * std::floor(since / period_);
+  if (tau <= jump_tolerance) tau += period_;  // near τ = 0: treat as the end of a period
+  for (const double jump : {contact_, contact_ + flight_ + 0.5 * contact_, period_}) {
+    if (std::abs(tau - jump) <= jump_tolerance) {
+      return mean(two_walls_phase(jump, true), two_walls_phase(jump, false));
+    }
+  }
+  return two_walls_phase(std::min(tau, period_), true);
 }
 
 ContactNodeValues RodImpactExact::one_sided(double t, bool from_left) const {
@@ -22,6 +79,7 @@ ContactNodeValues RodImpactExact::one_sided(double t, bool from_left) const {
 }
 
 ContactNodeValues RodImpactExact::at(double t, double jump_tolerance) const {
+  if (two_walls_) return two_walls_at(t, jump_tolerance);
   const bool on_jump = std::abs(t - impact_time_) <= jump_tolerance ||
                        std::abs(t - release_time_) <= jump_tolerance;
   if (!on_jump) return one_sided(t, true);

@@ -7,6 +7,21 @@
 // At a jump the one-sided limits differ; at_sample() returns their mean when a sample falls on
 // the jump within 1e-6·Δt.
 //
+// With a far wall (RodScene::far_gap = g0) the motion is periodic. Write V = |v0|, D = 2L/c and
+// F = (gap + g0)/V, the rigid flight between the walls. A contact with either wall lasts D and
+// returns the rod unstrained with its velocity reversed (the single-wall solution above, at each
+// wall), so one period T = 2D + 2F is, from the start of a main-wall contact (phase τ = 0):
+//   [0, D)            main contact:  p = ρcV, v_n = 0,  u_n = gap
+//   [D, D+F)          flight back:   p = 0,   v_n = −V, u_n = gap − V·(τ − D)
+//   [D+F, D+F+D/2)    far contact, until its wave reaches node n: v_n = −V, u_n = −g0 − V·(τ−D−F)
+//   [D+F+D/2, 2D+F)   far contact, after: v_n = +V, u_n = −g0 − V·D/2 + V·(τ − D − F − D/2)
+//   [2D+F, T)         flight forward: v_n = +V, u_n = −g0 + V·(τ − 2D − F)
+// (during the far contact node 0 rests on the far wall, node n is free and first keeps −V, then
+// gets +V when the reflected compression wave arrives, L/c after the far impact). The first
+// impact is at the main wall at gap/V when v0 > 0, at the far wall at g0/V when v0 < 0; before it
+// the rod flies rigidly, u = v0·t. With v0 = 0 nothing moves. Jumps (averaged as above) are at
+// τ = 0, D and D + F + D/2, and at the first impact.
+//
 // Thread safety: a value; const methods only.
 #pragma once
 
@@ -24,8 +39,11 @@ class RodImpactExact {
  public:
   explicit RodImpactExact(const RodScene& scene);
 
+  /// First impact at the main wall, and its end (+inf without one).
   double impact_time() const { return impact_time_; }
   double release_time() const { return release_time_; }
+  /// With a far wall: the period 2D + 2F of the motion [s]; +inf without one (or v0 = 0).
+  double period() const { return period_; }
 
   /// Values at time t, with the mean of the one-sided limits on a jump within `jump_tolerance`.
   ContactNodeValues at(double t, double jump_tolerance) const;
@@ -34,9 +52,17 @@ class RodImpactExact {
 
  private:
   ContactNodeValues one_sided(double t, bool from_left) const;
+  ContactNodeValues two_walls_at(double t, double jump_tolerance) const;
+  /// The two-wall motion at phase τ in [0, T], from the left or the right of τ.
+  ContactNodeValues two_walls_phase(double tau, bool from_left) const;
 
   double velocity_, gap_, pressure_, dt_;
   double impact_time_, release_time_;
+  bool two_walls_ = false;
+  double far_gap_ = 0.0, speed_ = 0.0, contact_ = 0.0, flight_ = 0.0;
+  double period_ = 0.0;        // T = 2D + 2F
+  double first_impact_ = 0.0;  // at either wall
+  double phase_origin_ = 0.0;  // t at which τ = 0 (may lie before t = 0)
 };
 
 }  // namespace impactid

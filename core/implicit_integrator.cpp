@@ -1,5 +1,7 @@
 #include "core/implicit_integrator.hpp"
 
+#include "core/two_wall_contact.hpp"
+
 namespace impactid {
 
 bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
@@ -16,13 +18,20 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   contact_influence_ = Eigen::VectorXd::Zero(n);
   contact_influence_[system.contact_dof] = 1.0;
   factorization_.solve_in_place(contact_influence_);
+  if (system.has_far_contact()) {
+    far_influence_ = Eigen::VectorXd::Zero(n);
+    far_influence_[system.far_contact_dof] = 1.0;
+    factorization_.solve_in_place(far_influence_);
+  } else {
+    far_influence_.resize(0);
+  }
   u_predicted_.resize(n);
   v_predicted_.resize(n);
   rhs_.resize(n);
   return true;
 }
 
-bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
+void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
   const Eigen::Index n = system.size();
   const double dt = dt_, dt2 = dt * dt;
   const double af = c_.alpha_f;
@@ -41,7 +50,18 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   if (c_.alpha_m != 0.0) system.mass.multiply_add(-c_.alpha_m, s.a, rhs_);
   const Eigen::Index contact = system.contact_dof;
   rhs_[contact] -= (1.0 - c_.contact_weight) * s.lambda;
+  if (s.far_lambda != 0.0) {
+    rhs_[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
+  }
   factorization_.solve_in_place(rhs_);
+}
+
+bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
+  if (system.has_far_contact()) return step_two_walls(system, s);
+  predict(system, s);
+  const Eigen::Index n = system.size();
+  const double dt = dt_, dt2 = dt * dt;
+  const Eigen::Index contact = system.contact_dof;
 
   double lambda = 0.0;
   if (system.has_contact()) {
@@ -65,11 +85,41 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   return lambda > 0.0;
 }
 
+bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& s) {
+  predict(system, s);
+  const Eigen::Index n = system.size();
+  const double dt = dt_, dt2 = dt * dt;
+  const Eigen::Index contact = system.contact_dof, far = system.far_contact_dof;
+
+  // Penetrations of the contact-free prediction, and what a unit weighted force does to them.
+  const double k = c_.b1 * dt2;
+  const double p_main = u_predicted_[contact] + k * rhs_[contact] - system.gap;
+  const double p_far = -system.far_gap - (u_predicted_[far] + k * rhs_[far]);
+  const TwoWallForces forces =
+      solve_two_wall_contact(p_main, p_far, k * contact_influence_[contact],
+                             k * far_influence_[far], k * far_influence_[contact],
+                             k * contact_influence_[far]);
+  if (forces.main > 0.0) rhs_ -= forces.main * contact_influence_;
+  if (forces.far > 0.0) rhs_ += forces.far * far_influence_;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    s.a[i] = rhs_[i];
+    s.u[i] = u_predicted_[i] + c_.b1 * dt2 * rhs_[i];
+    s.v[i] = v_predicted_[i] + c_.g1 * dt * rhs_[i];
+  }
+  if (forces.main > 0.0) s.u[contact] = system.gap;
+  if (forces.far > 0.0) s.u[far] = -system.far_gap;
+  s.lambda = forces.main / c_.contact_weight;
+  s.far_lambda = forces.far / c_.contact_weight;
+  s.t += dt;
+  return forces.main > 0.0;  // as without a far wall (and as central difference): the main wall
+}
+
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state) {
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(system.size());
   system.stiffness.multiply_add(-1.0, state.u, rhs);
   system.damping.multiply_add(-1.0, state.v, rhs);
   rhs[system.contact_dof] -= state.lambda;
+  if (state.far_lambda != 0.0) rhs[system.far_contact_dof] += state.far_lambda;
   TridiagonalFactorization mass;
   if (!mass.factor(system.mass)) return Eigen::VectorXd::Constant(system.size(), NAN);
   mass.solve_in_place(rhs);

@@ -8,6 +8,10 @@
 // The effective matrix A is constant, so it is factored once in initialize() together with the
 // contact influence vector A⁻¹·e_c, and every step is O(n) with no allocation.
 //
+// With a far wall (SecondOrderSystem::has_far_contact) the step solves the two-constraint
+// problem of core/two_wall_contact.hpp instead, with A⁻¹·e_far also factored in initialize();
+// still O(n) and allocation-free. Without one the step is the single-contact code above.
+//
 // Thread safety: one object per thread (it holds scratch vectors).
 #pragma once
 
@@ -27,18 +31,26 @@ class ImplicitIntegrator {
 
   /// Advances state from t to t + Δt. The state's acceleration must be consistent with its
   /// displacement and velocity (see consistent_acceleration). Returns true if the contact is
-  /// active at t + Δt (λ > 0); the contact dof is then exactly on the wall.
+  /// active at t + Δt (λ > 0); the contact dof is then exactly on the wall. With a far wall,
+  /// state.far_lambda is its force and the far dof is exactly on it when that is positive (the
+  /// return value still tells the main wall's contact only).
   bool step(const SecondOrderSystem& system, State& state);
 
  private:
+  /// Predictors and the contact-free acceleration (left in rhs_), from the state at t.
+  void predict(const SecondOrderSystem& system, State& state);
+  bool step_two_walls(const SecondOrderSystem& system, State& state);
+
   ImplicitCoefficients c_{};
   double dt_ = 0.0;
   TridiagonalFactorization factorization_;
   Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
+  Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
   Eigen::VectorXd u_predicted_, v_predicted_, rhs_;
 };
 
-/// a solving M·a = −K·u − C·v − G^T·λ: the acceleration consistent with the equation of motion.
+/// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with
+/// the equation of motion.
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state);
 
 }  // namespace impactid

@@ -44,6 +44,13 @@ std::optional<ParameterError> validate(const RodScene& s) {
        }) {
     if (error) return error;
   }
+  if (s.far_gap) {
+    if (auto e = require_in_range("far_gap", *s.far_gap, 0.0, std::numeric_limits<double>::max(),
+                                  "must be >= 0 and finite");
+        e) {
+      return e;
+    }
+  }
   if (s.dt) {
     if (auto e = require_in_range("dt", *s.dt, tiny, inf, "must be positive and finite"); e) {
       return e;

@@ -5,6 +5,11 @@
 // Conventions: nodes 0..n, node n is the contact node (the wall end); the wall stands at
 // x = L + gap; the constraint is u_n <= gap; positive velocity points toward the wall; the
 // contact pressure is p = λ/A >= 0.
+//
+// Optional second wall (the repeated-impact scene of issue 5): with far_gap set, a rigid wall
+// also stands behind the rod at x = −far_gap, the constraint u_0 >= −far_gap holds at node 0
+// with its own multiplier λ_0 >= 0, and the rod bounces between the two walls. Without it the
+// scene is exactly the paper's.
 #pragma once
 
 #include <optional>
@@ -31,6 +36,10 @@ struct RodScene {
   double velocity = 1000.0;        ///< v0 [mm/s], toward the wall, finite
   double gap = 0.01;               ///< initial gap to the wall [mm], >= 0; 0.01 mm puts the impact
                                    ///< between two steps at the default Courant number
+  /// Gap between node 0 and a second rigid wall behind the rod [mm], >= 0 and finite: the wall
+  /// stands at x = −far_gap and node 0 may not move below it (u_0 >= −far_gap). Not set (the
+  /// default): no second wall, the paper's scene.
+  std::optional<double> far_gap;
   MassMatrix mass = MassMatrix::lumped;
   double rayleigh_mass = 0.0;      ///< a0 in C = a0·M + a1·K [1/s], >= 0
   double rayleigh_stiffness = 0.0; ///< a1 in C = a0·M + a1·K [s], >= 0

@@ -31,6 +31,7 @@ SecondOrderSystem assemble_rod(const RodScene& scene) {
       system.mass.combined(scene.rayleigh_mass, system.stiffness, scene.rayleigh_stiffness);
   system.contact_dof = nodes - 1;
   system.gap = scene.gap;
+  if (scene.far_gap) system.far_gap = *scene.far_gap;  // far_contact_dof = 0
   return system;
 }
 

@@ -3,6 +3,11 @@
 // (eqs 16–17 of the paper), with G = e_c selecting the contact degree of freedom c.
 // All three matrices are tridiagonal, so every integrator step is O(n).
 //
+// An optional second constraint acts on far_contact_dof from the other side:
+//   g_0 = −u_0 − far_gap <= 0,  λ_0 >= 0,  λ_0·g_0 = 0,  force +λ_0 on that dof (G_0 = −e_0),
+// the far wall of the repeated-impact scene. With far_gap = +inf (the default) it is absent and
+// every integrator runs its single-contact code unchanged.
+//
 // The rod scene assembles one (assemble_rod); tests build others (free vibration without a
 // wall, other boundary conditions) directly.
 #pragma once
@@ -22,9 +27,13 @@ struct SecondOrderSystem {
   Eigen::Index contact_dof = 0;
   /// Allowed displacement of the contact dof toward the wall; +inf means no wall.
   double gap = std::numeric_limits<double>::infinity();
+  Eigen::Index far_contact_dof = 0;
+  /// Allowed displacement of far_contact_dof away from the wall (u >= −far_gap); +inf: no wall.
+  double far_gap = std::numeric_limits<double>::infinity();
 
   Eigen::Index size() const { return mass.size(); }
   bool has_contact() const { return gap < std::numeric_limits<double>::infinity(); }
+  bool has_far_contact() const { return far_gap < std::numeric_limits<double>::infinity(); }
   bool has_damping() const { return !damping.is_zero(); }
   /// ½·v^T·M·v + ½·u^T·K·u
   double energy(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
@@ -33,7 +42,7 @@ struct SecondOrderSystem {
 };
 
 /// The rod of the scene: n elements, n+1 nodes, contact at node n, Rayleigh damping
-/// C = a0·M + a1·K. The scene must be valid.
+/// C = a0·M + a1·K, and the far wall at node 0 when the scene has one. The scene must be valid.
 SecondOrderSystem assemble_rod(const RodScene& scene);
 
 }  // namespace impactid

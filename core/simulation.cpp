@@ -21,13 +21,15 @@ const char* to_string(RunStatus status) {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
-void reset_trace(ContactTrace& trace, long samples, bool history) {
+void reset_trace(ContactTrace& trace, long samples, bool history, bool far_wall) {
   const auto n = static_cast<std::size_t>(samples);
   trace.pressure.assign(n, kNaN);
   trace.velocity.assign(n, kNaN);
   trace.displacement.assign(history ? n : 0, kNaN);
   trace.energy.assign(history ? n : 0, kNaN);
+  trace.far_pressure.assign(far_wall ? n : 0, kNaN);
 }
 
 // Samples before which the rod is certainly still in rigid free flight: every method computes
@@ -44,8 +46,9 @@ long free_flight_samples(const RodScene& scene, const RodSceneDerived& d,
 
 // The step loop shared by every method, from sample `first` on. `advance` produces the state at
 // the next sample time; it is a lambda, so the call is inlined: no virtual dispatch inside the
-// loop.
-template <class Advance>
+// loop. kFarWall adds the far wall's bookkeeping (its pressure, the largest penetration); the
+// single-wall instantiation is the loop as it was.
+template <bool kFarWall, class Advance>
 void run_steps(const SecondOrderSystem& system, double area, const RunOptions& options,
                long first, State& state, ContactTrace& trace, RunSummary& summary,
                Advance&& advance) {
@@ -57,6 +60,12 @@ void run_steps(const SecondOrderSystem& system, double area, const RunOptions& o
     advance(state);
     trace.pressure[i] = state.lambda / area;
     trace.velocity[i] = state.v[c];
+    if constexpr (kFarWall) {
+      trace.far_pressure[i] = state.far_lambda / area;
+      const double penetration =
+          std::max(state.u[c] - system.gap, -system.far_gap - state.u[system.far_contact_dof]);
+      summary.max_penetration = std::max(summary.max_penetration, penetration);
+    }
     summary.steps = i + 1;
     // The bound is checked at the same steps whether or not histories are recorded, so that
     // recording them never changes the status.
@@ -81,7 +90,8 @@ void run_steps(const SecondOrderSystem& system, double area, const RunOptions& o
         return;
       }
     }
-    if (!std::isfinite(state.lambda) || !std::isfinite(state.v[c])) {
+    if (!std::isfinite(state.lambda) || !std::isfinite(state.v[c]) ||
+        (kFarWall && !std::isfinite(state.far_lambda))) {
       summary.status = RunStatus::unstable;
       summary.message = "non-finite values at t = " + format_value(state.t) + " s";
       return;
@@ -102,7 +112,8 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   RunSummary summary;
   summary.planned_steps = derived.step_count;
   summary.dt = dt;
-  reset_trace(ws.trace, derived.step_count, options.record_history);
+  const bool far_wall = system.has_far_contact();
+  reset_trace(ws.trace, derived.step_count, options.record_history, far_wall);
   if (options.energy_check_interval < 1 || !(options.energy_growth_limit > 1.0)) {
     summary.status = RunStatus::failed;
     summary.message = "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
@@ -113,6 +124,7 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   state.u.setZero(n);
   state.v.setConstant(n, scene.velocity);
   state.lambda = 0.0;
+  state.far_lambda = 0.0;
   state.t = 0.0;
   state.a = consistent_acceleration(system, state);  // zero without damping
   summary.initial_energy = system.energy(state.u, state.v);
@@ -120,7 +132,14 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
 
   // Rigid free flight, filled in: the state at t_k = k·Δt and the samples 1..k.
   const long skipped = free_flight_samples(scene, derived, options);
+  if (far_wall) summary.max_penetration = -kInf;
   for (long i = 0; i < skipped; ++i) {
+    if (far_wall) {
+      const double u = scene.velocity * ((i + 1) * dt);
+      ws.trace.far_pressure[i] = 0.0;
+      summary.max_penetration =
+          std::max({summary.max_penetration, u - scene.gap, -*scene.far_gap - u});
+    }
     ws.trace.pressure[i] = 0.0;
     ws.trace.velocity[i] = scene.velocity;
     if (options.record_history) {
@@ -138,8 +157,12 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
     CentralDifference& stepper = ws.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
       stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
-      run_steps(system, scene.area, options, skipped, state, ws.trace, summary,
-                [&](State& s) { stepper.step(system, s); });
+      const auto advance = [&](State& s) { stepper.step(system, s); };
+      if (far_wall) {
+        run_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+      } else {
+        run_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+      }
     } else {
       summary.status = RunStatus::failed;
       summary.message = "central difference: singular left-hand matrix";
@@ -147,8 +170,12 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   } else {
     ImplicitIntegrator& stepper = ws.implicit;
     if (stepper.initialize(system, implicit_coefficients(method), dt)) {
-      run_steps(system, scene.area, options, skipped, state, ws.trace, summary,
-                [&](State& s) { stepper.step(system, s); });
+      const auto advance = [&](State& s) { stepper.step(system, s); };
+      if (far_wall) {
+        run_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+      } else {
+        run_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+      }
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";

@@ -6,6 +6,7 @@
 // Thread safety: simulate() is reentrant; give each thread its own SimulationWorkspace.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,8 @@ struct ContactTrace {
   std::vector<double> velocity;      ///< [mm/s]
   std::vector<double> displacement;  ///< [mm]; empty unless RunOptions::record_history
   std::vector<double> energy;        ///< [mJ]; empty unless RunOptions::record_history
+  /// λ_0/A of the far wall [MPa]; empty unless the scene has one (RodScene::far_gap).
+  std::vector<double> far_pressure;
   long size() const { return static_cast<long>(pressure.size()); }
 };
 
@@ -64,6 +67,10 @@ struct RunSummary {
   double dt = 0.0;            ///< [s]
   double initial_energy = 0;  ///< [mJ]
   double final_energy = 0;    ///< [mJ], at the last completed sample
+  /// Largest penetration of a wall by its contact node over the completed samples [mm]
+  /// (u_n − gap and −far_gap − u_0; <= 0 means none). Tracked only with a far wall (the
+  /// single-wall step loop is kept as it was); NaN without one.
+  double max_penetration = std::numeric_limits<double>::quiet_NaN();
   double wall_time_s = 0;     ///< set-up and stepping [s]
 };
 

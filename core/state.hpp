@@ -11,6 +11,8 @@ struct State {
   Eigen::VectorXd v;     ///< velocity [mm/s]
   Eigen::VectorXd a;     ///< acceleration [mm/s²]
   double lambda = 0.0;   ///< contact force (Lagrange multiplier) [N], >= 0
+  double far_lambda = 0.0;  ///< force of the far wall (SecondOrderSystem::far_gap) [N], >= 0;
+                            ///< stays 0 without one
   double t = 0.0;        ///< time [s]
 };
 

@@ -45,6 +45,12 @@ class TridiagonalFactorization {
   /// Solves A·x = b in place (b becomes x). No allocation.
   void solve_in_place(Eigen::VectorXd& b) const;
   Eigen::Index size() const { return inverse_pivot_.size(); }
+  /// The stored factors, for solvers that lay them out differently (core/batched_simulation):
+  /// solve_in_place is b₀ ·= p₀, bᵢ = (bᵢ − lᵢ·bᵢ₋₁)·pᵢ, then bᵢ −= rᵢ·bᵢ₊₁ with l = lower(),
+  /// p = inverse_pivot(), r = upper_ratio().
+  const Eigen::VectorXd& lower() const { return lower_; }
+  const Eigen::VectorXd& upper_ratio() const { return upper_ratio_; }
+  const Eigen::VectorXd& inverse_pivot() const { return inverse_pivot_; }
 
  private:
   Eigen::VectorXd lower_;          // sub-diagonal of A

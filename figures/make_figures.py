@@ -59,6 +59,7 @@ METHODS = {
 UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
 EXACT_COLOR = "black"
 NOT_OK_COLOR = "0.15"  # near black: points that are not ok (grey hatching on maps)
+CHATTER_COLOR = "#B00000"  # not ok although the spectral analysis predicts stability
 PRACTICAL_COLOR = "#D55E00"
 PAPER_COLOR = "0.35"
 CMAP = "viridis"
@@ -534,12 +535,14 @@ def grid_2d(r, key, xdim="delta", ydim="alpha"):
     return np.asarray(r.data[xdim], dtype=float), np.asarray(r.data[ydim], dtype=float), z
 
 
-def hht_map(ax, r, key, norm_kind="log", cbar_label="", fig=None):
-    """pcolormesh of an HHT (δ, α) surface; not-ok cells hatched grey. Returns the mesh."""
+def hht_map(ax, r, key, norm_kind="log", cbar_label="", fig=None, valid=None):
+    """pcolormesh of an HHT (δ, α) surface over the cells `valid` (default: the ok ones); the
+    others are hatched grey. Returns (x, y, z, status)."""
     x, y, z = grid_2d(r, key)
     _, _, st = grid_2d(r, "status")
-    ok = st == 0
-    zm = np.ma.masked_where(~ok | ~np.isfinite(z), z)
+    if valid is None:
+        valid = st == 0
+    zm = np.ma.masked_where(~valid | ~np.isfinite(z), z)
     xe, ye = cell_edges(x), cell_edges(y)
     ax.add_patch(Rectangle((xe.min(), ye.min()), np.ptp(xe), np.ptp(ye), facecolor="0.86", edgecolor="0.55",
                            hatch="///", lw=0, zorder=0))
@@ -607,37 +610,70 @@ def outline_practical(ax, r):
     return [Line2D([], [], color=PRACTICAL_COLOR, lw=2.0, label=label)]
 
 
-def not_ok_handle(st):
-    codes = sorted({int(c) for c in np.unique(st) if c != 0})
-    if not codes:
-        return []
-    label = "; ".join(f"{STATUS_TEXT[c]} ({int(np.sum(st == c))} points)" for c in codes)
-    if 1 in codes:
-        label += " — region δ ≲ −α"
-    return [Patch(facecolor="0.86", edgecolor="0.55", hatch="///", label=label)]
+def stability_handles(st, stable, source, closed_form):
+    """Legend entries of Fig. 4's masks: the predicted-unstable cells (hatched) and, among them,
+    those that still ran ok (dots), and the chatter cells (not ok although predicted stable).
+    `source` is the second value of predicted_stable(); `closed_form` the map δ ≥ −α."""
+    if source.startswith("spectral.h5"):
+        omega = source.split("Ω = ")[-1].rstrip(")")
+        rule = f"spectral.h5: ρ > 1 for some Ω ≤ {omega}"
+        if np.array_equal(stable, closed_form):
+            rule += ", i.e. δ < −α"
+    else:
+        rule = "δ < −α, eq. 15; no spectral.h5 on this grid"
+    handles = [Patch(facecolor="0.86", edgecolor="0.55", hatch="///",
+                     label=f"linearly unstable ({rule}), not drawn: {int(np.sum(~stable))} points")]
+    slow = ~stable & (st == 0)
+    if np.any(slow):
+        handles.append(Line2D([], [], marker="o", ms=3.0, mfc="none", mec="0.25", mew=0.9, ls="none",
+                              label=f"… of which ran ok: growth too slow for the horizon ({int(slow.sum())})"))
+    chatter = stable & (st > 0)
+    if np.any(chatter):
+        codes = sorted({int(c) for c in np.unique(st[chatter])})
+        what = " / ".join(STATUS_TEXT[c].replace("not ok: ", "") for c in codes)
+        handles.append(Line2D([], [], marker="x", ms=6, mew=1.8, color=CHATTER_COLOR, ls="none",
+                              label=f"{what} although predicted stable: chatter on the wall ({int(chatter.sum())})"))
+    return handles
 
 
 def fig4(results_dir, out_dir):
     r = load(results_dir, "hht-delta-alpha")
-    fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.6), constrained_layout=True)
+    x, y, st = grid_2d(r, "status")
+    # The mask is the linear stability the spectral analysis predicts, not the simulated status:
+    # near δ = −α a linearly unstable run can end ok (slow growth), and it must not be read as data.
+    stable, source = predicted_stable(results_dir, y, x)
+    valid = stable & (st == 0)
+    chatter = stable & (st > 0)
+    slow = ~stable & (st == 0)
+    fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.9), constrained_layout=True)
     handles = []
     for ax, key, label, title in (
         (axes[0], "eps_p", "ε_p [−]", "(a) relative error of the contact pressure ε_p (eq. 18)"),
         (axes[1], "nop_p", "NoP_p [−]", "(b) number of peaks of the contact pressure NoP_p"),
     ):
-        x, y, z, st = hht_map(ax, r, key, "log", label, fig)
+        _, _, z, _ = hht_map(ax, r, key, "log", label, fig, valid=valid)
         lines = hht_lines(ax, x, y)
-        zok = np.where(st == 0, z, np.nan)
+        jj, ii = np.nonzero(slow)
+        ax.plot(x[ii], y[jj], "o", ms=3.0, mfc="none", mec="0.25", mew=0.9, ls="none", zorder=2)
+        # a chatter cell is predicted stable: white, not hatched, under its cross
+        ax.pcolormesh(cell_edges(x), cell_edges(y), np.ma.masked_where(~chatter, np.ones_like(z)),
+                      cmap=mcolors.ListedColormap(["white"]), shading="flat", zorder=1)
+        jj, ii = np.nonzero(chatter)
+        ax.plot(x[ii], y[jj], "x", ms=6, mew=1.8, color=CHATTER_COLOR, ls="none", zorder=5)
+        star = []
+        zok = np.where(valid, z, np.nan)
         if key == "eps_p" and np.any(np.isfinite(zok)):
             j, i = np.unravel_index(np.nanargmin(zok), zok.shape)
-            star = ax.plot(x[i], y[j], "*", ms=15, color="white", mec="black", mew=1.0, zorder=6,
-                           label=f"smallest ε_p = {zok[j, i]:.4f} at δ = {num(x[i])}, α = {num(y[j])}")
+            star = ax.plot(x[i], y[j], "*", ms=15, color="white", mec="black", mew=1.0, zorder=6, clip_on=False,
+                           label=f"smallest ε_p = {zok[j, i]:.4f} at δ = {num(x[i])}, α = {num(y[j])}"
+                                 " (of the stable, ok points)")
         practical = outline_practical(ax, r)
         ax.set_title(title)
         if not handles:
-            handles = lines + star + not_ok_handle(st) + practical
+            closed_form = x[None, :] >= -y[:, None] - 1e-12
+            handles = lines + star + stability_handles(st, stable, source, closed_form) + practical
     fig.legend(handles=handles, loc="lower center", ncol=2, frameon=False, bbox_to_anchor=(0.5, 0.0))
-    fig.get_layout_engine().set(rect=(0, 0.13, 1, 0.87))
+    fig.get_layout_engine().set(rect=(0, 0.17, 1, 0.83))
     fig.suptitle(f"Fig. 4 — HHT-α with independent δ (eq. 13) and α (eq. 14); {results_scene(r)}")
     return [save(fig, out_dir, "fig4_hht_delta_alpha.png")]
 
@@ -728,6 +764,64 @@ def window_ylim(lines_xy, lo, hi, pad=0.08):
     return ymin - pad * span, ymax + pad * span
 
 
+def bulk_ylim(curves, exact, lo, hi, factor=0.3, pad=0.08):
+    """The y-range of a zoom window [lo, hi] that shows the bulk of the curves: a curve whose
+    excursion beyond the exact solution's range is more than `factor` times the exact jump and
+    more than twice the next-largest excursion leaves the frame (Newmark's chatter at impact would
+    otherwise flatten every other curve). curves: [(name, t, y)], exact: (t, y).
+    Returns ((ymin, ymax) or None, [(name, min, max)] of the curves left out)."""
+    te, ye = exact
+    sel = (te >= lo) & (te <= hi) & np.isfinite(ye)
+    if not np.any(sel):
+        return window_ylim([(t, y) for _, t, y in curves] + [exact], lo, hi, pad), []
+    emin, emax = ye[sel].min(), ye[sel].max()
+    jump = (emax - emin) or abs(emax) or 1.0  # a constant exact solution: its level
+    spans = []
+    for name, t, y in curves:
+        w = (t >= lo) & (t <= hi) & np.isfinite(y)
+        if np.any(w):
+            ymin, ymax = y[w].min(), y[w].max()
+            spans.append((max(ymax - emax, emin - ymin, 0.0), name, ymin, ymax, t, y))
+    spans.sort(key=lambda e: -e[0])
+    out = []
+    while len(spans) > 1 and spans[0][0] > factor * jump and spans[0][0] > 2 * spans[1][0]:
+        excursion, name, ymin, ymax, _, _ = spans.pop(0)
+        out.append((name, ymin, ymax))
+    kept = [(t, y) for *_, t, y in spans] + [exact]
+    return window_ylim(kept, lo, hi, pad), out
+
+
+def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel):
+    """An inset in panel (a) over the plateau after the impact (20 to 250 steps after it), its y-range
+    magnified to the ripple that is left there: central difference's undamped ringing, which gives
+    its large NoP_p, is a few kPa and invisible at the scale of the impact. A curve still far off
+    (Newmark's chatter) leaves the inset's frame, as in bulk_ylim. Nothing is drawn when every
+    curve has settled (the velocity, held at 0 in contact)."""
+    lo, hi = t_imp + 20 * dt_us, t_imp + 250 * dt_us
+    te, ye = exact
+    w = (te >= lo) & (te <= hi)
+    if not np.any(w) or np.ptp(ye[w]) > 0:  # the inset is for a plateau of the exact solution
+        return
+    ylim, left_out = bulk_ylim(curves, exact, lo, hi, factor=0.01, pad=0.12)
+    level = float(ye[w][0])
+    if ylim is None or max(ylim[1] - level, level - ylim[0]) < 1e-4 * (abs(level) or 1.0):
+        return
+    half = max(ylim[1] - level, level - ylim[0])
+    ins = ax.inset_axes([0.09, 0.47, 0.48, 0.43])
+    for line in ax.get_lines():
+        t, y = (np.asarray(v, dtype=float) for v in line.get_data())
+        sel = (t >= lo - 5 * dt_us) & (t <= hi + 5 * dt_us)
+        ins.plot(t[sel], y[sel], color=line.get_color(), ls=line.get_linestyle(), zorder=line.get_zorder(),
+                 lw=0.8 if any(line.get_label().startswith(n) for n, _, _ in left_out) else 1.1)
+    ins.set_xlim(lo, hi)
+    ins.set_ylim(level - half, level + half)
+    ins.tick_params(labelsize=7.5)
+    unit = ylabel[ylabel.index("[") + 1:-1]
+    ins.set_title(f"the plateau after impact (t [µs]), magnified: {num(level)} ± {num(round(half, 4))} {unit}"
+                  + ("\n(" + ", ".join(n.split(" (")[0] for n, _, _ in left_out) + " leaves this frame)"
+                     if left_out else ""), fontsize=8, pad=3)
+
+
 def history_figure(results_dir, out_dir, quantity):
     folder, hist = load_histories(results_dir)
     if not hist:
@@ -767,8 +861,8 @@ def history_figure(results_dir, out_dir, quantity):
                    zorder=2 + 0.1 * rank[id(h)])
         a.plot(ref.t_us, ref.data[exact_key] * scale, color=EXACT_COLOR, lw=1.3, ls="--", label="exact (d'Alembert)", zorder=3)
     for h in hist:
-        series.append((h.t_us, h.data[key] * scale))
-    series.append((ref.t_us, ref.data[exact_key] * scale))
+        series.append((method_label(h.method, h.attrs), h.t_us, h.data[key] * scale))
+    exact = (ref.t_us, ref.data[exact_key] * scale)
     ax.set_xlim(0, ref.t_us[-1])
     ax.set_xlabel("t [µs]")
     ax.set_ylabel(ylabel)
@@ -776,9 +870,20 @@ def history_figure(results_dir, out_dir, quantity):
     letters = "bc"
     for z, (what, lo, hi), letter in zip(zooms, windows, letters):
         z.set_xlim(lo, hi)
-        ylim = window_ylim(series, lo, hi)
+        ylim, left_out = bulk_ylim(series, exact, lo, hi)
         if ylim:
             z.set_ylim(*ylim)
+        if left_out:  # say so, with the range the curve reaches (panel (a) shows it whole)
+            for line in z.get_lines():  # and draw it thin, behind the curves it would hide
+                if line.get_label() in {name for name, _, _ in left_out} or any(
+                        line.get_label().startswith(name + ":") for name, _, _ in left_out):
+                    line.set_linewidth(0.8)
+            unit = ylabel[ylabel.index("[") + 1:-1]
+            note = "\n".join(f"{name} leaves the frame: {num(round(a, 2))} to {num(round(b, 2))} {unit}"
+                              for name, a, b in left_out) + " (see (a))"
+            z.text(0.98, 0.97, note, transform=z.transAxes, ha="right", va="top", fontsize=8,
+                   color="0.15", zorder=6, bbox=dict(boxstyle="round,pad=0.3", facecolor="white",
+                                                     edgecolor="0.6", alpha=0.92))
         z.set_xlabel("t [µs]")
         z.set_ylabel(ylabel)
         when = t_imp if what == "impact" else t_rel
@@ -787,6 +892,7 @@ def history_figure(results_dir, out_dir, quantity):
         _, connectors = ax.indicate_inset_zoom(z, edgecolor="0.3", alpha=0.9)
         for c in connectors:  # they would cross the figure: keep only the box
             c.set_visible(False)
+    plateau_inset(ax, series, exact, t_imp, dt_us, ylabel)
     if quantity == "pressure":
         ax.legend(loc="upper right", framealpha=0.92)
     else:  # the velocity oscillates after the release: the empty band between 0 and −v0 before it
@@ -889,7 +995,9 @@ def compare_figure(results_dir, out_dir, which):
         ax.grid(False, axis="x")
     scene = results_scene(r)
     fig.suptitle(f"{title}, identical dissipation; {scene}\n{IDENTICAL_DISSIPATION}", fontsize=10)
-    if r.has("practical") and practical_thresholds(r):
+    # the practical points, under the figure whose indicators the thresholds are on (Fig. 7 for
+    # the pressure thresholds of the plans); not under the other, whose bars they do not judge
+    if r.has("practical") and practical_thresholds(r) and any(k in parse_thresholds(r) for k, _, _ in keys):
         pr = np.asarray(r.data["practical"], dtype=float) == 1
         names = [method_label(m, p) for m, p, ok in zip(methods, params, pr) if ok]
         fig.text(0.5, 0.005, f"Practical ({practical_thresholds(r)}): " + ("; ".join(names) if names else "none"),
@@ -976,51 +1084,72 @@ def fig_spectral(results_dir, out_dir):
     ref = s["attrs"].get("omega_dt_reference")
     has_map = all(k in s for k in ("alpha", "delta", "stable"))
     has_dmin = "alpha" in s and ("delta_min_period_error_limit" in s or "delta_min_period_error" in s)
-    fig, axs = plt.subplots(2, 2, figsize=(12, 9.4), layout="constrained")
-    ax_rho, ax_pe, ax_dmin, ax_map = axs.ravel()
+    fig, axs = plt.subplots(2, 3, figsize=(16.5, 9.8), layout="constrained")
+    (ax_rho, ax_xi, ax_pe), (ax_dmin, ax_map, ax_key) = axs
+    ref_label = f"Ω = {num(float(ref))}: the reference Ω of (d)" if ref is not None else None
+    method_handles = []
 
     # (a) spectral radius
     for i, (lab, (c, ls)) in enumerate(zip(labels, styles)):
         rho = np.asarray(s["spectral_radius"][i], dtype=float)
-        extra = ""
+        extra = []
         if "rho_inf" in s and not np.isnan(s["rho_inf"][i]):
             ri = float(s["rho_inf"][i])
-            extra = ", ρ∞ = ∞" if ri > 1e6 else f", ρ∞ = {ri:.3g}" if ri > 1e-6 else ", ρ∞ = 0"
-        ax_rho.semilogx(W, rho, color=c, ls=ls, lw=1.6, label=lab + extra)
+            extra.append("ρ∞ = ∞" if ri > 1e6 else f"ρ∞ = {ri:.3g}" if ri > 1e-6 else "ρ∞ = 0")
+        if "period_error_coefficient" in s and np.isfinite(s["period_error_coefficient"][i]):
+            extra.append(f"c = {num(round(float(s['period_error_coefficient'][i]), 4))}")
+        method_handles += ax_rho.semilogx(W, rho, color=c, ls=ls, lw=1.6,
+                                          label=lab + (f":  {', '.join(extra)}" if extra else ""))
     ax_rho.set_ylim(0, 1.12)
     ax_rho.axhline(1, color="0.4", lw=0.7)
-    ax_rho.set_xlabel("Ω = ω·Δt [−]")
     ax_rho.set_ylabel("spectral radius ρ [−]")
     ax_rho.set_title("(a) spectral radius of the amplification matrix")
     if any(m == "cdm" for m in methods):
         ax_rho.axvline(2, color=method_color("cdm"), lw=0.8, ls=":")
-        ax_rho.text(2.3, 1.015, "central difference: ρ > 1 for Ω > 2", color="0.2", fontsize=8, va="bottom")
-    # (b) period error, |PE| on log-log; negative values dashed
+        ax_rho.text(2.3, 1.015, "central difference:\nρ > 1 for Ω > 2", color="0.2", fontsize=8, va="bottom")
+
+    # (b) algorithmic damping ratio, log-log: its slope at small Ω is the order of the dissipation
+    if "damping_ratio" in s:
+        xi_all = np.asarray(s["damping_ratio"], dtype=float)
+        zero = []
+        for i, (lab, (c, ls)) in enumerate(zip(labels, styles)):
+            if np.any(np.isfinite(xi_all[i])) and np.nanmax(np.abs(xi_all[i])) < 1e-12:
+                zero.append(lab.split(" (")[0])  # round-off around 0: central difference
+                continue
+            ax_xi.loglog(W, np.where(xi_all[i] > 0, xi_all[i], np.nan), color=c, ls=ls, lw=1.6)
+        pos = xi_all[np.isfinite(xi_all) & (xi_all > 1e-12)]
+        if pos.size:
+            ax_xi.set_ylim(max(pos.min(), 1e-6), 2 * pos.max())
+        if zero:
+            ax_xi.text(0.98, 0.03, f"{', '.join(zero)}: " + r"$\bar\xi$ = 0 (no dissipation), not on the log axis",
+                       transform=ax_xi.transAxes, ha="right", va="bottom", fontsize=8, color="0.2")
+        ax_xi.set_ylabel(r"algorithmic damping ratio $\bar\xi$ [−]")
+        ax_xi.set_title(r"(b) algorithmic damping ratio $\bar\xi$ (slope 1: first order; 3: second)")
+    else:
+        ax_xi.text(0.5, 0.5, f"no 'damping_ratio' in {path.name}", transform=ax_xi.transAxes, ha="center")
+
+    # (c) period error over Ω²: on log-log axes |PE| ≈ c·Ω² makes the methods one line; divided by
+    # Ω² on a linear axis each method is a level, c, at small Ω, and the sign is kept
+    pe_all = np.asarray(s["period_error"], dtype=float)
     for i, (lab, (c, ls)) in enumerate(zip(labels, styles)):
-        pe = np.asarray(s["period_error"][i], dtype=float)
-        pos = np.where(pe > 0, pe, np.nan)
-        neg = np.where(pe < 0, -pe, np.nan)
-        coef = ""
-        if "period_error_coefficient" in s and np.isfinite(s["period_error_coefficient"][i]):
-            coef = f"  (≈ {num(round(float(s['period_error_coefficient'][i]), 4))}·Ω²)"
-        if np.any(np.isfinite(pos)):
-            ax_pe.loglog(W, pos, color=c, ls=ls, lw=1.6, label=lab + coef)
-        if np.any(np.isfinite(neg)):
-            ax_pe.loglog(W, neg, color=c, ls=(0, (1, 1.5)), lw=2.0,
-                         label=lab + coef)
-    ax_pe.set_xlabel("Ω = ω·Δt [−]")
-    ax_pe.set_ylabel(r"|relative period error $(\bar T - T)/T$| [−]")
-    ax_pe.set_title(r"(b) relative period error; dotted: negative ($\bar T < T$)")
-    lo = np.nanmin(np.abs(np.asarray(s["period_error"], dtype=float))[np.abs(np.asarray(s["period_error"], dtype=float)) > 0])
-    ax_pe.set_ylim(max(lo, 1e-8), None)
-    for a in (ax_rho, ax_pe):
+        ax_pe.semilogx(W, pe_all[i] / W**2, color=c, ls=ls, lw=1.6)
+    ax_pe.axhline(0, color="0.4", lw=0.7)
+    ax_pe.set_ylabel(r"$(\bar T - T)\,/\,(T\,Ω^2)$ [−]")
+    ax_pe.set_title(r"(c) relative period error over Ω²: c at Ω → 0 ($\bar T - T ≈ c\,Ω^2\,T$)")
+
+    for a in (ax_rho, ax_xi, ax_pe):
         if ref is not None:
-            a.axvline(float(ref), color="0.3", lw=0.9, ls="--", zorder=1,
-                      label=f"Ω = {num(float(ref))}: the reference Ω of (c)")
+            a.axvline(float(ref), color="0.3", lw=0.9, ls="--", zorder=1)
         a.set_xlim(W.min(), W.max())
+        a.set_xlabel("Ω = ω·Δt [−]")
         a.grid(True, which="major", alpha=0.3)
-    ax_rho.legend(loc="lower left", fontsize=8, framealpha=0.92)
-    ax_pe.legend(loc="upper left", fontsize=7.5, framealpha=0.92)
+    # one key for the methods of (a)–(c), in the sixth slot
+    ax_key.axis("off")
+    if ref_label:
+        method_handles.append(Line2D([], [], color="0.3", lw=0.9, ls="--", label=ref_label))
+    ax_key.legend(handles=method_handles, loc="center", fontsize=8.5, frameon=False,
+                  title="(a)–(c): the methods; ρ∞ = ρ(Ω → ∞),\nc = the period error coefficient of (c)",
+                  title_fontsize=8.5)
 
     # (c) the delta of minimal period error over alpha
     if has_dmin:
@@ -1036,7 +1165,7 @@ def fig_spectral(results_dir, out_dir):
                          label=f"δ minimising the period error at Ω = {num(float(ref)) if ref is not None else '?'}")
         ax_dmin.set_xlabel("α [−]")
         ax_dmin.set_ylabel("δ [−]")
-        ax_dmin.set_title("(c) HHT-α: the δ of minimal period error")
+        ax_dmin.set_title("(d) HHT-α: the δ of minimal period error")
         ax_dmin.legend(loc="upper right", fontsize=8)
     else:
         ax_dmin.set_visible(False)
@@ -1076,7 +1205,7 @@ def fig_spectral(results_dir, out_dir):
         ax_map.set_ylim(ae.min(), ae.max())
         ax_map.set_xlabel("δ [−]")
         ax_map.set_ylabel("α [−]")
-        ax_map.set_title("(d) HHT-α stability (β, γ from δ, eq. 13)")
+        ax_map.set_title("(e) HHT-α stability (β, γ from δ, eq. 13)")
         ax_map.grid(False)
         ax_map.legend(handles=hs, loc="upper right", fontsize=7.5, framealpha=0.92)
     else:
@@ -1120,7 +1249,7 @@ def fig_stability_map(results_dir, out_dir):
     stable, source = predicted_stable(results_dir, A, D)
     # 0: ok and predicted stable; 1: not ok and predicted unstable (agreement);
     # 2: ok although predicted unstable; 3: not ok although predicted stable; −1: not run
-    colors = ["#d9ecf7", "0.72", "#F0B000", "#B00000"]
+    colors = ["#d9ecf7", "0.72", "#F0B000", CHATTER_COLOR]
     labels = ["ok, predicted stable", "unstable, predicted unstable",
               "ok although predicted unstable", "unstable although predicted stable"]
     cmap = mcolors.ListedColormap(colors)
@@ -1158,6 +1287,146 @@ def fig_stability_map(results_dir, out_dir):
                  f"or below the lowest mode; red: chattering on the wall — plans/README.md)", fontsize=9.5)
     fig.tight_layout(rect=(0, 0.07, 1, 0.95))
     return [save(fig, out_dir, "fig_stability_map.png")]
+
+
+# ---------------------------------------------------------------------------------------------
+# Work-precision: wall time against the error of every method over mesh and Courant number
+# ---------------------------------------------------------------------------------------------
+
+COURANT_MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">"]
+
+
+def frontier(t, y):
+    """The points of (t, y) that no faster point beats: the smallest y reached in time t or less,
+    in order of t (a Pareto front; both lower is better)."""
+    keep = np.isfinite(t) & np.isfinite(y)
+    t, y = t[keep], y[keep]
+    order = np.argsort(t, kind="stable")
+    out, best = [], np.inf
+    for k in order:
+        if y[k] < best:
+            best = y[k]
+            out.append(k)
+    return t[out], y[out]
+
+
+def unstable_band(band, times, colors, label):
+    """The grey strip over a panel (axes `band`, sharing its time axis) with an × per run that is not
+    ok, at its wall time in the method's colour: its indicators are NaN, only its time is known."""
+    band.set_facecolor("0.9")
+    band.set_ylim(0, 1)
+    band.set_yticks([])
+    band.grid(False)
+    band.tick_params(axis="x", which="both", labelbottom=False, length=0)
+    band.set_ylabel("not ok", rotation=0, ha="right", va="center", fontsize=9)
+    for t, c in zip(times, colors):
+        band.plot([t], [0.5], "x", color=c, ms=7, mew=2.0, zorder=5)
+    band.text(0.99, 0.5, label, transform=band.transAxes, ha="right", va="center", fontsize=7.5, color="0.25")
+
+
+def fig_work_precision(results_dir, out_dir):
+    r = load(results_dir, "work-precision")
+    dims = ("method", "elements", "courant")
+    if sorted(r.dims) != sorted(dims):
+        raise Skip(f"{r.path}: expected the axes method × elements × courant (study kind "
+                   f"'work-precision'), found {r.dims}")
+    if not r.has("wall_time_s"):
+        raise Skip(f"{r.path}: no 'wall_time_s' column")
+    order = [r.dims.index(d) for d in dims]
+
+    def cube(key):
+        return np.transpose(np.asarray(r.data[key], dtype=float), order)
+
+    status = np.transpose(r.status, order)
+    t_ms = cube("wall_time_s") * 1e3
+    M, E, C = (np.asarray(r.data[d], dtype=float) for d in dims)
+    names, labels = [], []
+    for i, m in enumerate(M):
+        raw = text(r.attr(f"method_label_{int(m)}", r.attr(f"method_label_{i}", f"method {i}")))
+        names.append(raw.split()[0] if raw.split() else raw)
+        labels.append(pretty_spectral_label(names[-1], raw))
+    colors = [method_color(n) for n in names]
+    markers = [COURANT_MARKERS[k % len(COURANT_MARKERS)] for k in range(C.size)]
+    panels = [(k, sym) for k, sym in (("eps_p", "ε_p"), ("eps_v", "ε_v"), ("nop_p", "NoP_p")) if r.has(k)]
+    if not panels:
+        raise Skip(f"{r.path}: none of eps_p, eps_v, nop_p")
+    done = status >= 0
+    bad = status > 0
+    fig = plt.figure(figsize=(5.4 * len(panels), 6.0), layout="constrained")
+    gs = fig.add_gridspec(2 if np.any(bad) else 1, len(panels), height_ratios=[1, 12] if np.any(bad) else [1])
+    for n, (key, sym) in enumerate(panels):
+        ax = fig.add_subplot(gs[-1, n])
+        y = np.where(status == 0, cube(key), np.nan)
+        y = np.where(y > 0, y, np.nan)  # a log axis; NoP_p = 0 (no peak) cannot be drawn on it
+        zeros = int(np.sum((status == 0) & (cube(key) <= 0)))
+        for i in range(M.size):
+            for k in range(C.size):  # one thin line per Courant number: the meshes, coarse to fine
+                ax.plot(t_ms[i, :, k], y[i, :, k], "-", color=colors[i], lw=0.8, alpha=0.45, zorder=2)
+                ax.plot(t_ms[i, :, k], y[i, :, k], markers[k], color=colors[i], mec="white", mew=0.5, ms=5,
+                        ls="none", zorder=3)
+            if key.startswith("eps"):  # fewer peaks is not more accurate: no frontier of NoP
+                ft, fy = frontier(t_ms[i].ravel(), y[i].ravel())
+                ax.plot(ft, fy, "-", color=colors[i], lw=2.6, alpha=0.85, zorder=4, solid_capstyle="round")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        fin = y[np.isfinite(y)]
+        if fin.size:
+            lo, hi = np.log10(fin.min()), np.log10(fin.max())
+            span = max(hi - lo, 0.3)
+            full = span / 0.92
+            ax.set_ylim(10 ** (lo - 0.04 * full), 10 ** (lo - 0.04 * full + full))
+        if np.any(bad):
+            ii, jj, kk = np.nonzero(bad)
+            who = "; ".join(f"{labels[i].split(' (')[0]} at Courant {', '.join(num(c) for c in C[np.any(bad[i], axis=0)])}"
+                            for i in range(M.size) if np.any(bad[i]))
+            band = fig.add_subplot(gs[0, n], sharex=ax)
+            unstable_band(band, t_ms[ii, jj, kk], [colors[i] for i in ii], f"{int(bad.sum())} runs, no {sym}: {who}")
+        tt = t_ms[done & np.isfinite(t_ms)]
+        if tt.size:
+            ax.set_xlim(tt.min() / 1.6, tt.max() * 1.6)
+        if zeros:
+            ax.text(0.99, 0.02, f"{zeros} ok runs with {sym} = 0 not on the log axis", transform=ax.transAxes,
+                    ha="right", va="bottom", fontsize=7.5, color="0.25")
+        log_axis_plain(ax.xaxis)
+        if key.startswith("nop"):
+            log_axis_plain(ax.yaxis)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.set_xlabel("wall time [ms] (fastest of the repeats, one thread)")
+        ax.set_ylabel(f"{sym} [−]")
+        what = "number of peaks of the contact pressure" if key == "nop_p" else \
+            f"relative error of the {'contact pressure' if key == 'eps_p' else 'contact-node velocity'} (eq. 18)"
+        (band if np.any(bad) else ax).set_title(f"({'abc'[n]}) {sym}: {what}", fontsize=9.5)
+    keys = [[Line2D([], [], color=c, lw=2.6, label=l) for c, l in zip(colors, labels)],
+            [Line2D([], [], color="0.45", marker=mk, mec="white", ls="none", ms=6, label=f"Courant {num(c)}")
+             for mk, c in zip(markers, C)],
+            [Line2D([], [], color="0.45", lw=0.8, alpha=0.6,
+                    label=f"thin line: one Courant number, n = {num(E.min())} → {num(E.max())} elements, left to right"),
+             Line2D([], [], color="0.45", lw=2.6, alpha=0.85,
+                    label="thick line (ε panels): the method's frontier,\nthe smallest error reached in that time or less")]]
+    if np.any(bad):
+        keys[2].append(Line2D([], [], color="0.3", marker="x", mew=2.0, ms=7, ls="none",
+                              label="× on the grey strip: a run that is not ok (unstable\nor failed), at its wall time until it stopped"))
+    for handles, x, ncol in zip(keys, (0.2, 0.43, 0.7), (1, 2, 1)):
+        fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(x, 0.15), ncol=ncol, fontsize=8,
+                   frameon=False)
+    fig.get_layout_engine().set(rect=(0, 0.16, 1, 0.84))
+    scene = results_scene(r)
+    timing = ""
+    if r.has("wall_time_max_s"):
+        ratio = cube("wall_time_max_s") / cube("wall_time_s")
+        ratio = ratio[done & np.isfinite(ratio)]
+        if ratio.size:
+            timing = (f"; slowest/fastest repeat: median {np.median(ratio):.2f}, at most {ratio.max():.1f}")
+    repeats = float(r.attr("repeats", np.nan))
+    if repeats > 1:
+        timing = f"the fastest of {num(repeats)} runs{timing}"
+    else:
+        timing = "one run each" if repeats == 1 else "the fastest of the repeats"
+    fig.suptitle(f"Work–precision: wall time against accuracy, each method at its recommended parameters; {scene}, "
+                 f"n = {num(E.min())}–{num(E.max())}, Courant {num(C.min())}–{num(C.max())}\n"
+                 f"Lower left is better: at a time budget, the lowest curve is the most accurate method. Wall time: "
+                 f"{timing}.", fontsize=10)
+    return [save(fig, out_dir, "fig_work_precision.png")]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1284,6 +1553,7 @@ FIGURES = [
     ("fig_spectral.png", fig_spectral),
     ("fig_optimize.png", fig_optimize),
     ("fig_stability_map.png", fig_stability_map),
+    ("fig_work_precision.png", fig_work_precision),
 ]
 
 

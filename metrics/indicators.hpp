@@ -1,5 +1,7 @@
 // The indicators of one run, compared with the exact solution at the samples t_i = i·Δt,
-// i = 1..N (see RodImpactExact::at_sample for the convention on jumps).
+// i = 1..N (see RodImpactExact::at_sample for the convention on jumps). With a far wall the exact
+// solution is the periodic two-wall one, and eps_p, eps_v, nop_p, nop_v, p_max and
+// contact_episodes still describe the main wall's contact node.
 #pragma once
 
 #include "core/rod_scene.hpp"
@@ -23,6 +25,18 @@ struct Indicators {
   double p_max_ratio;       ///< p_max / (ρ·c·v0)
   double contact_episodes;  ///< maximal runs of samples with λ > 0
   double energy_ratio;      ///< energy at the last sample / initial energy
+  /// With a far wall (RodScene::far_gap): maximal runs of samples with λ_0 > 0 at it; the
+  /// number of impacts; and the largest penetration of either wall over the samples [mm]
+  /// (RunSummary::max_penetration). NaN without a far wall: not applicable.
+  /// Impacts are the alternations of the wall that alone pushes the rod: the samples where
+  /// exactly one wall pushes, grouped into maximal runs of the same wall, whatever lies between
+  /// (chatter within one impact, a flight, samples where both walls push, is not a new impact).
+  /// A sample where both walls push changes nothing, except that a run whose first contact is at
+  /// both walls at once counts that as its first impact. The exact solution has one impact per
+  /// contact, at alternating walls.
+  double far_contact_episodes;
+  double impacts;
+  double max_penetration;
 };
 
 Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,

@@ -3,6 +3,9 @@
 // they give identical numbers.
 #pragma once
 
+#include <span>
+
+#include "core/batched_simulation.hpp"
 #include "core/simulation.hpp"
 #include "metrics/indicators.hpp"
 #include "study/simulation_settings.hpp"
@@ -15,5 +18,15 @@ struct Evaluation {
 };
 
 Evaluation evaluate(const Simulation& simulation, SimulationWorkspace& workspace);
+
+/// Whether `next` can join a batch that starts with `first` (core/batched_simulation.hpp):
+/// both batchable, the same rod, time step and run options.
+bool batchable_together(const Simulation& first, const Simulation& next);
+
+/// evaluate() for 1..kBatchLanes simulations at once, each batchable_together with the first:
+/// out[k] equals evaluate(simulations[k]) bit for bit, wall_time_s aside (the batch's time
+/// divided by its runs).
+void evaluate_batch(std::span<const Simulation> simulations, BatchWorkspace& workspace,
+                    std::span<Evaluation> out);
 
 }  // namespace impactid

@@ -39,6 +39,11 @@ std::vector<Column> history_columns(const RodScene& scene, const ContactTrace& t
     columns[6].values.push_back(e.velocity);
     columns[7].values.push_back(e.displacement);
   }
+  // Last, so that the columns of a single-wall file keep their positions.
+  if (scene.far_gap) {
+    columns.push_back({"far_pressure", "MPa", "far-wall pressure lambda_0/A at node 0 (far_gap)",
+                       trace.far_pressure});
+  }
   return columns;
 }
 

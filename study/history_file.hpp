@@ -1,6 +1,7 @@
 // Time histories of one run for people who want to plot them: every sample t_i = i·Δt of the
 // contact node (pressure, velocity, displacement), the energy, and the exact values at the same
-// samples. CSV or HDF5, chosen by the file extension (.csv; .h5 or .hdf5). Written atomically.
+// samples; with a far wall (RodScene::far_gap) also its pressure, as a last column far_pressure.
+// CSV or HDF5, chosen by the file extension (.csv; .h5 or .hdf5). Written atomically.
 #pragma once
 
 #include <filesystem>

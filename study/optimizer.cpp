@@ -137,9 +137,7 @@ class Problem {
       const ResultColumn* c = prev->find_column(name);
       return c ? c->values[row] : kNaN;
     };
-    e.indicators = {get("eps_p"), get("eps_v"), get("nop_p"), get("nop_v"), get("p_max"),
-                    get("p_max_ratio"), get("contact_episodes"), get("energy_ratio")};
-    e.summary.wall_time_s = get("wall_time_s");
+    for (const IndicatorInfo& info : indicator_table()) info.field(e) = get(info.name);
     std::vector<std::pair<std::string, double>> params;
     for (const ResultColumn& c : results_.parameters) params.emplace_back(c.name, get(c.name.c_str()));
     record(e, params);

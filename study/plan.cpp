@@ -28,8 +28,11 @@ using namespace std::string_literals;
 constexpr long kMaxGridPoints = 1'000'000;
 /// Values longer than this are cut in messages.
 constexpr std::size_t kMaxValueText = 80;
+/// Upper bound of a work-precision study's `repeats`: beyond a few, the minimum no longer moves.
+constexpr std::int64_t kMaxRepeats = 100;
 /// The study kinds, as plans spell them, for messages.
-constexpr const char* kStudyKinds = "\"grid\", \"list\", \"optimize\" or \"spectral\"";
+constexpr const char* kStudyKinds =
+    "\"grid\", \"list\", \"optimize\", \"spectral\" or \"work-precision\"";
 
 struct Algorithm {
   const char* name;   ///< as written in a plan
@@ -332,6 +335,7 @@ class PlanReader {
     }
     read_study(table(*study, "study", "must be a table ([study])"));
     if (plan_->kind == StudyKind::spectral) check_spectral_sections();
+    if (plan_->kind == StudyKind::work_precision) check_work_precision_sections();
     if (histories_node_ && plan_->kind == StudyKind::optimize) {
       fail(*histories_node_, "output.histories",
            "time histories are written for grid and list points, not for an optimisation");
@@ -426,6 +430,8 @@ class PlanReader {
       plan_->kind = StudyKind::optimize;
     } else if (text == "spectral") {
       plan_->kind = StudyKind::spectral;
+    } else if (text == "work-precision") {
+      plan_->kind = StudyKind::work_precision;
     } else {
       fail(*kind, "study.kind", "must be "s + kStudyKinds);
     }
@@ -442,6 +448,9 @@ class PlanReader {
         break;
       case StudyKind::spectral:
         read_spectral(study);
+        break;
+      case StudyKind::work_precision:
+        read_work_precision(study);
         break;
     }
   }
@@ -1028,7 +1037,8 @@ class PlanReader {
         if (where) fail(*where, item_key + "." + error->field, error->constraint);
         fail_at(item, item_key + "." + error->field, error->value, error->constraint);
       }
-      SpectralMethod method{std::get<Simulation>(built).method, name + parameters};
+      SpectralMethod method{std::get<Simulation>(built).method, name + parameters,
+                            settings.method};
       for (std::size_t j = 0; j < out.size(); ++j) {
         if (out[j].label == method.label) {
           fail(*array->get(k), item_key,
@@ -1053,6 +1063,159 @@ class PlanReader {
       for (const Entry& e : in_file_order(*output->as_table())) {
         if (e.key != "file") {
           fail(*e.node, "output." + e.key, "is not used by a spectral study (only output.file is)");
+        }
+      }
+    }
+  }
+
+  // ---- kind = "work-precision" ------------------------------------------------------------
+
+  void read_work_precision(const toml::table& study) {
+    WorkPrecisionStudy& out = plan_->work_precision;
+    const std::vector<std::string> known{"kind", "methods", "elements", "courant", "repeats"};
+    for (const Entry& e : in_file_order(study)) {
+      const std::string key = "study." + e.key;
+      const toml::node& node = *e.node;
+      if (e.key == "kind") {
+      } else if (e.key == "methods") {
+        out.methods = spectral_methods(node, key);
+        methods_node_ = &node;
+      } else if (e.key == "elements") {
+        elements_node_ = &node;
+        for (const double v : number_list(node, key, "element counts")) {
+          out.elements.push_back(static_cast<long>(v));
+        }
+      } else if (e.key == "courant") {
+        courant_node_ = &node;
+        out.courant = number_list(node, key, "Courant numbers");
+      } else if (e.key == "repeats") {
+        const std::int64_t n = integer(node, key);
+        if (n < 1 || n > kMaxRepeats) {
+          fail(node, key, "must be an integer from 1 to " + std::to_string(kMaxRepeats));
+        }
+        out.repeats = static_cast<int>(n);
+      } else if (e.key == "practical" || e.key == "axes" || e.key == "points") {
+        fail(node, key,
+             "is not a key of a work-precision study (it varies elements and courant, for each "
+             "of its methods)");
+      } else {
+        fail_unknown(node, key, "work-precision keys", known);
+      }
+    }
+    if (out.methods.empty()) out.methods = default_work_precision_methods();
+    if (out.elements.empty()) out.elements = {50, 100, 200, 400, 800};
+    if (out.courant.empty()) out.courant = {0.25, 0.5, 1.0, 2.0, 4.0};
+    const long points = static_cast<long>(out.methods.size() * out.elements.size() *
+                                          out.courant.size());
+    if (points > kMaxGridPoints) {
+      fail(study, "study", "has " + std::to_string(points) + " points, more than " +
+                               std::to_string(kMaxGridPoints));
+    }
+  }
+
+  // elements = [50, 100] or courant = [0.5, 1.0]: a non-empty array of numbers, each > 0 and
+  // finite, no value twice; element counts must be integers.
+  std::vector<double> number_list(const toml::node& node, const std::string& key,
+                                  const char* what) const {
+    const bool integers = std::string_view(what) == "element counts";
+    const auto* array = node.as_array();
+    if (!array) {
+      fail(node, key, std::string("must be an array of ") + what +
+                          (integers ? ", e.g. [50, 100, 200]" : ", e.g. [0.5, 1.0, 2.0]"));
+    }
+    if (array->empty()) fail(node, key, "must hold at least one value");
+    if (array->size() > static_cast<std::size_t>(kMaxGridPoints)) {
+      fail(node, key, "holds more than " + std::to_string(kMaxGridPoints) + " values");
+    }
+    std::vector<double> out;
+    for (std::size_t k = 0; k < array->size(); ++k) {
+      const toml::node& item = *array->get(k);
+      const std::string item_key = key + "[" + std::to_string(k) + "]";
+      const double v = integers ? static_cast<double>(integer(item, item_key))
+                                : number(item, item_key);
+      if (!(v > 0.0)) fail(item, item_key, integers ? "must be >= 1" : "must be > 0");
+      if (std::find(out.begin(), out.end(), v) != out.end()) {
+        fail(item, item_key, "repeats an earlier value");
+      }
+      out.push_back(v);
+    }
+    return out;
+  }
+
+  // The methods this project recommends (README.md, "Decisions and findings"; the spectral
+  // plan's set): what a work-precision study compares unless the plan lists its own.
+  static std::vector<SpectralMethod> default_work_precision_methods() {
+    const auto make = [](MethodSettings settings, std::string label) {
+      SimulationSettings simulation;
+      simulation.method = settings;
+      return SpectralMethod{std::get<Simulation>(build(simulation)).method, std::move(label),
+                            settings};
+    };
+    return {make({.kind = MethodKind::central_difference}, "cdm"),
+            make({.kind = MethodKind::backward_euler}, "backward-euler"),
+            make({.kind = MethodKind::newmark, .delta = 0.3}, "newmark delta=0.3"),
+            make({.kind = MethodKind::hht, .delta = 0.45, .alpha = -0.3},
+                 "hht alpha=-0.3 delta=0.45"),
+            make({.kind = MethodKind::generalized_alpha, .rho_inf = 0.8},
+                 "generalized-alpha rho_inf=0.8")};
+  }
+
+  // The study sets the method, the mesh and the step: [method] would be ignored, and so would
+  // [scene] elements, courant and dt; [output] indicators and histories do not apply (the
+  // columns are fixed, no histories are kept).
+  void check_work_precision_sections() const {
+    if (const toml::node* node = root_->get("method")) {
+      fail(*node, "method", "a work-precision study gives each method in study.methods");
+    }
+    if (const toml::node* scene = root_->get("scene"); scene && scene->is_table()) {
+      for (const char* key : {"elements", "courant", "dt"}) {
+        if (const toml::node* node = scene->as_table()->get(key)) {
+          fail(*node, "scene."s + key,
+               std::string("is set by the work-precision study: give ") +
+                   (std::string_view(key) == "elements" ? "study.elements" : "study.courant") +
+                   " instead");
+        }
+      }
+    }
+    if (const toml::node* output = root_->get("output"); output && output->is_table()) {
+      for (const char* key : {"indicators", "histories"}) {
+        if (const toml::node* node = output->as_table()->get(key)) {
+          fail(*node, "output."s + key,
+               "is not used by a work-precision study (its columns are fixed: results/README.md)");
+        }
+      }
+    }
+  }
+
+  // Every point built on [scene] (a scene may be valid at one mesh and not another: t_end
+  // shorter than a step, say); an error names the first bad point.
+  void check_work_precision() const {
+    const WorkPrecisionStudy& wp = plan_->work_precision;
+    for (std::size_t m = 0; m < wp.methods.size(); ++m) {
+      for (const long n : wp.elements) {
+        for (const double c : wp.courant) {
+          SimulationSettings settings = plan_->base;
+          settings.method = wp.methods[m].settings;
+          std::optional<ParameterError> error = assign(settings, "elements", double(n));
+          if (!error) error = assign(settings, "courant", c);
+          if (!error) {
+            auto built = build(settings);
+            if (auto* e = std::get_if<ParameterError>(&built)) error = *e;
+          }
+          if (!error) continue;
+          const std::string suffix = " (at method " + wp.methods[m].label + ", elements " +
+                                     std::to_string(n) + ", courant " + format_value(c) + ")";
+          if (error->field == "elements" && elements_node_) {
+            fail_at(*elements_node_, "study.elements", error->value, error->constraint + suffix);
+          }
+          if (error->field == "courant" && courant_node_) {
+            fail_at(*courant_node_, "study.courant", error->value, error->constraint + suffix);
+          }
+          const ParameterInfo* info = find_parameter(error->field);
+          if (info && info->group == ParameterGroup::method && methods_node_) {
+            fail_at(*methods_node_, "study.methods", error->value, error->constraint + suffix);
+          }
+          fail_base(*error, suffix);
         }
       }
     }
@@ -1090,6 +1253,9 @@ class PlanReader {
   // at the first point. Errors about a parameter the study varies (or with the method varied
   // by a list) are left to the points, where the varied values are known.
   void check_base() const {
+    // A work-precision study sets the mesh and the step of every point: its points are built,
+    // and reported, by check_work_precision().
+    if (plan_->kind == StudyKind::work_precision) return;
     const auto built = build(plan_->base);
     const auto* error = std::get_if<ParameterError>(&built);
     if (!error) return;
@@ -1104,6 +1270,10 @@ class PlanReader {
       return;
     }
     if (plan_->kind == StudyKind::spectral) return;  // its methods were built as they were read
+    if (plan_->kind == StudyKind::work_precision) {
+      check_work_precision();
+      return;
+    }
     const PointSet points(*plan_);
     for (long k = 0; k < points.size(); ++k) {
       SimulationSettings settings = plan_->base;
@@ -1197,6 +1367,8 @@ class PlanReader {
   std::string file_;
   std::vector<std::size_t> line_starts_;
   const toml::node* histories_node_ = nullptr;  // for a message that needs the study kind
+  // work-precision keys, where a point's error is reported (nullptr: the default was used)
+  const toml::node *methods_node_ = nullptr, *elements_node_ = nullptr, *courant_node_ = nullptr;
   const toml::table* root_ = nullptr;
   Plan* plan_ = nullptr;
   const toml::array* points_ = nullptr;
@@ -1216,6 +1388,8 @@ const char* to_string(StudyKind kind) {
       return "optimize";
     case StudyKind::spectral:
       return "spectral";
+    case StudyKind::work_precision:
+      return "work-precision";
   }
   return "unknown";
 }

@@ -10,7 +10,8 @@
 // a grid point: the point's value, with the point named after the message), and line:column is
 // where that value starts (toml++ counts columns in characters). The parameter names, kinds
 // and ranges all come from the settings table and build() (simulation_settings.hpp): this
-// module knows the plan's structure, not the parameters.
+// module knows the plan's structure, not the parameters. A work-precision study times every
+// method of a list over a set of meshes and Courant numbers (study/work_precision.hpp).
 #pragma once
 
 #include <filesystem>
@@ -29,7 +30,7 @@ struct PlanError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class StudyKind { grid, list, optimize, spectral };
+enum class StudyKind { grid, list, optimize, spectral, work_precision };
 const char* to_string(StudyKind kind);
 
 /// An independent grid axis: `delta = { from = 0.0, to = 1.0, partitions = 40 }` (k partitions
@@ -64,12 +65,16 @@ struct IndicatorConstraint {
   std::optional<double> min, max;
 };
 
-/// One method of a spectral study, `{ method = "hht", alpha = -0.3 }` in the plan.
+/// One method of a spectral or work-precision study, `{ method = "hht", alpha = -0.3 }` in the
+/// plan.
 struct SpectralMethod {
   MethodParams params;  ///< built and validated by build() (simulation_settings.hpp)
   /// "hht alpha=-0.3": the method name, then the keys as given, in file order (numbers in
   /// their shortest round-trip form). Unique within a study.
   std::string label;
+  /// The keys as given, unset ones left to the method's defaults: a work-precision study applies
+  /// them over [scene] at each point (`params` above was built on the default scene).
+  MethodSettings settings;
 };
 
 /// `kind = "spectral"`: the spectral properties of the integrators on ü + ω²u = 0
@@ -84,6 +89,22 @@ struct SpectralStudy {
   std::vector<double> delta;
   double omega_dt_reference = 1.0;   ///< finite Ω of δ_min (besides Ω → 0), > 0
   double stability_omega_max = 1e4;  ///< upper end of the stability scan (is_stable), > 0
+};
+
+/// `kind = "work-precision"`: every method on every (elements, courant) pair of the [scene]
+/// rod, each run timed `repeats` times (study/work_precision.hpp). Points are ordered
+/// (method, elements, courant), the last fastest.
+struct WorkPrecisionStudy {
+  /// Default: the five methods at the parameters this project recommends (README.md): cdm,
+  /// backward-euler, newmark δ = 0.3, hht α = −0.3 δ = 0.45 (eq. 19), generalized-alpha ρ∞ = 0.8.
+  std::vector<SpectralMethod> methods;
+  /// Element counts n (>= 1, no value twice), in plan order; default 50, 100, 200, 400, 800.
+  std::vector<long> elements;
+  /// Courant numbers c·Δt/h (> 0, finite, no value twice), in plan order; default 0.25, 0.5, 1,
+  /// 2, 4 (central difference is unstable above 1: those runs are kept, with their status).
+  std::vector<double> courant;
+  /// Runs per point; the stored wall time is their minimum (>= 1, <= 100, default 5).
+  int repeats = 5;
 };
 
 struct OptimizeStudy {
@@ -126,6 +147,7 @@ struct Plan {
   std::vector<IndicatorConstraint> practical;
   OptimizeStudy optimize;  ///< optimize
   SpectralStudy spectral;  ///< spectral
+  WorkPrecisionStudy work_precision;  ///< work-precision
   OutputSpec output;
 };
 

@@ -24,6 +24,7 @@
 #include "study/spectral_study.hpp"
 #include "study/sweep.hpp"
 #include "study/version.hpp"
+#include "study/work_precision.hpp"
 
 namespace impactid {
 namespace {
@@ -74,17 +75,35 @@ void stamp(StudyResults& r, int threads, double wall_time_s) {
   r.date = utc_now();
 }
 
-// Times a few points of the plan on one thread, for --dry-run's estimate.
-double seconds_per_point(const PointSet& points) {
-  std::vector<long> sample{0, points.size() / 2, points.size() - 1};
-  sample.erase(std::unique(sample.begin(), sample.end()), sample.end());
+// Times points of the plan spread evenly over it, on one thread, for --dry-run's estimate: up to
+// 16 points, or fewer once a second has passed. Spread, because cost varies along an axis (an
+// unstable point stops early; a finer mesh costs more), and three samples once estimated a
+// stability map at a third of its real time. One point at a time, through simulate(): the sweep
+// batches points on SIMD lanes, so the estimate errs on the long side.
+struct PointTiming {
+  double seconds_per_point = 0.0;
+  long sampled = 0;
+  long not_ok = 0;  // sampled points that ended unstable or failed (and so stopped early)
+};
+
+PointTiming time_points(const PointSet& points) {
+  constexpr long kMaxSamples = 16;
+  constexpr double kBudgetSeconds = 1.0;
+  const long n = points.size();
+  const long wanted = std::min(n, kMaxSamples);
   SimulationWorkspace workspace;
+  PointTiming timing;
   const auto start = std::chrono::steady_clock::now();
-  for (const long index : sample) {
-    evaluate(std::get<Simulation>(build(points.settings(index))), workspace);
+  double elapsed = 0.0;
+  for (long k = 0; k < wanted && (k == 0 || elapsed < kBudgetSeconds); ++k) {
+    const long index = wanted == 1 ? 0 : k * (n - 1) / (wanted - 1);
+    const Evaluation e = evaluate(std::get<Simulation>(build(points.settings(index))), workspace);
+    ++timing.sampled;
+    if (e.summary.status != RunStatus::ok) ++timing.not_ok;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
-         static_cast<double>(sample.size());
+  timing.seconds_per_point = elapsed / static_cast<double>(timing.sampled);
+  return timing;
 }
 
 // What a spectral study computes; it takes seconds, so there is no estimate to measure.
@@ -110,8 +129,44 @@ int dry_run_spectral(const Plan& plan, const std::filesystem::path& output) {
   return 0;
 }
 
+// A work-precision study: its methods, meshes and Courant numbers, and an estimate from one
+// timed run scaled by the cost model work ∝ elements²/courant (steps ∝ n/C, each O(n)).
+int dry_run_work_precision(const Plan& plan, const std::filesystem::path& output) {
+  const WorkPrecisionStudy& wp = plan.work_precision;
+  std::printf("plan        %s (work-precision study)\n", plan.path.string().c_str());
+  std::printf("output      %s\n", output.string().c_str());
+  for (const SpectralMethod& m : wp.methods) std::printf("method      %s\n", m.label.c_str());
+  std::string elements, courant;
+  for (const long n : wp.elements) elements += " " + std::to_string(n);
+  for (const double c : wp.courant) courant += " " + format_value(c);
+  std::printf("elements   %s\n", elements.c_str());
+  std::printf("courant    %s\n", courant.c_str());
+  const long points = static_cast<long>(wp.methods.size() * wp.elements.size() * wp.courant.size());
+  std::printf("points      %ld, each run %d times (the minimum time is kept), one at a time\n",
+              points, wp.repeats);
+  const long n0 = wp.elements.front();
+  const double c0 = wp.courant.front();
+  SimulationWorkspace workspace;
+  const Simulation simulation =
+      std::get<Simulation>(build(work_precision_settings(plan, 0, n0, c0)));
+  evaluate(simulation, workspace);  // warm-up: allocation
+  const double t = evaluate(simulation, workspace).summary.wall_time_s;
+  double cost = 0.0;
+  for (const long n : wp.elements) {
+    for (const double c : wp.courant) {
+      cost += (static_cast<double>(n) * n / c) / (static_cast<double>(n0) * n0 / c0);
+    }
+  }
+  std::printf("estimate    %s (%.3g s measured at %s, elements %ld, courant %g, scaled by "
+              "elements^2/courant; unstable runs stop early)\n",
+              duration_text(t * cost * static_cast<double>(wp.methods.size()) * wp.repeats).c_str(),
+              t, wp.methods.front().label.c_str(), n0, c0);
+  return 0;
+}
+
 int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) {
   if (plan.kind == StudyKind::spectral) return dry_run_spectral(plan, output);
+  if (plan.kind == StudyKind::work_precision) return dry_run_work_precision(plan, output);
   std::printf("plan        %s (%s study, method %s)\n", plan.path.string().c_str(),
               to_string(plan.kind), to_string(plan.base.method.kind));
   std::printf("output      %s\n", output.string().c_str());
@@ -149,10 +204,17 @@ int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) 
   if (!plan.practical.empty()) {
     std::printf("practical   %s\n", thresholds_text(plan.practical).c_str());
   }
-  const double t = seconds_per_point(points);
-  std::printf("estimate    %s on %d thread(s) (%.3g s per point, measured on up to 3 points)\n",
+  const PointTiming timing = time_points(points);
+  const double t = timing.seconds_per_point;
+  std::printf("estimate    %s on %d thread(s) (%.3g s per point, measured one at a time on %ld "
+              "points spread over the plan%s)\n",
               duration_text(t * static_cast<double>(points.size()) / threads).c_str(), threads,
-              t);
+              t, timing.sampled,
+              timing.not_ok > 0
+                  ? (", " + std::to_string(timing.not_ok) +
+                     " of them not ok and stopped early: the estimate may be short")
+                        .c_str()
+                  : "");
   return 0;
 }
 
@@ -244,6 +306,83 @@ class ProgressLine {
   bool shown_ = false;
 };
 
+// A work-precision study: serial by design (study/work_precision.hpp says why), with
+// checkpoints, progress and --resume as a grid has them.
+int run_work_precision_plan(const Plan& plan, const RunArguments& args,
+                            const std::filesystem::path& output) {
+  bool unreadable = false;
+  std::string read_error;
+  std::optional<StudyResults> previous = existing_results(output, unreadable, read_error);
+  if (unreadable) {
+    std::cerr << "impactid run: " << read_error << "\nimpactid run: " << output.string()
+              << " exists but is not a readable impactid results file; it was left untouched "
+                 "(remove it, or choose another file with --output)\n";
+    return kExitFailure;
+  }
+  StudyResults results = empty_work_precision_results(plan);
+  if (args.resume && previous) {
+    bool same = previous->plan_text == plan.text &&
+                previous->dimensions.size() == results.dimensions.size();
+    for (std::size_t d = 0; same && d < results.dimensions.size(); ++d) {
+      same = previous->dimensions[d].name == results.dimensions[d].name &&
+             previous->dimensions[d].values == results.dimensions[d].values;
+    }
+    if (!same) {
+      std::cerr << "impactid run: --resume: " << output.string()
+                << " was written by a different plan (the plan text or its points differ); it "
+                   "was left untouched\n";
+      return kExitBadInput;
+    }
+    results = std::move(*previous);
+  }
+  const double previous_wall_time = args.resume && previous ? results.wall_time_s : 0.0;
+
+  g_stop_requested.store(false);
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const auto save = [&](StudyResults r) {
+    stamp(r, 1, previous_wall_time + elapsed());
+    write_results(output, r);
+  };
+  ProgressLine progress(plan.name);
+  WorkPrecisionOptions options;
+  options.checkpoint_seconds = plan.output.checkpoint_seconds;
+  options.checkpoint = [&](const StudyResults& r) { save(r); };
+  options.progress = [&](const SweepProgress& p) {
+    progress.update(p.done, p.total, p.unstable, p.elapsed_s);
+  };
+  options.stop = &g_stop_requested;
+  SweepOutcome outcome;
+  try {
+    outcome = run_work_precision(plan, results, options);
+    progress.finish();
+    save(results);
+  } catch (const std::exception& e) {
+    progress.finish();
+    std::cerr << "impactid run: " << e.what() << '\n';
+    return kExitFailure;
+  }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  std::fprintf(stderr,
+               "impactid run: %s: work-precision, %ld computed, %ld reused, %ld not ok, of %ld; "
+               "each run %d times, one at a time on 1 thread; %.3g s; wrote %s\n",
+               plan.name.c_str(), outcome.computed, outcome.reused, outcome.unstable,
+               results.points_total(), plan.work_precision.repeats, elapsed(),
+               output.string().c_str());
+  if (outcome.interrupted) {
+    std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
+                 args.plan.c_str(),
+                 args.output.empty() ? "" : (" --output " + args.output).c_str());
+    return kExitInterrupted;
+  }
+  return 0;
+}
+
 int run_plan(const RunArguments& args) {
   Plan plan;
   try {
@@ -254,8 +393,16 @@ int run_plan(const RunArguments& args) {
   }
   const std::filesystem::path output =
       args.output.empty() ? plan.output.file : std::filesystem::path(args.output);
+  if (plan.kind == StudyKind::work_precision && args.threads > 1) {
+    // Validate, never clamp: a silently serial run would not be what was asked for.
+    std::cerr << "impactid run: --threads " << args.threads
+              << ": a work-precision study times its runs one at a time on one thread (runs "
+                 "sharing cores and caches would time each other); leave --threads out\n";
+    return kExitBadInput;
+  }
   const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
   if (args.dry_run) return dry_run(plan, threads, output);
+  if (plan.kind == StudyKind::work_precision) return run_work_precision_plan(plan, args, output);
   if (plan.kind == StudyKind::spectral) return run_spectral(plan, args, output, threads);
 
   bool unreadable = false;
@@ -399,8 +546,8 @@ int run_plan(const RunArguments& args) {
 }  // namespace
 
 std::function<int()> add_run_command(CLI::App& app) {
-  auto* command = app.add_subcommand("run", "Run a plan file (grid, list or optimize study) and "
-                                            "write its HDF5 results");
+  auto* command = app.add_subcommand("run", "Run a plan file (grid, list, optimize, spectral or "
+                                            "work-precision study) and write its HDF5 results");
   auto args = std::make_shared<RunArguments>();
   command->add_option("plan", args->plan, "Plan file (TOML), see plans/README.md")
       ->required()

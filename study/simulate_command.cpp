@@ -53,6 +53,11 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("pressure_scale").value(d.pressure_scale);
   json.key("contact_episodes").value(e.indicators.contact_episodes);
   json.key("energy_ratio").value(e.indicators.energy_ratio);
+  if (sim.scene.far_gap) {
+    json.key("far_contact_episodes").value(e.indicators.far_contact_episodes);
+    json.key("impacts").value(e.indicators.impacts);
+    json.key("max_penetration").value(e.indicators.max_penetration);
+  }
   json.key("wall_time_s").value(e.summary.wall_time_s);
   json.end_object();
   std::cout << '\n';
@@ -84,6 +89,11 @@ void write_text(const Simulation& sim, const Evaluation& e) {
   std::printf("velocity    eps_v = %.6g   NoP_v = %g\n", i.eps_v, i.nop_v);
   std::printf("contact     %g episode(s); energy at t_end / initial = %.6g\n", i.contact_episodes,
               i.energy_ratio);
+  if (sim.scene.far_gap) {
+    std::printf("far wall    far_gap = %g mm: %g episode(s); %g impact(s) at both walls; largest "
+                "penetration of a wall = %.3g mm\n",
+                *sim.scene.far_gap, i.far_contact_episodes, i.impacts, i.max_penetration);
+  }
   std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
 }
 

@@ -12,7 +12,7 @@ namespace {
 using G = ParameterGroup;
 using K = ParameterKind;
 
-constexpr std::array<ParameterInfo, 23> kParameters{{
+constexpr std::array<ParameterInfo, 24> kParameters{{
     {"length", G::scene, K::real, "mm", "rod length L (default 20, > 0)", "", ""},
     {"elements", G::scene, K::integer, "", "number of 2-node truss elements n (default 200, >= 1)",
      "", ""},
@@ -22,6 +22,10 @@ constexpr std::array<ParameterInfo, 23> kParameters{{
     {"velocity", G::scene, K::real, "mm/s", "initial velocity v0 toward the wall (default 1000)",
      "", ""},
     {"gap", G::scene, K::real, "mm", "initial gap to the wall (default 0.01, >= 0)", "", ""},
+    {"far_gap", G::scene, K::real, "mm",
+     "gap between node 0 and a second rigid wall behind the rod, for repeated impacts (default "
+     "none: the paper's single wall; >= 0)",
+     "", ""},
     {"mass", G::scene, K::choice, "", "mass matrix (default lumped)", "lumped|consistent", ""},
     {"rayleigh_mass", G::scene, K::real, "1/s", "Rayleigh a0 in C = a0*M + a1*K (default 0)", "",
      ""},
@@ -122,6 +126,7 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   else if (name == "area") s.scene.area = v;
   else if (name == "velocity") s.scene.velocity = v;
   else if (name == "gap") s.scene.gap = v;
+  else if (name == "far_gap") s.scene.far_gap = v;
   else if (name == "rayleigh_mass") s.scene.rayleigh_mass = v;
   else if (name == "rayleigh_stiffness") s.scene.rayleigh_stiffness = v;
   else if (name == "courant") {
@@ -274,6 +279,7 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
   if (name == "area") return sc.area;
   if (name == "velocity") return sc.velocity;
   if (name == "gap") return sc.gap;
+  if (name == "far_gap") return sc.far_gap;
   if (name == "rayleigh_mass") return sc.rayleigh_mass;
   if (name == "rayleigh_stiffness") return sc.rayleigh_stiffness;
   if (name == "courant") return d.time_step * d.wave_speed / d.element_length;

@@ -3,10 +3,13 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
+#include <span>
 
 #include "study/indicator_table.hpp"
 
@@ -101,33 +104,66 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices,
     }
   }
 
+  // Consecutive points that can share a batch (study/evaluation.hpp: batchable_together) run
+  // as one unit of up to kBatchLanes SIMD lanes; any other point is a unit of its own. A
+  // point's numbers are the same either way, so the grouping changes only the speed.
+  std::vector<Simulation> simulations;
+  simulations.reserve(todo.size());
+  struct Unit {
+    std::size_t first, count;
+  };
+  std::vector<Unit> units;
+  for (const long index : todo) {
+    auto built = build(points.settings(index));
+    // load_plan() checked every point, so a failure here is a bug, not bad input.
+    simulations.push_back(std::get<Simulation>(std::move(built)));
+    const std::size_t k = simulations.size() - 1;
+    if (!units.empty()) {
+      Unit& last = units.back();
+      if (last.count < static_cast<std::size_t>(kBatchLanes) &&
+          batchable_together(simulations[last.first], simulations[k])) {
+        ++last.count;
+        continue;
+      }
+    }
+    units.push_back({k, 1});
+  }
+
   std::mutex results_mutex;  // guards `results` and the counters below
   long done = 0, unstable = 0;
   auto last_checkpoint = Clock::now();
   auto last_progress = Clock::now();
   const long count = static_cast<long>(todo.size());
+  const long unit_count = static_cast<long>(units.size());
   const int calling_thread = 0;
 
 #pragma omp parallel num_threads(std::max(1, options.threads))
   {
     SimulationWorkspace workspace;  // reused for every point this thread runs
+    BatchWorkspace batch_workspace;
+    std::array<Evaluation, kBatchLanes> evaluations;
 #pragma omp for schedule(dynamic, 1)
-    for (long k = 0; k < count; ++k) {
+    for (long u = 0; u < unit_count; ++u) {
       if (options.stop && options.stop->load()) continue;
-      const long index = todo[static_cast<std::size_t>(k)];
-      const SimulationSettings settings = points.settings(index);
-      auto built = build(settings);
-      // load_plan() checked every point, so a failure here is a bug, not bad input.
-      const Simulation& simulation = std::get<Simulation>(built);
-      const Evaluation evaluation = evaluate(simulation, workspace);
+      const Unit unit = units[static_cast<std::size_t>(u)];
+      const std::span<const Simulation> unit_simulations(simulations.data() + unit.first,
+                                                         unit.count);
+      if (unit.count == 1) {
+        evaluations[0] = evaluate(unit_simulations[0], workspace);
+      } else {
+        evaluate_batch(unit_simulations, batch_workspace,
+                       std::span(evaluations).first(unit.count));
+      }
 
       std::optional<StudyResults> snapshot;
       std::optional<SweepProgress> progress;
       {
         std::lock_guard lock(results_mutex);
-        store_point(results, points, index, simulation, evaluation);
-        ++done;
-        if (evaluation.summary.status != RunStatus::ok) ++unstable;
+        for (std::size_t k = 0; k < unit.count; ++k) {
+          store_point(results, points, todo[unit.first + k], unit_simulations[k], evaluations[k]);
+          ++done;
+          if (evaluations[k].summary.status != RunStatus::ok) ++unstable;
+        }
         if (omp_get_thread_num() == calling_thread) {
           if (options.checkpoint && seconds_since(last_checkpoint) >= options.checkpoint_seconds) {
             snapshot = results;

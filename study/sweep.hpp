@@ -4,8 +4,14 @@
 // points, the ones a resumed file lacks, a shard for another process) and where to save it are
 // the caller's choice.
 //
-// Determinism: a point's numbers depend only on its index, so any thread count and any
-// interruption give bit-identical results (wall_time_s aside).
+// Consecutive points that can share a batch (implicit methods on the same single-wall rod and
+// time step, no histories: study/evaluation.hpp) run kBatchLanes at a time through the SIMD
+// kernel of core/batched_simulation.hpp; a batch is one unit of work for a thread, and each of
+// its points reports the batch's wall time divided by its points.
+//
+// Determinism: a point's numbers depend only on its index (the batched kernel gives simulate()'s
+// numbers bit for bit), so any thread count and any interruption give bit-identical results
+// (wall_time_s aside).
 #pragma once
 
 #include <atomic>

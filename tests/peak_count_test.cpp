@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 namespace impactid {
@@ -115,6 +116,48 @@ TEST(PeakCount, UlpWobbleOnAPlateauCountsThePlateauOnce) {
   EXPECT_EQ(peaks(x, 0.0), 2);  // two strict maxima: the raw rule counts the wobble
   EXPECT_EQ(peaks({0.0, level, level, level, level, level, 0.0}, 1e-6 * level), 1);  // exact
   EXPECT_EQ(peaks(x, 1e-6 * level), 1) << "a 1-ulp wobble must not add a peak";
+}
+
+// count_peaks() finds the bases with two stack passes (O(n)); the rule's definition scans from
+// each peak to its nearer higher samples (peak_prominence, O(n) per peak). They must agree on
+// every signal: random ones with few distinct values (ties, plateaus, equal summits on both
+// sides) and every threshold between the prominences that occur.
+long peaks_by_definition(const std::vector<double>& x, double min_prominence) {
+  long count = 0;
+  std::size_t i = 1;
+  while (i + 1 < x.size()) {
+    if (!(x[i - 1] < x[i])) {
+      ++i;
+      continue;
+    }
+    std::size_t last = i;
+    while (last + 1 < x.size() && x[last + 1] == x[i]) ++last;
+    if (last + 1 < x.size() && x[last + 1] < x[i] &&
+        peak_prominence(x, i, last) >= min_prominence) {
+      ++count;
+    }
+    i = last + 1;
+  }
+  return count;
+}
+
+TEST(PeakCount, StackPassesEqualTheDefinitionOnRandomSignals) {
+  std::mt19937_64 rng(11);
+  long compared_peaks = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int levels = 2 + trial % 7;  // few levels: many ties and flat tops
+    std::uniform_int_distribution<int> level(0, levels - 1);
+    std::uniform_int_distribution<int> length(0, 60);
+    std::vector<double> x(static_cast<std::size_t>(length(rng)));
+    for (double& v : x) v = 0.25 * level(rng);
+    for (const double threshold : {0.0, 0.2, 0.25, 0.3, 0.5, 0.75, 1.0, 1.5}) {
+      const long expected = peaks_by_definition(x, threshold);
+      ASSERT_EQ(count_peaks(x, threshold), expected) << "trial " << trial << ", threshold "
+                                                     << threshold;
+      compared_peaks += expected;
+    }
+  }
+  EXPECT_GT(compared_peaks, 10000);  // the comparison saw peaks, not empty signals
 }
 
 }  // namespace

@@ -290,7 +290,7 @@ TEST(PlanErrors, TomlSyntaxError) {
 TEST(PlanErrors, UnknownKeys) {
   EXPECT_EQ(error_of("[scene]\nelements = 50\nbogus = 1\n"),
             "bad.toml:3:9: scene.bogus = 1: unknown key (scene keys: length, elements, "
-            "youngs_modulus, density, area, velocity, gap, mass, rayleigh_mass, "
+            "youngs_modulus, density, area, velocity, gap, far_gap, mass, rayleigh_mass, "
             "rayleigh_stiffness, courant, dt, t_end)");
   EXPECT_EQ(error_of("nmae = \"x\"\n"),
             "bad.toml:1:8: nmae = \"x\": unknown key (top-level keys: name, description, scene, "
@@ -327,8 +327,8 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("scene = 3\n"), "bad.toml:1:9: scene = 3: must be a table ([scene])");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
   EXPECT_EQ(error_of("[study]\nkind = \"sweep\"\n"),
-            "bad.toml:2:8: study.kind = \"sweep\": must be \"grid\", \"list\", \"optimize\" or "
-            "\"spectral\"");
+            "bad.toml:2:8: study.kind = \"sweep\": must be \"grid\", \"list\", \"optimize\", "
+            "\"spectral\" or \"work-precision\"");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\nalpha = 3\n"),
             "bad.toml:4:9: study.axes.alpha = 3: must be { from = .., to = .., partitions = .. }, "
             "{ values = [..] } or a coupled-axis expression such as \"-1.5*alpha\"");
@@ -490,7 +490,7 @@ courant = 1
   EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = [{ delta = 0.3 }, { bogus = 1 }]\n"),
             std::string("bad.toml:3:38: study.points[1].bogus = 1: unknown key (point keys are "
                         "parameters: ") +
-                "length, elements, youngs_modulus, density, area, velocity, gap, mass, "
+                "length, elements, youngs_modulus, density, area, velocity, gap, far_gap, mass, "
                 "rayleigh_mass, rayleigh_stiffness, courant, dt, t_end, method, delta, alpha, "
                 "beta, gamma, rho_inf, cdm_velocity, hht_contact, peak_prominence, "
                 "energy_growth_limit)");
@@ -578,17 +578,17 @@ TEST(PlanErrors, OptimizeErrors) {
 TEST(PlanErrors, MissingStudy) {
   EXPECT_EQ(error_of("name = \"x\"\n"),
             "bad.toml:1:1: study = (missing): a plan needs a [study] table with kind = \"grid\", "
-            "\"list\", \"optimize\" or \"spectral\"");
+            "\"list\", \"optimize\", \"spectral\" or \"work-precision\"");
   EXPECT_EQ(error_of("[scene]\nelements = 10\n[study]\n"),
-            "bad.toml:3:1: study.kind = (missing): must be \"grid\", \"list\", \"optimize\" or "
-            "\"spectral\"");
+            "bad.toml:3:1: study.kind = (missing): must be \"grid\", \"list\", \"optimize\", "
+            "\"spectral\" or \"work-precision\"");
 }
 
 TEST(PlanErrors, ColumnsCountCharactersNotBytes) {
   // "é" is two bytes; toml++ and the message count it as one column.
   EXPECT_EQ(error_of("description = \"é\"\n[scene]\n\"café\" = 1\n"),
             "bad.toml:3:10: scene.café = 1: unknown key (scene keys: length, elements, "
-            "youngs_modulus, density, area, velocity, gap, mass, rayleigh_mass, "
+            "youngs_modulus, density, area, velocity, gap, far_gap, mass, rayleigh_mass, "
             "rayleigh_stiffness, courant, dt, t_end)");
 }
 

@@ -1,0 +1,568 @@
+#include "core/batched_simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "core/second_order_system.hpp"
+#include "core/tridiagonal.hpp"
+
+// Lanes travel by value only into helpers inlined into one function (always_inline), so GCC's
+// note that returning wide vectors differs between targets does not concern this file.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace impactid {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One register of 8 doubles (GCC vector extensions: one AVX-512 register, two AVX2 ones);
+// may_alias: registers are read from LaneBlock storage.
+constexpr int kRegisterLanes = 8;
+constexpr int kRegisters = kBatchLanes / kRegisterLanes;
+static_assert(kBatchLanes % kRegisterLanes == 0);
+using Register = double __attribute__((vector_size(sizeof(double) * kRegisterLanes), may_alias));
+using MaskRegister = std::int64_t __attribute__((vector_size(sizeof(double) * kRegisterLanes)));
+
+// kBatchLanes doubles as two independent registers. Why not one vector of kBatchLanes: the
+// serial recurrences of the tridiagonal sweeps bound a step by their latency (a multiply, a
+// subtract and a multiply per unknown); two registers per unknown are two independent chains
+// that the processor overlaps, which nearly halves the time per lane. A single GCC vector of 16
+// doubles is lowered through the stack instead, and so is an array of two registers (GCC's
+// scalar replacement does not take arrays indexed in loops): named members stay in registers.
+static_assert(kRegisters == 2, "Lanes holds two registers, lo and hi");
+struct __attribute__((may_alias)) Lanes {
+  Register lo, hi;
+
+  double operator[](int l) const { return l < kRegisterLanes ? lo[l] : hi[l - kRegisterLanes]; }
+  void set(int l, double x) {
+    if (l < kRegisterLanes) {
+      lo[l] = x;
+    } else {
+      hi[l - kRegisterLanes] = x;
+    }
+  }
+};
+struct LaneMask {
+  MaskRegister lo, hi;
+
+  void set(int l, bool on) {
+    if (l < kRegisterLanes) {
+      lo[l] = on ? -1 : 0;
+    } else {
+      hi[l - kRegisterLanes] = on ? -1 : 0;
+    }
+  }
+};
+
+// Lane-by-lane arithmetic, register by register: the same IEEE operation on every lane.
+[[gnu::always_inline]] inline Lanes operator+(const Lanes& a, const Lanes& b) {
+  return {a.lo + b.lo, a.hi + b.hi};
+}
+[[gnu::always_inline]] inline Lanes operator-(const Lanes& a, const Lanes& b) {
+  return {a.lo - b.lo, a.hi - b.hi};
+}
+[[gnu::always_inline]] inline Lanes operator*(const Lanes& a, const Lanes& b) {
+  return {a.lo * b.lo, a.hi * b.hi};
+}
+[[gnu::always_inline]] inline Lanes operator/(const Lanes& a, const Lanes& b) {
+  return {a.lo / b.lo, a.hi / b.hi};
+}
+[[gnu::always_inline]] inline Lanes operator-(const Lanes& a) { return {-a.lo, -a.hi}; }
+
+// A shuffle of lane 0 into every lane of a register: GCC 12 turns both the per-lane loop
+// `out[l] = x` and the initialiser {x, x, …} into one masked broadcast per lane, which made the
+// step loop three times as long; this is one broadcast.
+[[gnu::always_inline]] inline Lanes splat(double x) {
+  const Register first{x};
+  const Register all = __builtin_shufflevector(first, first, 0, 0, 0, 0, 0, 0, 0, 0);
+  static_assert(kRegisterLanes == 8, "splat() names one index per lane of a register");
+  return {all, all};
+}
+[[gnu::always_inline]] inline Lanes operator+(double a, const Lanes& b) { return splat(a) + b; }
+[[gnu::always_inline]] inline Lanes operator*(double a, const Lanes& b) { return splat(a) * b; }
+
+// a > b lane by lane. Written per lane: GCC 12 fails (internal compiler error in
+// do_store_flag) on the vector comparison a > b when it lowers it for AVX2 or SSE2.
+[[gnu::always_inline]] inline LaneMask greater(const Lanes& a, const Lanes& b) {
+  LaneMask out;
+  for (int l = 0; l < kBatchLanes; ++l) out.set(l, a[l] > b[l]);
+  return out;
+}
+
+[[gnu::always_inline]] inline bool any_lane(const LaneMask& mask) {
+  bool any = false;
+  for (int l = 0; l < kRegisterLanes; ++l) any |= (mask.lo[l] | mask.hi[l]) != 0;
+  return any;
+}
+
+// `mask ? a : b` lane by lane (a blend: no arithmetic on the lanes it does not pick).
+[[gnu::always_inline]] inline Lanes select(const LaneMask& mask, const Lanes& a, const Lanes& b) {
+  return {mask.lo ? a.lo : b.lo, mask.hi ? a.hi : b.hi};
+}
+
+// Each lane's copy of the scalar step's constants, computed by the same expressions
+// (ImplicitIntegrator: dt2 * c_.b0 is (Δt·Δt)·b0, c_.b1 * dt2 is b1·(Δt·Δt), …).
+struct LaneCoefficients {
+  Lanes dt, dt2_b0, dt_g0, one_minus_af, af, b1_dt2, g1_dt, minus_am, one_minus_w, w, gap;
+  LaneMask mass_term;  // α_m ≠ 0: the scalar step adds −α_m·M·a only then
+  // The effective matrix's off-diagonals, the same in every row of the uniform rod: with them
+  // the factorisation is one array (the inverse pivots), since TridiagonalFactorization stores
+  // lower() = these and upper_ratio()[i] = upper·inverse_pivot()[i], a product the back
+  // substitution forms again with the same bits. Three arrays a batch would otherwise stream
+  // through the cache at every step.
+  Lanes lower, upper;
+};
+
+// The rod's matrices (shared by every lane) and the interleaved [unknown][lane] arrays.
+struct LaneArrays {
+  Eigen::Index n;
+  const Tridiagonal* stiffness;
+  const Tridiagonal* damping;
+  const Tridiagonal* mass;
+  Lanes *u, *v, *a;            // the state
+  Lanes* rhs;
+  Lanes *inverse_pivot, *influence;  // each lane's factorisation, A⁻¹·e_c
+};
+
+// A tridiagonal matrix's three diagonals as plain pointers: held in registers across the step
+// loop (the Lanes stores may alias anything, so members reached through a reference would be
+// reloaded after every store).
+struct Diagonals {
+  const double *lower, *diag, *upper;
+  explicit Diagonals(const Tridiagonal& m)
+      : lower(m.lower.data()), diag(m.diag.data()), upper(m.upper.data()) {}
+};
+
+// Row i of a tridiagonal product with the neighbours `prev`, `cur`, `next` of x, summed in
+// Tridiagonal::multiply_add's order: (l·x₋ + d·x) + u·x₊, the end rows without the missing term.
+template <bool kFirst, bool kLast>
+[[gnu::always_inline]] inline Lanes row(const Diagonals& m, Eigen::Index i, const Lanes& prev,
+                                        const Lanes& cur, const Lanes& next) {
+  if constexpr (kFirst) return splat(m.diag[i]) * cur + splat(m.upper[i]) * next;
+  if constexpr (kLast) return splat(m.lower[i]) * prev + splat(m.diag[i]) * cur;
+  return (splat(m.lower[i]) * prev + splat(m.diag[i]) * cur) + splat(m.upper[i]) * next;
+}
+
+// One implicit step of every lane: ImplicitIntegrator::predict and ::step (single wall), lane
+// by lane the same operations. Returns each lane's λ at t + Δt.
+//
+// Flops per unknown and lane (count them in the two loops below): the predictor 5 mul 4 add
+// (u*, v*, α_f-weighted u), K·u 3 mul 3 add (the product's two adds and the 0 + of
+// Tridiagonal::multiply), the forward sweep 2 mul 1 sub; back substitution 1 mul 1 sub, the
+// update 2 mul 2 add. Total 13 mul + 11 add = 24 flops, plus the sign flip of rhs = −K·u. With
+// the contact closed in some lane, 1 mul 1 sub more (and a blend). Damping: +2 mul 1 add in the
+// predictor, 3 mul 3 add for C·v (9). α_m ≠ 0: 4 mul 2 add (6) and a blend. Divides: 2 per lane
+// and step, at the contact node only.
+template <bool kDamping, bool kMassTerm>
+[[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays,
+                                               const LaneCoefficients& coefficients,
+                                               const Lanes& lambda) {
+  // Local copies, so that the compiler keeps them in registers: a store through a Lanes
+  // pointer (may_alias) could otherwise change them, and every use would reload them. Without
+  // these copies the step ran 2.5 times as many instructions.
+  const LaneArrays x = arrays;
+  const LaneCoefficients c = coefficients;
+  const Eigen::Index n = x.n, last = n - 1;
+  const Diagonals K(*x.stiffness);
+  const Diagonals C(kDamping ? *x.damping : *x.stiffness);
+  const Diagonals M(*x.mass);
+
+  // Predictors u*, v* of unknown i, from u, v, a at t. They are not stored: the back
+  // substitution computes them again (the same expressions, the same bits) from u, v, a, which
+  // it reads anyway before overwriting them. Two arrays fewer keep the working set of a batch
+  // closer to the L1 cache, which bounds the step more than these 6 flops do.
+  struct Predicted {
+    Lanes u, v;
+  };
+  const auto predictors = [&](Eigen::Index i, const Lanes& u, const Lanes& v)
+      __attribute__((always_inline)) {
+    const Lanes a = x.a[i];
+    return Predicted{u + c.dt * v + c.dt2_b0 * a, v + c.dt_g0 * a};
+  };
+  // The α_f-weighted u, v (kept in registers, three at a time).
+  struct Weighted {
+    Lanes u, v;
+  };
+  const auto predict = [&](Eigen::Index i) __attribute__((always_inline)) {
+    const Lanes u = x.u[i], v = x.v[i];
+    const auto [up, vp] = predictors(i, u, v);
+    Weighted w;
+    w.u = c.one_minus_af * up + c.af * u;
+    if constexpr (kDamping) w.v = c.one_minus_af * vp + c.af * v;
+    return w;
+  };
+  // rhs = −K·u_w − C·v_w − α_m·M·a − (1−w)·λ·e_c, then the forward sweep of the solve.
+  Weighted prev{}, cur = predict(0), next{};
+  Lanes eliminated{};
+  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i) __attribute__((always_inline)) {
+    if constexpr (!kLast) next = predict(i + 1);
+    Lanes r = 0.0 + row<kFirst, kLast>(K, i, prev.u, cur.u, next.u);
+    r = -r;
+    if constexpr (kDamping) r = r + -1.0 * row<kFirst, kLast>(C, i, prev.v, cur.v, next.v);
+    if constexpr (kMassTerm) {
+      const Lanes a_prev = kFirst ? Lanes{} : x.a[i - 1];
+      const Lanes a_next = kLast ? Lanes{} : x.a[i + 1];
+      r = select(c.mass_term, r + c.minus_am * row<kFirst, kLast>(M, i, a_prev, x.a[i], a_next), r);
+    }
+    if constexpr (kLast) r = r - c.one_minus_w * lambda;
+    if constexpr (kFirst) {
+      r = r * x.inverse_pivot[i];
+    } else {
+      r = (r - c.lower * eliminated) * x.inverse_pivot[i];
+    }
+    x.rhs[i] = eliminated = r;
+    prev = cur;
+    cur = next;
+  };
+  forward.template operator()<true, false>(0);
+  for (Eigen::Index i = 1; i < last; ++i) forward.template operator()<false, false>(i);
+  forward.template operator()<false, true>(last);
+
+  // The back substitution leaves the last unknown as it is, so the contact test can come first.
+  const Lanes u_free = predictors(last, x.u[last], x.v[last]).u + c.b1_dt2 * x.rhs[last];
+  const LaneMask closes = greater(u_free, c.gap);
+  const bool any_closes = any_lane(closes);
+  Lanes weighted{}, new_lambda{};
+  if (any_closes) {
+    // Force (w·λ) that moves the contact dof from u_free back onto the wall.
+    weighted = (u_free - c.gap) / (c.b1_dt2 * x.influence[last]);
+    new_lambda = select(closes, weighted / c.w, Lanes{});
+  }
+  // Back substitution (on the uncorrected values, as solve_in_place), the contact correction
+  // rhs − weighted·A⁻¹e_c where it closes, and the update.
+  const auto backward = [&]<bool kContact>() __attribute__((always_inline)) {
+    Lanes solved = x.rhs[last];
+    for (Eigen::Index i = last; i >= 0; --i) {
+      if (i < last) solved = x.rhs[i] - (c.upper * x.inverse_pivot[i]) * solved;
+      Lanes r = solved;
+      if constexpr (kContact) r = select(closes, r - weighted * x.influence[i], r);
+      const Predicted p = predictors(i, x.u[i], x.v[i]);
+      x.a[i] = r;
+      x.u[i] = p.u + c.b1_dt2 * r;
+      x.v[i] = p.v + c.g1_dt * r;
+    }
+  };
+  if (any_closes) {
+    backward.template operator()<true>();
+  } else {
+    backward.template operator()<false>();
+  }
+  // Round-off would leave the node a few ulps off the wall; the constraint is exact.
+  x.u[last] = select(greater(new_lambda, Lanes{}), c.gap, x.u[last]);
+  return new_lambda;
+}
+
+// ½·vᵀMv + ½·uᵀKu of every lane, summed in Tridiagonal::quadratic_form's order.
+[[gnu::always_inline]] inline Lanes quadratic_form(const Tridiagonal& m, const Lanes* x,
+                                                   Eigen::Index n) {
+  Lanes sum{};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Lanes r = splat(m.diag[i]) * x[i];
+    if (i > 0) r = r + splat(m.lower[i]) * x[i - 1];
+    if (i + 1 < n) r = r + splat(m.upper[i]) * x[i + 1];
+    sum = sum + x[i] * r;
+  }
+  return sum;
+}
+
+// What run_steps in core/simulation.cpp keeps for one run, per lane.
+struct LaneRun {
+  RunSummary* summary = nullptr;
+  ContactTrace* trace = nullptr;
+  long first = 0;  // the first sample it computes (after its free flight)
+  long last = -1;  // its last sample
+  bool stepping = false;
+  double t = 0.0;
+  double energy_bound = 0.0;
+};
+
+struct Batch {
+  LaneArrays arrays;
+  LaneCoefficients coefficients;
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;
+  double area;
+  double dt;
+  int energy_check_interval;
+  double energy_growth_limit;
+};
+
+void set_lane(const LaneArrays& x, int lane, const State* state) {
+  for (Eigen::Index i = 0; i < x.n; ++i) {
+    x.u[i].set(lane, state ? state->u[i] : 0.0);
+    x.v[i].set(lane, state ? state->v[i] : 0.0);
+    x.a[i].set(lane, state ? state->a[i] : 0.0);
+  }
+}
+
+void stop_unstable(LaneRun& run, std::string message) {
+  run.summary->status = RunStatus::unstable;
+  run.summary->message = std::move(message);
+  run.stepping = false;
+}
+
+// The samples from the first lane's start to the last lane's end. A lane that is not stepping
+// (before its free flight ends, after its last sample or its instability, a failed or unused
+// lane) holds a zero state, which a step maps to zero: it costs lanes, never correctness.
+template <bool kDamping, bool kMassTerm>
+[[gnu::always_inline]] inline void run_batch(Batch& b) {
+  const LaneArrays& x = b.arrays;
+  const Eigen::Index c = x.n - 1;
+  long begin = std::numeric_limits<long>::max(), end = -1;
+  for (const LaneRun& run : b.lanes) {
+    if (run.first > run.last) continue;
+    begin = std::min(begin, run.first);
+    end = std::max(end, run.last);
+  }
+  Lanes lambda{};
+  for (long i = begin; i <= end; ++i) {
+    for (int l = 0; l < kBatchLanes; ++l) {
+      LaneRun& run = b.lanes[l];
+      if (run.first != i || run.first > run.last) continue;
+      const State& start = (*b.start)[l];
+      set_lane(x, l, &start);
+      lambda.set(l, start.lambda);
+      run.t = start.t;
+      run.stepping = true;
+    }
+    lambda = step_lanes<kDamping, kMassTerm>(x, b.coefficients, lambda);
+
+    // Bookkeeping of run_steps, lane by lane; the energy (two O(n) products) only when a lane
+    // checks it at this sample, for every lane at once.
+    bool energy_due = false;
+    for (const LaneRun& run : b.lanes) {
+      energy_due |= run.stepping && (i == run.last ||
+                                     (i - run.first + 1) % b.energy_check_interval == 0);
+    }
+    Lanes energy{};
+    if (energy_due) {
+      energy = 0.5 * quadratic_form(*x.mass, x.v, x.n) +
+               0.5 * quadratic_form(*x.stiffness, x.u, x.n);
+    }
+    for (int l = 0; l < kBatchLanes; ++l) {
+      LaneRun& run = b.lanes[l];
+      if (!run.stepping) continue;
+      run.t += b.dt;
+      RunSummary& summary = *run.summary;
+      run.trace->pressure[i] = lambda[l] / b.area;
+      run.trace->velocity[i] = x.v[c][l];
+      summary.steps = i + 1;
+      const bool check = i == run.last || (i - run.first + 1) % b.energy_check_interval == 0;
+      if (check) {
+        summary.final_energy = energy[l];
+        if (!std::isfinite(energy[l])) {
+          stop_unstable(run, "non-finite values at t = " + format_value(run.t) + " s");
+        } else if (summary.initial_energy > 0.0 && energy[l] > run.energy_bound) {
+          stop_unstable(run, "energy grew to " + format_value(energy[l] / summary.initial_energy) +
+                                 " times the initial energy at t = " + format_value(run.t) +
+                                 " s (bound " + format_value(b.energy_growth_limit) + ")");
+        }
+      }
+      if (run.stepping && (!std::isfinite(lambda[l]) || !std::isfinite(x.v[c][l]))) {
+        stop_unstable(run, "non-finite values at t = " + format_value(run.t) + " s");
+      }
+      if (run.stepping && i == run.last) run.stepping = false;
+      if (!run.stepping) {
+        set_lane(x, l, nullptr);
+        lambda.set(l, 0.0);
+      }
+    }
+  }
+}
+
+// The batch loop for the machine at hand: GCC compiles it for each target and picks one when
+// the program starts. Everything it calls in the step loop is inlined into each version.
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void run_batch_any(Batch& b) {
+  const bool damping = b.arrays.damping != nullptr;
+  const bool mass_term = any_lane(b.coefficients.mass_term);
+  if (damping && mass_term) {
+    run_batch<true, true>(b);
+  } else if (damping) {
+    run_batch<true, false>(b);
+  } else if (mass_term) {
+    run_batch<false, true>(b);
+  } else {
+    run_batch<false, false>(b);
+  }
+}
+
+// As in core/simulation.cpp: the samples of rigid free flight before the impact, filled in.
+long free_flight_samples(const RodScene& scene, const RodSceneDerived& d,
+                         const RunOptions& options) {
+  if (!options.skip_free_flight || scene.rayleigh_mass != 0.0 || !std::isfinite(d.impact_time)) {
+    return 0;
+  }
+  return std::clamp(static_cast<long>(std::floor(d.impact_time / d.time_step) - 2.0), 0L,
+                    d.step_count);
+}
+
+}  // namespace
+
+bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
+  // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
+  // wall. A new RodScene field belongs in this check or in same_batch.
+  return !std::holds_alternative<CentralDifferenceParams>(method) && !scene.far_gap &&
+         !options.record_history;
+}
+
+bool same_batch(const RodScene& a, const RunOptions& options_a, const RodScene& b,
+                const RunOptions& options_b) {
+  // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
+  // are per lane.
+  const bool same_rod = a.length == b.length && a.elements == b.elements &&
+                        a.youngs_modulus == b.youngs_modulus && a.density == b.density &&
+                        a.area == b.area && a.mass == b.mass &&
+                        a.rayleigh_mass == b.rayleigh_mass &&
+                        a.rayleigh_stiffness == b.rayleigh_stiffness;
+  const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
+                            options_a.energy_check_interval == options_b.energy_check_interval &&
+                            options_a.record_history == options_b.record_history &&
+                            options_a.skip_free_flight == options_b.skip_free_flight;
+  return same_rod && same_options && derive(a).time_step == derive(b).time_step;
+}
+
+void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
+                    const RunOptions& options, BatchWorkspace& ws,
+                    std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  const SecondOrderSystem system = assemble_rod(scenes[0]);  // gap aside, every lane's
+  const Eigen::Index n = system.size();
+  const double dt = derive(scenes[0]).time_step;
+
+  // The interleaved arrays: state, rhs, inverse pivots, influence.
+  constexpr int kArrays = 6;
+  ws.storage_.assign(static_cast<std::size_t>(kArrays * n), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
+  const auto take = [&] {
+    Lanes* p = block;
+    block += n;
+    return p;
+  };
+  Batch b{};
+  LaneArrays& x = b.arrays;
+  x.n = n;
+  x.stiffness = &system.stiffness;
+  x.damping = system.has_damping() ? &system.damping : nullptr;
+  x.mass = &system.mass;
+  x.u = take(), x.v = take(), x.a = take();
+  x.rhs = take();
+  x.inverse_pivot = take(), x.influence = take();
+  b.start = &ws.start_;
+  b.area = scenes[0].area;
+  b.dt = dt;
+  b.energy_check_interval = options.energy_check_interval;
+  b.energy_growth_limit = options.energy_growth_limit;
+  LaneCoefficients& k = b.coefficients;
+  k.gap = splat(kInf);  // unused lanes never touch a wall
+
+  const bool options_valid = options.energy_check_interval >= 1 && options.energy_growth_limit > 1.0;
+  for (int l = 0; l < count; ++l) {
+    const RodScene& scene = scenes[static_cast<std::size_t>(l)];
+    const MethodParams& method = methods[static_cast<std::size_t>(l)];
+    const RodSceneDerived derived = derive(scene);
+    RunSummary& summary = summaries[static_cast<std::size_t>(l)];
+    summary = RunSummary{};
+    summary.planned_steps = derived.step_count;
+    summary.dt = dt;
+    ContactTrace& trace = ws.traces[static_cast<std::size_t>(l)];
+    const auto samples = static_cast<std::size_t>(derived.step_count);
+    trace.pressure.assign(samples, kNaN);
+    trace.velocity.assign(samples, kNaN);
+    trace.displacement.clear();
+    trace.energy.clear();
+    trace.far_pressure.clear();
+    if (!options_valid) {
+      summary.status = RunStatus::failed;
+      summary.message =
+          "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
+      continue;
+    }
+
+    // The state at t = 0, then the filled-in free flight: simulate()'s set-up.
+    State& state = ws.start_[static_cast<std::size_t>(l)];
+    state.u.setZero(n);
+    state.v.setConstant(n, scene.velocity);
+    state.lambda = state.far_lambda = state.t = 0.0;
+    state.a = consistent_acceleration(system, state);
+    summary.initial_energy = summary.final_energy = system.energy(state.u, state.v);
+    const long skipped = free_flight_samples(scene, derived, options);
+    std::fill_n(trace.pressure.begin(), skipped, 0.0);
+    std::fill_n(trace.velocity.begin(), skipped, scene.velocity);
+    if (skipped > 0) {
+      state.t = skipped * dt;
+      state.u.setConstant(n, scene.velocity * state.t);
+    }
+    summary.steps = summary.skipped_steps = skipped;
+
+    // The lane's effective matrix and factorisation, as ImplicitIntegrator::initialize.
+    const ImplicitCoefficients co = implicit_coefficients(method);
+    const double k_weight = (1.0 - co.alpha_f) * co.b1 * dt * dt;
+    Tridiagonal effective = system.mass.combined(1.0 - co.alpha_m, system.stiffness, k_weight);
+    if (system.has_damping()) {
+      effective = effective.combined(1.0, system.damping, (1.0 - co.alpha_f) * co.g1 * dt);
+    }
+    TridiagonalFactorization factorization;
+    if (!factorization.factor(effective)) {
+      summary.status = RunStatus::failed;
+      summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
+      continue;
+    }
+    Eigen::VectorXd influence = Eigen::VectorXd::Zero(n);
+    influence[system.contact_dof] = 1.0;
+    factorization.solve_in_place(influence);
+    // The rod is uniform, so every row has the same off-diagonals (bit for bit: each is the
+    // same expression of the same element). Checked, not assumed: the kernel relies on it.
+    const double lower = n > 1 ? effective.lower[1] : 0.0;
+    const double upper = n > 1 ? effective.upper[0] : 0.0;
+    bool uniform = true;
+    for (Eigen::Index i = 1; i < n; ++i) {
+      uniform = uniform && effective.lower[i] == lower && effective.upper[i - 1] == upper &&
+                factorization.upper_ratio()[i - 1] == upper * factorization.inverse_pivot()[i - 1];
+    }
+    if (!uniform) {
+      summary.status = RunStatus::failed;
+      summary.message = "batched kernel: the effective matrix is not uniform along the rod";
+      continue;
+    }
+    k.lower.set(l, lower);
+    k.upper.set(l, upper);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      x.inverse_pivot[i].set(l, factorization.inverse_pivot()[i]);
+      x.influence[i].set(l, influence[i]);
+    }
+    const double dt2 = dt * dt;
+    k.dt.set(l, dt);
+    k.dt2_b0.set(l, dt2 * co.b0);
+    k.dt_g0.set(l, dt * co.g0);
+    k.one_minus_af.set(l, 1.0 - co.alpha_f);
+    k.af.set(l, co.alpha_f);
+    k.b1_dt2.set(l, co.b1 * dt2);
+    k.g1_dt.set(l, co.g1 * dt);
+    k.minus_am.set(l, -co.alpha_m);
+    k.mass_term.set(l, co.alpha_m != 0.0);
+    k.one_minus_w.set(l, 1.0 - co.contact_weight);
+    k.w.set(l, co.contact_weight);
+    k.gap.set(l, scene.gap);
+
+    LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
+    run.summary = &summary;
+    run.trace = &trace;
+    run.first = skipped;
+    run.last = derived.step_count - 1;
+    run.energy_bound = options.energy_growth_limit * summary.initial_energy;
+  }
+  run_batch_any(b);
+
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (int l = 0; l < count; ++l) summaries[static_cast<std::size_t>(l)].wall_time_s = seconds / count;
+}
+
+}  // namespace impactid

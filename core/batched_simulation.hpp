@@ -1,0 +1,83 @@
+// Several simulations of one rod advanced together, one per SIMD lane: the implicit step of
+// core/implicit_integrator.hpp for kBatchLanes parameter points at once (issue 5, "Speed").
+//
+// Why: a single run's step is two tridiagonal sweeps, each a serial recurrence whose latency
+// (a multiply, a subtract and a multiply per unknown, ~12 cycles) bounds the scalar path far
+// above its arithmetic. Lanes are independent runs, so a vector instruction advances every lane
+// of a batch by the same operation, and the recurrence's latency is paid once per batch.
+//
+// Bit-identical to simulate(): every lane performs the scalar path's operations on its own
+// numbers, in the same order, with the same intermediate products (Δt²·b0, b1·Δt², …), no FMA
+// (the project builds with -ffp-contract=off), and the per-lane branches of the scalar step
+// (contact active or not, α_m = 0 or not) become blends. The fused loops (predictor, K·u and
+// the forward sweep in one pass; back substitution, contact correction and update in another)
+// reorder work across unknowns, never the operations on one number. So a lane's RunSummary and
+// trace equal simulate()'s bit for bit (tests/batched_simulation_test.cpp), whatever the other
+// lanes do: a lane that goes unstable stops and is zeroed while the others continue, lanes may
+// start stepping at different samples (different free flights) and end at different ones.
+//
+// Per unknown and step (HHT or Newmark with a lumped or consistent mass, no damping, α_m = 0)
+// a lane costs 13 multiplies and 11 adds or subtracts (24 flops) plus one sign flip, and 2 more
+// flops while its contact is closed; no divides (2 per lane and step at the contact node).
+// Damping adds 9, α_m ≠ 0 adds 6 (core/batched_simulation.cpp counts them at the loop).
+//
+// What batches (batchable / same_batch): implicit methods on the single-wall rod scene (no
+// far wall), with no histories requested; lanes of one batch share the rod (elements, length,
+// material, area, mass matrix, damping) and the time step, and may differ in the method and its
+// parameters, the gap, the velocity and the end time. Everything else runs through simulate().
+//
+// Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
+#pragma once
+
+#include <array>
+#include <span>
+#include <vector>
+
+#include "core/method.hpp"
+#include "core/rod_scene.hpp"
+#include "core/simulation.hpp"
+
+namespace impactid {
+
+/// Runs per batch: 8 doubles, one AVX-512 register. The layout is [unknown][lane] whatever
+/// the machine: the kernel is compiled for AVX-512, AVX2 and baseline x86-64 and the best one
+/// the processor supports is chosen at run time (GCC target_clones), so the default build
+/// needs no -march=native; on an AVX2 machine a batch is two registers.
+inline constexpr int kBatchLanes = 16;
+
+/// Whether a run can go through simulate_batch at all: an implicit method, a scene the kernel
+/// knows (single wall: far_gap unset), no histories.
+bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options);
+
+/// Whether two batchable runs can share a batch: the same rod and time step, the same run
+/// options. They may differ in method, gap, velocity and end time.
+bool same_batch(const RodScene& a, const RunOptions& options_a, const RodScene& b,
+                const RunOptions& options_b);
+
+/// Per-thread storage reused from batch to batch (allocation-free once sized).
+/// One unknown's values in every lane of a batch, aligned for one vector load.
+struct alignas(sizeof(double) * kBatchLanes) LaneBlock {
+  double lane[kBatchLanes];
+};
+
+class BatchWorkspace {
+ public:
+  /// Lane k's trace after simulate_batch, as simulate() leaves it in SimulationWorkspace::trace.
+  std::array<ContactTrace, kBatchLanes> traces;
+
+ private:
+  friend void simulate_batch(std::span<const RodScene>, std::span<const MethodParams>,
+                             const RunOptions&, BatchWorkspace&, std::span<RunSummary>);
+  std::vector<LaneBlock> storage_;        // the interleaved [unknown][lane] arrays
+  std::array<State, kBatchLanes> start_;  // each lane's state when it starts stepping
+};
+
+/// Runs scenes[k] with methods[k] for k < scenes.size() (1..kBatchLanes runs, every pair
+/// batchable and every scene same_batch with the first; all valid) and writes summaries[k] and
+/// workspace.traces[k]: the same numbers simulate() gives for that run. wall_time_s is the
+/// batch's time divided by the number of runs in it.
+void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
+                    const RunOptions& options, BatchWorkspace& workspace,
+                    std::span<RunSummary> summaries);
+
+}  // namespace impactid

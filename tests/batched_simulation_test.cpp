@@ -1,0 +1,184 @@
+// simulate_batch(): every lane gives simulate()'s numbers bit for bit (issue 3: a plan point and
+// `impactid simulate` agree exactly, and sweeps run points in batches), whatever the other lanes
+// do; and which runs may share a batch.
+#include "core/batched_simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace impactid {
+namespace {
+
+struct LaneRun {
+  std::string name;
+  RodScene scene;
+  MethodParams method;
+};
+
+// Equal bits, or both NaN (a NaN's sign and payload are not results).
+bool same(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b) ||
+         (std::isnan(a) && std::isnan(b));
+}
+
+void expect_same_samples(const std::vector<double>& batched, const std::vector<double>& scalar,
+                         const std::string& what) {
+  ASSERT_EQ(batched.size(), scalar.size()) << what;
+  for (std::size_t i = 0; i < scalar.size(); ++i) {
+    ASSERT_TRUE(same(batched[i], scalar[i]))
+        << what << " sample " << i + 1 << ": " << batched[i] << " vs " << scalar[i];
+  }
+}
+
+// Runs `runs` as one batch and each alone through simulate(), and compares everything.
+// Returns the scalar summaries, so that callers can check the batch covers what it claims.
+std::vector<RunSummary> expect_batch_equals_scalar(const std::vector<LaneRun>& runs,
+                                                   const RunOptions& options = {}) {
+  std::vector<RodScene> scenes;
+  std::vector<MethodParams> methods;
+  for (const LaneRun& r : runs) {
+    EXPECT_TRUE(batchable(r.scene, r.method, options)) << r.name;
+    EXPECT_TRUE(same_batch(runs[0].scene, options, r.scene, options)) << r.name;
+    scenes.push_back(r.scene);
+    methods.push_back(r.method);
+  }
+  BatchWorkspace batch;
+  std::vector<RunSummary> batched(runs.size());
+  simulate_batch(scenes, methods, options, batch, batched);
+
+  std::vector<RunSummary> scalars;
+  SimulationWorkspace ws;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const std::string& name = runs[k].name;
+    const RunSummary s = simulate(runs[k].scene, runs[k].method, options, ws);
+    const RunSummary& b = batched[k];
+    EXPECT_EQ(b.status, s.status) << name;
+    EXPECT_EQ(b.message, s.message) << name;
+    EXPECT_EQ(b.planned_steps, s.planned_steps) << name;
+    EXPECT_EQ(b.steps, s.steps) << name;
+    EXPECT_EQ(b.skipped_steps, s.skipped_steps) << name;
+    EXPECT_TRUE(same(b.dt, s.dt)) << name;
+    EXPECT_TRUE(same(b.initial_energy, s.initial_energy)) << name;
+    EXPECT_TRUE(same(b.final_energy, s.final_energy))
+        << name << ": " << b.final_energy << " vs " << s.final_energy;
+    EXPECT_TRUE(same(b.max_penetration, s.max_penetration)) << name;
+    expect_same_samples(batch.traces[k].pressure, ws.trace.pressure, name + " pressure");
+    expect_same_samples(batch.traces[k].velocity, ws.trace.velocity, name + " velocity");
+    EXPECT_EQ(batch.traces[k].displacement.size(), ws.trace.displacement.size()) << name;
+    EXPECT_EQ(batch.traces[k].far_pressure.size(), ws.trace.far_pressure.size()) << name;
+    scalars.push_back(s);
+  }
+  return scalars;
+}
+
+// A full batch of every implicit method, one lane unstable, lanes with other gaps (so other
+// free flights, impact times and step counts) and another velocity.
+TEST(BatchedSimulation, EveryLaneEqualsTheScalarRunBitForBit) {
+  RodScene far_gap_scene;
+  far_gap_scene.gap = 0.2;  // 428 free-flight steps instead of 19, 1650 steps instead of 1222
+  RodScene slow;
+  slow.velocity = 300.0;
+  slow.gap = 0.05;
+  RodScene touching;
+  touching.gap = 0.0;  // no free flight at all
+  RodScene short_run;
+  short_run.t_end = 2e-4;  // ends during the contact
+  RodScene away;
+  away.velocity = -500.0;  // never reaches the wall
+  RodScene fast;
+  fast.velocity = 5000.0;
+  const std::vector<LaneRun> runs = {
+      {"hht", RodScene{}, HhtParams{.alpha = -0.3}},
+      {"hht unstable", RodScene{}, HhtParams{.alpha = -0.5, .delta = 0.0}},
+      {"generalized-alpha (alpha_m != 0)", RodScene{}, GeneralizedAlphaParams{.rho_inf = 0.6}},
+      {"newmark, gap 0.2", far_gap_scene, NewmarkParams{.delta = 0.3}},
+      {"backward-euler, slow", slow, BackwardEulerParams{}},
+      {"hht weighted", RodScene{}, HhtParams{.alpha = -0.1, .contact = ContactWeighting::weighted}},
+      {"newmark beta-gamma, gap 0", touching,
+       NewmarkParams{.coefficients = BetaGamma{0.3025, 0.6}}},
+      {"generalized-alpha weighted", RodScene{},
+       GeneralizedAlphaParams{.rho_inf = 0.5, .contact = ContactWeighting::weighted}},
+      {"trapezoidal (chatters, energy grows)", RodScene{}, NewmarkParams{.delta = 0.0}},
+      {"hht eq. 19", RodScene{}, HhtParams{.alpha = -0.5, .delta = 0.75}},
+      {"newmark, short run", short_run, NewmarkParams{.delta = 1.0}},
+      {"hht, moving away", away, HhtParams{.alpha = -0.2}},
+      {"backward-euler", RodScene{}, BackwardEulerParams{}},
+      {"generalized-alpha rho_inf 0", RodScene{}, GeneralizedAlphaParams{.rho_inf = 0.0}},
+      {"hht alpha 0", touching, HhtParams{.alpha = 0.0, .delta = 0.2}},
+      {"newmark, fast", fast, NewmarkParams{.delta = 0.5}},
+  };
+  ASSERT_EQ(runs.size(), static_cast<std::size_t>(kBatchLanes));
+  const std::vector<RunSummary> scalar = expect_batch_equals_scalar(runs);
+  // The batch covers what it claims: one lane stops early while the others run on, and the
+  // lanes start and end at different samples.
+  EXPECT_EQ(scalar[1].status, RunStatus::unstable);
+  EXPECT_LT(scalar[1].steps, scalar[0].steps);
+  EXPECT_EQ(scalar[0].status, RunStatus::ok);
+  EXPECT_NE(scalar[3].skipped_steps, scalar[0].skipped_steps);
+  EXPECT_NE(scalar[3].planned_steps, scalar[0].planned_steps);
+  EXPECT_EQ(scalar[6].skipped_steps, 0);
+}
+
+// Fewer runs than lanes, on a damped rod with a consistent mass (the damping terms and no
+// free-flight skip: mass-proportional damping slows the rod in flight).
+TEST(BatchedSimulation, PartialBatchOnADampedRodEqualsScalarRuns) {
+  RodScene damped;
+  damped.mass = MassMatrix::consistent;
+  damped.rayleigh_mass = 200.0;
+  damped.rayleigh_stiffness = 2e-8;
+  RodScene stiffness_damped;
+  stiffness_damped.rayleigh_stiffness = 2e-8;
+  expect_batch_equals_scalar({
+      {"hht", damped, HhtParams{.alpha = -0.2}},
+      {"generalized-alpha", damped, GeneralizedAlphaParams{.rho_inf = 0.9}},
+      {"newmark", damped, NewmarkParams{.delta = 0.5}},
+  });
+  expect_batch_equals_scalar({{"hht", stiffness_damped, HhtParams{}}});
+}
+
+// Options the scalar path reports as failed fail every lane the same way; a coarse energy check
+// interval and stepped free flight are honoured.
+TEST(BatchedSimulation, RunOptionsAreHonouredLaneByLane) {
+  const std::vector<LaneRun> runs = {
+      {"hht", RodScene{}, HhtParams{}},
+      {"hht unstable", RodScene{}, HhtParams{.alpha = -0.5, .delta = 0.0}},
+  };
+  expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 50,
+                                              .skip_free_flight = false});
+  expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 1});
+  const std::vector<RunSummary> failed =
+      expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 0});
+  EXPECT_EQ(failed[0].status, RunStatus::failed);
+}
+
+TEST(BatchedSimulation, WhatMayShareABatch) {
+  const RunOptions options;
+  EXPECT_TRUE(batchable(RodScene{}, HhtParams{}, options));
+  EXPECT_FALSE(batchable(RodScene{}, CentralDifferenceParams{}, options));
+  EXPECT_FALSE(batchable(RodScene{}, HhtParams{}, RunOptions{.record_history = true}));
+  RodScene two_walls;
+  two_walls.far_gap = 0.1;
+  EXPECT_FALSE(batchable(two_walls, HhtParams{}, options));
+
+  RodScene other_gap;
+  other_gap.gap = 0.3;
+  other_gap.velocity = 10.0;
+  other_gap.t_end = 1e-3;
+  EXPECT_TRUE(same_batch(RodScene{}, options, other_gap, options));
+  RodScene other_rod;
+  other_rod.youngs_modulus = 100.0;  // other matrices and time step
+  EXPECT_FALSE(same_batch(RodScene{}, options, other_rod, options));
+  RodScene other_dt;
+  other_dt.courant = 0.4;
+  EXPECT_FALSE(same_batch(RodScene{}, options, other_dt, options));
+  EXPECT_FALSE(same_batch(RodScene{}, options, RodScene{},
+                          RunOptions{.energy_growth_limit = 2.0}));
+}
+
+}  // namespace
+}  // namespace impactid
