@@ -75,6 +75,14 @@ struct LaneMask {
 }
 [[gnu::always_inline]] inline Lanes operator-(const Lanes& a) { return {-a.lo, -a.hi}; }
 
+// *to = x register by register. An assignment of the whole struct made GCC 12 copy it through
+// the stack in the step loop (a store, a load and a store again), which the stores, the scarcest
+// resource of the step, paid for.
+[[gnu::always_inline]] inline void store(Lanes* to, const Lanes& x) {
+  to->lo = x.lo;
+  to->hi = x.hi;
+}
+
 // A shuffle of lane 0 into every lane of a register: GCC 12 turns both the per-lane loop
 // `out[l] = x` and the initialiser {x, x, …} into one masked broadcast per lane, which made the
 // step loop three times as long; this is one broadcast.
@@ -109,7 +117,8 @@ struct LaneMask {
 // Each lane's copy of the scalar step's constants, computed by the same expressions
 // (ImplicitIntegrator: dt2 * c_.b0 is (Δt·Δt)·b0, c_.b1 * dt2 is b1·(Δt·Δt), …).
 struct LaneCoefficients {
-  Lanes dt, dt2_b0, dt_g0, one_minus_af, af, b1_dt2, g1_dt, minus_am, one_minus_w, w, gap;
+  double dt;  // the same in every lane (same_batch), so one register rather than two
+  Lanes dt2_b0, dt_g0, one_minus_af, af, b1_dt2, g1_dt, minus_am, one_minus_w, w, gap;
   LaneMask mass_term;  // α_m ≠ 0: the scalar step adds −α_m·M·a only then
   // The effective matrix's off-diagonals, the same in every row of the uniform rod: with them
   // the factorisation is one array (the inverse pivots), since TridiagonalFactorization stores
@@ -117,6 +126,13 @@ struct LaneCoefficients {
   // substitution forms again with the same bits. Three arrays a batch would otherwise stream
   // through the cache at every step.
   Lanes lower, upper;
+  // The inverse pivots of rows [tail_begin, n − 1): one value per lane. The pivots of a
+  // uniform rod converge geometrically to a fixed point (each lane's own), which double
+  // precision reaches exactly after a few rows; simulate_batch finds where every lane has
+  // reached it (checked bit for bit, else tail_begin = n − 1). The sweeps then read one array
+  // fewer from the cache at every row but the first few and the last.
+  Lanes tail_pivot, tail_ratio;  // tail_ratio = upper·tail_pivot, as upper_ratio() holds it
+  Eigen::Index tail_begin;
 };
 
 // The rod's matrices (shared by every lane) and the interleaved [unknown][lane] arrays.
@@ -125,9 +141,9 @@ struct LaneArrays {
   const Tridiagonal* stiffness;
   const Tridiagonal* damping;
   const Tridiagonal* mass;
+  double k_lower, k_diag, k_upper;  // the stiffness's interior row, the same in every row
   Lanes *u, *v, *a;            // the state
-  Lanes* rhs;
-  Lanes *inverse_pivot, *influence;  // each lane's factorisation, A⁻¹·e_c
+  Lanes* inverse_pivot;  // each lane's factorisation (rows [tail_begin, n − 1) are tail_pivot)
 };
 
 // A tridiagonal matrix's three diagonals as plain pointers: held in registers across the step
@@ -152,13 +168,13 @@ template <bool kFirst, bool kLast>
 // One implicit step of every lane: ImplicitIntegrator::predict and ::step (single wall), lane
 // by lane the same operations. Returns each lane's λ at t + Δt.
 //
-// Flops per unknown and lane (count them in the two loops below): the predictor 5 mul 4 add
-// (u*, v*, α_f-weighted u), K·u 3 mul 3 add (the product's two adds and the 0 + of
-// Tridiagonal::multiply), the forward sweep 2 mul 1 sub; back substitution 1 mul 1 sub, the
-// update 2 mul 2 add. Total 13 mul + 11 add = 24 flops, plus the sign flip of rhs = −K·u. With
-// the contact closed in some lane, 1 mul 1 sub more (and a blend). Damping: +2 mul 1 add in the
-// predictor, 3 mul 3 add for C·v (9). α_m ≠ 0: 4 mul 2 add (6) and a blend. Divides: 2 per lane
-// and step, at the contact node only.
+// Flops per unknown and lane, without damping and α_m (count them in the loops below). The
+// forward sweep: the predictors u* 2 mul 2 add and v* 1 mul 1 add, the α_f-weighted u 2 mul
+// 1 add, K·u 3 mul 2 add, the elimination 2 mul 1 sub: 17. The back substitution 1 mul 1 sub
+// and the update 2 mul 2 add: 6. Total 12 mul + 11 add = 23 flops, plus the sign flip of
+// rhs = −K·u and, in the first rows only, 1 mul for upper·inverse pivot. The contact costs a
+// few flops at the last row only (2 divides among them). Damping: +2 mul 1 add in the
+// predictor, 3 mul 3 add for C·v (9). α_m ≠ 0: 4 mul 2 add (6) and a blend.
 template <bool kDamping, bool kMassTerm>
 [[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays,
                                                const LaneCoefficients& coefficients,
@@ -172,86 +188,99 @@ template <bool kDamping, bool kMassTerm>
   const Diagonals K(*x.stiffness);
   const Diagonals C(kDamping ? *x.damping : *x.stiffness);
   const Diagonals M(*x.mass);
+  // K's interior rows are one row (checked by simulate_batch): its three values stay in
+  // registers instead of three loads and broadcasts per row.
+  const Lanes k_lower = splat(x.k_lower), k_diag = splat(x.k_diag), k_upper = splat(x.k_upper);
+  const Lanes dt = splat(c.dt);
 
-  // Predictors u*, v* of unknown i, from u, v, a at t. They are not stored: the back
-  // substitution computes them again (the same expressions, the same bits) from u, v, a, which
-  // it reads anyway before overwriting them. Two arrays fewer keep the working set of a batch
-  // closer to the L1 cache, which bounds the step more than these 6 flops do.
-  struct Predicted {
-    Lanes u, v;
-  };
-  const auto predictors = [&](Eigen::Index i, const Lanes& u, const Lanes& v)
-      __attribute__((always_inline)) {
-    const Lanes a = x.a[i];
-    return Predicted{u + c.dt * v + c.dt2_b0 * a, v + c.dt_g0 * a};
-  };
-  // The α_f-weighted u, v (kept in registers, three at a time).
+  // Three arrays per lane, each used twice per step. The forward sweep reads u, v, a at t and
+  // leaves in their place the predictors u*, v* and the forward-swept right-hand side y; the
+  // back substitution turns y into a at t + Δt and u*, v* into u, v. (A separate rhs array, or
+  // predictors computed again from u, v, a, made the step slower: the step is bound by moving
+  // these arrays between the caches about as much as by its arithmetic.)
+  //
+  // The α_f-weighted u, v (kept in registers, three rows at a time), and a for the α_m term.
   struct Weighted {
-    Lanes u, v;
+    Lanes u, v, a;
   };
   const auto predict = [&](Eigen::Index i) __attribute__((always_inline)) {
-    const Lanes u = x.u[i], v = x.v[i];
-    const auto [up, vp] = predictors(i, u, v);
+    const Lanes u = x.u[i], v = x.v[i], a = x.a[i];
+    const Lanes up = u + dt * v + c.dt2_b0 * a;
+    const Lanes vp = v + c.dt_g0 * a;
+    store(&x.u[i], up);
+    store(&x.v[i], vp);
     Weighted w;
     w.u = c.one_minus_af * up + c.af * u;
     if constexpr (kDamping) w.v = c.one_minus_af * vp + c.af * v;
+    if constexpr (kMassTerm) w.a = a;
     return w;
   };
   // rhs = −K·u_w − C·v_w − α_m·M·a − (1−w)·λ·e_c, then the forward sweep of the solve.
   Weighted prev{}, cur = predict(0), next{};
   Lanes eliminated{};
-  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i) __attribute__((always_inline)) {
+  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i, const Lanes& pivot)
+                           __attribute__((always_inline)) {
     if constexpr (!kLast) next = predict(i + 1);
-    Lanes r = 0.0 + row<kFirst, kLast>(K, i, prev.u, cur.u, next.u);
-    r = -r;
+    Lanes r;
+    if constexpr (kFirst || kLast) {
+      r = -row<kFirst, kLast>(K, i, prev.u, cur.u, next.u);
+    } else {
+      r = -((k_lower * prev.u + k_diag * cur.u) + k_upper * next.u);
+    }
     if constexpr (kDamping) r = r + -1.0 * row<kFirst, kLast>(C, i, prev.v, cur.v, next.v);
     if constexpr (kMassTerm) {
-      const Lanes a_prev = kFirst ? Lanes{} : x.a[i - 1];
-      const Lanes a_next = kLast ? Lanes{} : x.a[i + 1];
-      r = select(c.mass_term, r + c.minus_am * row<kFirst, kLast>(M, i, a_prev, x.a[i], a_next), r);
+      r = select(c.mass_term, r + c.minus_am * row<kFirst, kLast>(M, i, prev.a, cur.a, next.a), r);
     }
     if constexpr (kLast) r = r - c.one_minus_w * lambda;
     if constexpr (kFirst) {
-      r = r * x.inverse_pivot[i];
+      r = r * pivot;
     } else {
-      r = (r - c.lower * eliminated) * x.inverse_pivot[i];
+      r = (r - c.lower * eliminated) * pivot;
     }
-    x.rhs[i] = eliminated = r;
+    store(&x.a[i], r);
+    eliminated = r;
     prev = cur;
     cur = next;
   };
-  forward.template operator()<true, false>(0);
-  for (Eigen::Index i = 1; i < last; ++i) forward.template operator()<false, false>(i);
-  forward.template operator()<false, true>(last);
-
-  // The back substitution leaves the last unknown as it is, so the contact test can come first.
-  const Lanes u_free = predictors(last, x.u[last], x.v[last]).u + c.b1_dt2 * x.rhs[last];
-  const LaneMask closes = greater(u_free, c.gap);
-  const bool any_closes = any_lane(closes);
-  Lanes weighted{}, new_lambda{};
-  if (any_closes) {
-    // Force (w·λ) that moves the contact dof from u_free back onto the wall.
-    weighted = (u_free - c.gap) / (c.b1_dt2 * x.influence[last]);
-    new_lambda = select(closes, weighted / c.w, Lanes{});
+  const Eigen::Index tail = c.tail_begin;  // 1 <= tail <= last (n >= 2)
+  forward.template operator()<true, false>(0, x.inverse_pivot[0]);
+  for (Eigen::Index i = 1; i < tail; ++i) {
+    forward.template operator()<false, false>(i, x.inverse_pivot[i]);
   }
-  // Back substitution (on the uncorrected values, as solve_in_place), the contact correction
-  // rhs − weighted·A⁻¹e_c where it closes, and the update.
-  const auto backward = [&]<bool kContact>() __attribute__((always_inline)) {
-    Lanes solved = x.rhs[last];
-    for (Eigen::Index i = last; i >= 0; --i) {
-      if (i < last) solved = x.rhs[i] - (c.upper * x.inverse_pivot[i]) * solved;
-      Lanes r = solved;
-      if constexpr (kContact) r = select(closes, r - weighted * x.influence[i], r);
-      const Predicted p = predictors(i, x.u[i], x.v[i]);
-      x.a[i] = r;
-      x.u[i] = p.u + c.b1_dt2 * r;
-      x.v[i] = p.v + c.g1_dt * r;
-    }
+  for (Eigen::Index i = tail; i < last; ++i) {
+    forward.template operator()<false, false>(i, c.tail_pivot);
+  }
+  forward.template operator()<false, true>(last, x.inverse_pivot[last]);
+
+  // The forward sweep leaves the last unknown final, so the contact test comes first, and the
+  // constraint sets that unknown before the back substitution carries it up the rod: the same
+  // operations as ImplicitIntegrator::step with the contact dof last. A⁻¹·e_c's last entry is the
+  // last inverse pivot, bit for bit (its forward sweep is +0 above the last row and 1·p there).
+  const Lanes u_free = x.u[last] + c.b1_dt2 * x.a[last];
+  const LaneMask closes = greater(u_free, c.gap);
+  Lanes new_lambda{};
+  if (any_lane(closes)) {
+    // Force (w·λ) that moves the contact dof from u_free back onto the wall.
+    const Lanes last_influence = x.inverse_pivot[last];
+    const Lanes weighted = (u_free - c.gap) / (c.b1_dt2 * last_influence);
+    new_lambda = select(closes, weighted / c.w, Lanes{});
+    store(&x.a[last], select(closes, x.a[last] - weighted * last_influence, x.a[last]));
+  }
+  // Back substitution and the update.
+  Lanes solved = x.a[last];
+  const auto backward = [&]<bool kLast>(Eigen::Index i, const Lanes& ratio)
+                            __attribute__((always_inline)) {
+    if constexpr (!kLast) solved = x.a[i] - ratio * solved;
+    store(&x.a[i], solved);
+    store(&x.u[i], x.u[i] + c.b1_dt2 * solved);
+    store(&x.v[i], x.v[i] + c.g1_dt * solved);
   };
-  if (any_closes) {
-    backward.template operator()<true>();
-  } else {
-    backward.template operator()<false>();
+  backward.template operator()<true>(last, Lanes{});
+  for (Eigen::Index i = last - 1; i >= tail; --i) {
+    backward.template operator()<false>(i, c.tail_ratio);
+  }
+  for (Eigen::Index i = tail - 1; i >= 0; --i) {
+    backward.template operator()<false>(i, c.upper * x.inverse_pivot[i]);
   }
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
   x.u[last] = select(greater(new_lambda, Lanes{}), c.gap, x.u[last]);
@@ -277,6 +306,10 @@ struct LaneRun {
   ContactTrace* trace = nullptr;
   long first = 0;  // the first sample it computes (after its free flight)
   long last = -1;  // its last sample
+  // The next sample at which it checks the energy: run_steps checks at every sample i with
+  // (i − first + 1) a multiple of the interval, and at the last. A countdown rather than a
+  // modulo: 2·kBatchLanes integer divisions per step were a tenth of the batch's time.
+  long next_check = 0;
   bool stepping = false;
   double t = 0.0;
   double energy_bound = 0.0;
@@ -329,6 +362,7 @@ template <bool kDamping, bool kMassTerm>
       set_lane(x, l, &start);
       lambda.set(l, start.lambda);
       run.t = start.t;
+      run.next_check = run.first - 1 + b.energy_check_interval;
       run.stepping = true;
     }
     lambda = step_lanes<kDamping, kMassTerm>(x, b.coefficients, lambda);
@@ -337,23 +371,26 @@ template <bool kDamping, bool kMassTerm>
     // checks it at this sample, for every lane at once.
     bool energy_due = false;
     for (const LaneRun& run : b.lanes) {
-      energy_due |= run.stepping && (i == run.last ||
-                                     (i - run.first + 1) % b.energy_check_interval == 0);
+      energy_due |= run.stepping && (i == run.last || i == run.next_check);
     }
     Lanes energy{};
     if (energy_due) {
       energy = 0.5 * quadratic_form(*x.mass, x.v, x.n) +
                0.5 * quadratic_form(*x.stiffness, x.u, x.n);
     }
+    // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
+    const Lanes pressure = lambda / splat(b.area);
+    const Lanes velocity = x.v[c];
     for (int l = 0; l < kBatchLanes; ++l) {
       LaneRun& run = b.lanes[l];
       if (!run.stepping) continue;
       run.t += b.dt;
       RunSummary& summary = *run.summary;
-      run.trace->pressure[i] = lambda[l] / b.area;
-      run.trace->velocity[i] = x.v[c][l];
+      run.trace->pressure[i] = pressure[l];
+      run.trace->velocity[i] = velocity[l];
       summary.steps = i + 1;
-      const bool check = i == run.last || (i - run.first + 1) % b.energy_check_interval == 0;
+      const bool check = i == run.last || i == run.next_check;
+      if (i == run.next_check) run.next_check += b.energy_check_interval;
       if (check) {
         summary.final_energy = energy[l];
         if (!std::isfinite(energy[l])) {
@@ -364,7 +401,7 @@ template <bool kDamping, bool kMassTerm>
                                  " s (bound " + format_value(b.energy_growth_limit) + ")");
         }
       }
-      if (run.stepping && (!std::isfinite(lambda[l]) || !std::isfinite(x.v[c][l]))) {
+      if (run.stepping && (!std::isfinite(lambda[l]) || !std::isfinite(velocity[l]))) {
         stop_unstable(run, "non-finite values at t = " + format_value(run.t) + " s");
       }
       if (run.stepping && i == run.last) run.stepping = false;
@@ -436,8 +473,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   const Eigen::Index n = system.size();
   const double dt = derive(scenes[0]).time_step;
 
-  // The interleaved arrays: state, rhs, inverse pivots, influence.
-  constexpr int kArrays = 6;
+  // The interleaved arrays: state, inverse pivots.
+  constexpr int kArrays = 4;
   ws.storage_.assign(static_cast<std::size_t>(kArrays * n), LaneBlock{});
   Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
   const auto take = [&] {
@@ -451,9 +488,17 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   x.stiffness = &system.stiffness;
   x.damping = system.has_damping() ? &system.damping : nullptr;
   x.mass = &system.mass;
+  const Tridiagonal& K = system.stiffness;
+  x.k_lower = n > 2 ? K.lower[1] : 0.0;
+  x.k_diag = n > 2 ? K.diag[1] : 0.0;
+  x.k_upper = n > 2 ? K.upper[1] : 0.0;
+  bool uniform_stiffness = true;
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    uniform_stiffness = uniform_stiffness && K.lower[i] == x.k_lower && K.diag[i] == x.k_diag &&
+                        K.upper[i] == x.k_upper;
+  }
   x.u = take(), x.v = take(), x.a = take();
-  x.rhs = take();
-  x.inverse_pivot = take(), x.influence = take();
+  x.inverse_pivot = take();
   b.start = &ws.start_;
   b.area = scenes[0].area;
   b.dt = dt;
@@ -461,6 +506,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   b.energy_growth_limit = options.energy_growth_limit;
   LaneCoefficients& k = b.coefficients;
   k.gap = splat(kInf);  // unused lanes never touch a wall
+  k.dt = dt;
+  k.tail_begin = 1;      // raised to where the slowest lane's pivots have converged
 
   const bool options_valid = options.energy_check_interval >= 1 && options.energy_growth_limit > 1.0;
   for (int l = 0; l < count; ++l) {
@@ -490,7 +537,16 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     state.u.setZero(n);
     state.v.setConstant(n, scene.velocity);
     state.lambda = state.far_lambda = state.t = 0.0;
-    state.a = consistent_acceleration(system, state);
+    // M·a = −K·u − C·v at u = 0 depends on the lane only through v0: lanes of one velocity
+    // (a sweep's usual case) share one solve, bit for bit the same.
+    int same_velocity = -1;
+    for (int earlier = 0; earlier < l && same_velocity < 0; ++earlier) {
+      if (scenes[static_cast<std::size_t>(earlier)].velocity == scene.velocity) {
+        same_velocity = earlier;
+      }
+    }
+    state.a = same_velocity < 0 ? consistent_acceleration(system, state)
+                                : ws.start_[static_cast<std::size_t>(same_velocity)].a;
     summary.initial_energy = summary.final_energy = system.energy(state.u, state.v);
     const long skipped = free_flight_samples(scene, derived, options);
     std::fill_n(trace.pressure.begin(), skipped, 0.0);
@@ -514,9 +570,6 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
       continue;
     }
-    Eigen::VectorXd influence = Eigen::VectorXd::Zero(n);
-    influence[system.contact_dof] = 1.0;
-    factorization.solve_in_place(influence);
     // The rod is uniform, so every row has the same off-diagonals (bit for bit: each is the
     // same expression of the same element). Checked, not assumed: the kernel relies on it.
     const double lower = n > 1 ? effective.lower[1] : 0.0;
@@ -526,19 +579,23 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
       uniform = uniform && effective.lower[i] == lower && effective.upper[i - 1] == upper &&
                 factorization.upper_ratio()[i - 1] == upper * factorization.inverse_pivot()[i - 1];
     }
-    if (!uniform) {
+    if (!uniform || !uniform_stiffness) {
       summary.status = RunStatus::failed;
-      summary.message = "batched kernel: the effective matrix is not uniform along the rod";
+      summary.message = "batched kernel: the stiffness or the effective matrix is not uniform along the rod";
       continue;
     }
     k.lower.set(l, lower);
     k.upper.set(l, upper);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      x.inverse_pivot[i].set(l, factorization.inverse_pivot()[i]);
-      x.influence[i].set(l, influence[i]);
-    }
+    const Eigen::VectorXd& pivot = factorization.inverse_pivot();
+    for (Eigen::Index i = 0; i < n; ++i) x.inverse_pivot[i].set(l, pivot[i]);
+    // The first row from which the pivots of rows up to n − 2 are one value, bit for bit.
+    Eigen::Index converged = n - 1;
+    while (converged > 1 && pivot[converged - 1] == pivot[n - 2]) --converged;
+    const double tail_pivot = n > 2 ? pivot[n - 2] : 0.0;
+    k.tail_pivot.set(l, tail_pivot);
+    k.tail_ratio.set(l, upper * tail_pivot);
+    k.tail_begin = std::max(k.tail_begin, converged);
     const double dt2 = dt * dt;
-    k.dt.set(l, dt);
     k.dt2_b0.set(l, dt2 * co.b0);
     k.dt_g0.set(l, dt * co.g0);
     k.one_minus_af.set(l, 1.0 - co.alpha_f);

@@ -22,8 +22,10 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
     far_influence_ = Eigen::VectorXd::Zero(n);
     far_influence_[system.far_contact_dof] = 1.0;
     factorization_.solve_in_place(far_influence_);
+    contact_free_.resize(n);
   } else {
     far_influence_.resize(0);
+    contact_free_.resize(0);
   }
   u_predicted_.resize(n);
   v_predicted_.resize(n);
@@ -53,7 +55,7 @@ void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
   if (s.far_lambda != 0.0) {
     rhs_[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
   }
-  factorization_.solve_in_place(rhs_);
+  factorization_.forward_in_place(rhs_);
 }
 
 bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
@@ -63,16 +65,24 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   const double dt = dt_, dt2 = dt * dt;
   const Eigen::Index contact = system.contact_dof;
 
+  const bool contact_is_last = contact == n - 1;
+  if (!contact_is_last) factorization_.backward_in_place(rhs_);
   double lambda = 0.0;
   if (system.has_contact()) {
+    // With the contact dof last, rhs_[contact] is final after the forward sweep.
     const double u_free = u_predicted_[contact] + c_.b1 * dt2 * rhs_[contact];
     if (u_free > system.gap) {
       // Force (w·λ) that moves the contact dof from u_free back onto the wall.
       const double weighted = (u_free - system.gap) / (c_.b1 * dt2 * contact_influence_[contact]);
-      rhs_ -= weighted * contact_influence_;
+      if (contact_is_last) {
+        rhs_[contact] -= weighted * contact_influence_[contact];
+      } else {
+        rhs_ -= weighted * contact_influence_;
+      }
       lambda = weighted / c_.contact_weight;
     }
   }
+  if (contact_is_last) factorization_.backward_in_place(rhs_);
   for (Eigen::Index i = 0; i < n; ++i) {
     s.a[i] = rhs_[i];
     s.u[i] = u_predicted_[i] + c_.b1 * dt2 * rhs_[i];
@@ -87,20 +97,30 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
 
 bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& s) {
   predict(system, s);
+  contact_free_ = rhs_;  // the same size: no allocation
+  factorization_.backward_in_place(contact_free_);
   const Eigen::Index n = system.size();
   const double dt = dt_, dt2 = dt * dt;
   const Eigen::Index contact = system.contact_dof, far = system.far_contact_dof;
 
   // Penetrations of the contact-free prediction, and what a unit weighted force does to them.
   const double k = c_.b1 * dt2;
-  const double p_main = u_predicted_[contact] + k * rhs_[contact] - system.gap;
-  const double p_far = -system.far_gap - (u_predicted_[far] + k * rhs_[far]);
+  const double p_main = u_predicted_[contact] + k * contact_free_[contact] - system.gap;
+  const double p_far = -system.far_gap - (u_predicted_[far] + k * contact_free_[far]);
   const TwoWallForces forces =
       solve_two_wall_contact(p_main, p_far, k * contact_influence_[contact],
                              k * far_influence_[far], k * far_influence_[contact],
                              k * contact_influence_[far]);
-  if (forces.main > 0.0) rhs_ -= forces.main * contact_influence_;
-  if (forces.far > 0.0) rhs_ += forces.far * far_influence_;
+  if (forces.far == 0.0 && contact == n - 1) {
+    // The far wall idle: step()'s operations exactly, so that a far wall never reached changes
+    // no bit of a run.
+    if (forces.main > 0.0) rhs_[contact] -= forces.main * contact_influence_[contact];
+    factorization_.backward_in_place(rhs_);
+  } else {
+    rhs_ = contact_free_;
+    if (forces.main > 0.0) rhs_ -= forces.main * contact_influence_;
+    if (forces.far > 0.0) rhs_ += forces.far * far_influence_;
+  }
   for (Eigen::Index i = 0; i < n; ++i) {
     s.a[i] = rhs_[i];
     s.u[i] = u_predicted_[i] + c_.b1 * dt2 * rhs_[i];

@@ -6,7 +6,12 @@
 //   2. if the contact dof would penetrate (u_c > gap), solve for the λ₁ > 0 that puts it on the
 //      wall, a₁ = a₁* − w·λ₁·A⁻¹·e_c; otherwise λ₁ = 0 (a tensile λ is released).
 // The effective matrix A is constant, so it is factored once in initialize() together with the
-// contact influence vector A⁻¹·e_c, and every step is O(n) with no allocation.
+// contact influence vector A⁻¹·e_c, and every step is O(n) with no allocation. When the contact
+// dof is the last unknown (the rod's wall end), step 2 costs nothing extra: the forward sweep of
+// the solve already gives a₁*'s last entry, the contact sets that entry, and one back
+// substitution then yields a₁ — which is a₁* − w·λ₁·A⁻¹·e_c, since the back substitution is
+// linear and A⁻¹·e_c's forward sweep is zero above the last row. The batched kernel
+// (core/batched_simulation.cpp) repeats exactly these operations.
 //
 // With a far wall (SecondOrderSystem::has_far_contact) the step solves the two-constraint
 // problem of core/two_wall_contact.hpp instead, with A⁻¹·e_far also factored in initialize();
@@ -37,7 +42,8 @@ class ImplicitIntegrator {
   bool step(const SecondOrderSystem& system, State& state);
 
  private:
-  /// Predictors and the contact-free acceleration (left in rhs_), from the state at t.
+  /// Predictors and the contact-free right-hand side, forward-swept (left in rhs_: its last
+  /// entry is the last unknown of the contact-free acceleration; backward_in_place completes it).
   void predict(const SecondOrderSystem& system, State& state);
   bool step_two_walls(const SecondOrderSystem& system, State& state);
 
@@ -47,6 +53,7 @@ class ImplicitIntegrator {
   Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
   Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
   Eigen::VectorXd u_predicted_, v_predicted_, rhs_;
+  Eigen::VectorXd contact_free_;  // the contact-free acceleration (two walls only)
 };
 
 /// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with

@@ -21,8 +21,19 @@ Tridiagonal Tridiagonal::combined(double a, const Tridiagonal& other, double b) 
 }
 
 void Tridiagonal::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  y.setZero();
-  multiply_add(1.0, x, y);
+  // Written out rather than y = 0, y += 1·A·x: the same values without the two no-op flops per
+  // row, which the batched kernel (core/batched_simulation.cpp) would have to repeat to stay
+  // bit-identical.
+  const Eigen::Index n = size();
+  if (n == 1) {
+    y[0] = diag[0] * x[0];
+    return;
+  }
+  y[0] = diag[0] * x[0] + upper[0] * x[1];
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    y[i] = lower[i] * x[i - 1] + diag[i] * x[i] + upper[i] * x[i + 1];
+  }
+  y[n - 1] = lower[n - 1] * x[n - 2] + diag[n - 1] * x[n - 1];
 }
 
 void Tridiagonal::multiply_add(double s, const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
@@ -81,13 +92,22 @@ bool TridiagonalFactorization::factor(const Tridiagonal& a) {
 }
 
 void TridiagonalFactorization::solve_in_place(Eigen::VectorXd& b) const {
+  forward_in_place(b);
+  backward_in_place(b);
+}
+
+void TridiagonalFactorization::forward_in_place(Eigen::VectorXd& b) const {
   const Eigen::Index n = inverse_pivot_.size();
   b[0] *= inverse_pivot_[0];
   for (Eigen::Index i = 1; i < n; ++i) {
     b[i] = (b[i] - lower_[i] * b[i - 1]) * inverse_pivot_[i];
   }
+}
+
+void TridiagonalFactorization::backward_in_place(Eigen::VectorXd& y) const {
+  const Eigen::Index n = inverse_pivot_.size();
   for (Eigen::Index i = n - 2; i >= 0; --i) {
-    b[i] -= upper_ratio_[i] * b[i + 1];
+    y[i] -= upper_ratio_[i] * y[i + 1];
   }
 }
 

@@ -42,8 +42,15 @@ class TridiagonalFactorization {
  public:
   /// Returns false (and leaves the object unusable) if a pivot is zero or not finite.
   bool factor(const Tridiagonal& a);
-  /// Solves A·x = b in place (b becomes x). No allocation.
+  /// Solves A·x = b in place (b becomes x). No allocation. The same as forward_in_place
+  /// followed by backward_in_place.
   void solve_in_place(Eigen::VectorXd& b) const;
+  /// The forward sweep alone: b becomes y with U·x = y (U the upper factor, unit diagonal). Its
+  /// last entry is already x's last: a caller may change it (a constraint on the last unknown)
+  /// before backward_in_place completes the solve.
+  void forward_in_place(Eigen::VectorXd& b) const;
+  /// The back substitution alone: y becomes x.
+  void backward_in_place(Eigen::VectorXd& y) const;
   Eigen::Index size() const { return inverse_pivot_.size(); }
   /// The stored factors, for solvers that lay them out differently (core/batched_simulation):
   /// solve_in_place is b₀ ·= p₀, bᵢ = (bᵢ − lᵢ·bᵢ₋₁)·pᵢ, then bᵢ −= rᵢ·bᵢ₊₁ with l = lower(),

@@ -121,7 +121,8 @@ TEST(PeakCount, UlpWobbleOnAPlateauCountsThePlateauOnce) {
 // count_peaks() finds the bases with two stack passes (O(n)); the rule's definition scans from
 // each peak to its nearer higher samples (peak_prominence, O(n) per peak). They must agree on
 // every signal: random ones with few distinct values (ties, plateaus, equal summits on both
-// sides) and every threshold between the prominences that occur.
+// sides) and every threshold between the prominences that occur, and slow ramps with a ripple
+// below the threshold, where the bases lie hundreds of samples from their peaks.
 long peaks_by_definition(const std::vector<double>& x, double min_prominence) {
   long count = 0;
   std::size_t i = 1;
@@ -158,6 +159,29 @@ TEST(PeakCount, StackPassesEqualTheDefinitionOnRandomSignals) {
     }
   }
   EXPECT_GT(compared_peaks, 10000);  // the comparison saw peaks, not empty signals
+}
+
+TEST(PeakCount, LongScansEqualTheDefinitionOnRampsWithRipple) {
+  // A rising, then falling ramp of slope 1e-3 per sample with a random ripple of up to 1e-2:
+  // at the larger thresholds every ripple peak is hundreds of samples from a sample that far
+  // below it, at the smaller ones most are decided next to the peak.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> ripple(0.0, 1e-2);
+  long compared_peaks = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<double> x(400 + 5 * static_cast<std::size_t>(trial));
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double ramp = static_cast<double>(std::min(i, x.size() - i)) * 1e-3;
+      x[i] = ramp + ripple(rng);
+    }
+    for (const double threshold : {1e-3, 5e-3, 0.05, 0.2, 0.5}) {
+      const long expected = peaks_by_definition(x, threshold);
+      ASSERT_EQ(count_peaks(x, threshold), expected) << "trial " << trial << ", threshold "
+                                                     << threshold;
+      compared_peaks += expected;
+    }
+  }
+  EXPECT_GT(compared_peaks, 10000);
 }
 
 }  // namespace
