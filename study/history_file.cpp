@@ -82,6 +82,12 @@ void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& co
         file.attribute("/", info.name, *value);
       }
     }
+    if (std::holds_alternative<GeneralizedAlphaParams>(simulation.method)) {
+      // Derived from rho_inf, as beta and gamma are (impactid simulate --json prints them too).
+      const ImplicitCoefficients c = implicit_coefficients(simulation.method);
+      file.attribute("/", "alpha_m", c.alpha_m);
+      file.attribute("/", "alpha_f", c.alpha_f);
+    }
     const Hdf5Dims dims{columns[0].values.size()};
     for (const Column& c : columns) {
       file.dataset(c.name, c.values, dims);
@@ -104,6 +110,12 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
   if (ext != ".csv" && ext != ".h5" && ext != ".hdf5") {
     throw HistoryFileError(path.string() +
                            ": unknown history format (use a .csv, .h5 or .hdf5 extension)");
+  }
+  // A missing folder is created, for either format (as results files are).
+  if (path.has_parent_path()) {
+    std::error_code ec;
+    std::filesystem::create_directories(path.parent_path(), ec);
+    if (ec) throw HistoryFileError(path.parent_path().string() + ": " + ec.message());
   }
   const std::vector<Column> columns = history_columns(simulation.scene, trace);
   if (ext == ".csv") {

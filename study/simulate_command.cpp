@@ -37,6 +37,10 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   }
   if (const auto* p = std::get_if<GeneralizedAlphaParams>(&sim.method)) {
     json.key("hht_contact").value(to_string(p->contact));
+    // Derived from rho_inf (Chung & Hulbert 1993), as beta and gamma are.
+    const ImplicitCoefficients c = implicit_coefficients(sim.method);
+    json.key("alpha_m").value(c.alpha_m);
+    json.key("alpha_f").value(c.alpha_f);
   }
   json.end_object();
   json.key("dt").value(e.summary.dt);
@@ -73,6 +77,10 @@ void write_text(const Simulation& sim, const Evaluation& e) {
       sep = ", ";
     }
   }
+  if (std::holds_alternative<GeneralizedAlphaParams>(sim.method)) {
+    const ImplicitCoefficients c = implicit_coefficients(sim.method);
+    std::printf(", alpha_m = %.6g, alpha_f = %.6g", c.alpha_m, c.alpha_f);
+  }
   std::printf("%s\n", *sep == ',' ? ")" : "");
   std::printf("scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
               "v0 = %g mm/s, gap = %g mm, %s mass\n",
@@ -83,6 +91,13 @@ void write_text(const Simulation& sim, const Evaluation& e) {
               d.end_time);
   std::printf("status      %s%s%s\n", to_string(e.summary.status),
               e.summary.message.empty() ? "" : ": ", e.summary.message.c_str());
+  if (e.summary.status != RunStatus::ok) {
+    // The indicators of a run that did not finish are not results (NaN in JSON and in files).
+    std::printf("indicators  none: the run is %s after %ld of %ld steps\n",
+                to_string(e.summary.status), e.summary.steps, e.summary.planned_steps);
+    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    return;
+  }
   const Indicators& i = e.indicators;
   std::printf("pressure    eps_p = %.6g   NoP_p = %g   p_max = %.6g MPa (%.4g x rho*c*v0)\n",
               i.eps_p, i.nop_p, i.p_max, i.p_max_ratio);

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -90,10 +91,33 @@ TEST(CommandLine, UnstableRunReportsNullIndicators) {
   ASSERT_EQ(out.status, 0) << out.text;
   EXPECT_NE(out.text.find("\"status\":\"unstable\""), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("\"eps_p\":null"), std::string::npos) << out.text;
+  // The text form says there are no indicators instead of printing "nan" as if it were one.
+  const Output text = run("simulate --method cdm --courant 1.5");
+  ASSERT_EQ(text.status, 0) << text.text;
+  EXPECT_NE(text.text.find("indicators  none: the run is unstable after"), std::string::npos)
+      << text.text;
+  EXPECT_EQ(text.text.find("nan"), std::string::npos) << text.text;
+}
+
+// Generalized-α's α_m and α_f follow from ρ∞ (Chung & Hulbert 1993, eq. 25):
+// α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1); the JSON reports them beside β and γ.
+TEST(CommandLine, JsonReportsGeneralizedAlphaWeights) {
+  const Output out = run("simulate --method generalized-alpha --rho-inf 0.5 --elements 20 --json");
+  ASSERT_EQ(out.status, 0) << out.text;
+  const auto field = [&](const std::string& key) {
+    const auto at = out.text.find("\"" + key + "\":");
+    EXPECT_NE(at, std::string::npos) << key;
+    return at == std::string::npos ? 0.0 : std::stod(out.text.substr(at + key.size() + 3));
+  };
+  EXPECT_NEAR(field("alpha_m"), 0.0, 1e-15);     // (2·0.5 − 1)/1.5
+  EXPECT_NEAR(field("alpha_f"), 1.0 / 3.0, 1e-15);  // 0.5/1.5
 }
 
 TEST(CommandLine, HistoryCsvHasOneRowPerSample) {
-  const std::string path = ::testing::TempDir() + "impactid_history.csv";
+  // In a folder that does not exist yet: it is created, as for .h5 files and results.
+  const std::string folder = ::testing::TempDir() + "impactid_history_folder";
+  std::filesystem::remove_all(folder);
+  const std::string path = folder + "/impactid_history.csv";
   const Output out = run("simulate --method backward-euler --elements 20 --history " + path);
   ASSERT_EQ(out.status, 0) << out.text;
   std::ifstream in(path);
