@@ -42,7 +42,9 @@ constexpr std::array<IndicatorInfo, 12> kIndicators{{
      "with a far wall (far_gap): largest penetration of either wall by its contact node over the "
      "samples (<= 0: none); NaN without one",
      [](Evaluation& e) -> double& { return e.indicators.max_penetration; }},
-    {"wall_time_s", "s", "wall-clock time of the simulation (set-up and stepping)",
+    {"wall_time_s", "s",
+     "wall-clock time of the simulation (set-up and stepping); points run together in the "
+     "batched kernel share the batch's time divided by its runs",
      [](Evaluation& e) -> double& { return e.summary.wall_time_s; }},
 }};
 
