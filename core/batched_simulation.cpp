@@ -92,7 +92,6 @@ struct LaneMask {
   static_assert(kRegisterLanes == 8, "splat() names one index per lane of a register");
   return {all, all};
 }
-[[gnu::always_inline]] inline Lanes operator+(double a, const Lanes& b) { return splat(a) + b; }
 [[gnu::always_inline]] inline Lanes operator*(double a, const Lanes& b) { return splat(a) * b; }
 
 // a > b lane by lane. Written per lane: GCC 12 fails (internal compiler error in

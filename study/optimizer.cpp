@@ -61,8 +61,10 @@ class Problem {
     const std::size_t row = results_.status.size();
     if (!replay(x, row)) compute(x, row);
     last_ = row;
-    if (options_.progress) options_.progress(static_cast<long>(row + 1),
-                                             plan_.optimize.max_evaluations, best_objective_);
+    if (options_.progress) {
+      options_.progress(static_cast<long>(row + 1), plan_.optimize.max_evaluations, unstable_,
+                        best_objective_);
+    }
     if (options_.checkpoint &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_)
                 .count() >= options_.checkpoint_seconds) {

@@ -30,7 +30,9 @@ inline constexpr double kPenalty = 1e10;
 struct OptimizeOptions {
   double checkpoint_seconds = 10.0;
   std::function<void(const StudyResults&)> checkpoint;
-  std::function<void(long evaluations, long max_evaluations, double best)> progress;
+  /// After each evaluation: evaluations so far (replayed ones included), the budget, the
+  /// evaluations whose status is not ok, and the best feasible objective (NaN before one).
+  std::function<void(long evaluations, long max_evaluations, long unstable, double best)> progress;
   const std::atomic<bool>* stop = nullptr;
   const StudyResults* previous = nullptr;  ///< a file to resume from
 };

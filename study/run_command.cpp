@@ -459,8 +459,8 @@ int run_plan(const RunArguments& args) {
       OptimizeOptions options;
       options.checkpoint_seconds = plan.output.checkpoint_seconds;
       options.checkpoint = [&](const StudyResults& r) { save(r, elapsed()); };
-      options.progress = [&](long done, long max, double) {
-        progress.update(done, max, 0, elapsed());
+      options.progress = [&](long done, long max, long unstable, double) {
+        progress.update(done, max, unstable, elapsed());
       };
       options.stop = &g_stop_requested;
       options.previous = previous ? &*previous : nullptr;

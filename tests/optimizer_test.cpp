@@ -107,7 +107,7 @@ TEST(Optimizer, ResumeReplaysRecordedEvaluations) {
   // A first run stopped after 5 evaluations, then resumed from its table.
   std::atomic<bool> stop{false};
   OptimizeOptions first_options;
-  first_options.progress = [&](long done, long, double) {
+  first_options.progress = [&](long done, long, long, double) {
     if (done >= 5) stop.store(true);
   };
   first_options.stop = &stop;
