@@ -218,16 +218,18 @@ int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) 
   return 0;
 }
 
-// Reads an existing results file; a file that exists but cannot be read is never overwritten.
-std::optional<StudyResults> existing_results(const std::filesystem::path& output, bool& unreadable,
-                                             std::string& error) {
+// Reads an existing results file; a file that exists but cannot be read is never overwritten
+// (`unreadable`, and the reason on stderr).
+std::optional<StudyResults> existing_results(const std::filesystem::path& output, bool& unreadable) {
   unreadable = false;
   if (!std::filesystem::exists(output)) return std::nullopt;
   try {
     return read_results(output);
   } catch (const std::exception& e) {
     unreadable = true;
-    error = e.what();
+    std::cerr << "impactid run: " << e.what() << "\nimpactid run: " << output.string()
+              << " exists but is not a readable impactid results file; it was left untouched "
+                 "(remove it, or choose another file with --output)\n";
     return std::nullopt;
   }
 }
@@ -311,14 +313,8 @@ class ProgressLine {
 int run_work_precision_plan(const Plan& plan, const RunArguments& args,
                             const std::filesystem::path& output) {
   bool unreadable = false;
-  std::string read_error;
-  std::optional<StudyResults> previous = existing_results(output, unreadable, read_error);
-  if (unreadable) {
-    std::cerr << "impactid run: " << read_error << "\nimpactid run: " << output.string()
-              << " exists but is not a readable impactid results file; it was left untouched "
-                 "(remove it, or choose another file with --output)\n";
-    return kExitFailure;
-  }
+  std::optional<StudyResults> previous = existing_results(output, unreadable);
+  if (unreadable) return kExitFailure;
   StudyResults results = empty_work_precision_results(plan);
   if (args.resume && previous) {
     bool same = previous->plan_text == plan.text &&
@@ -406,14 +402,8 @@ int run_plan(const RunArguments& args) {
   if (plan.kind == StudyKind::spectral) return run_spectral(plan, args, output, threads);
 
   bool unreadable = false;
-  std::string read_error;
-  std::optional<StudyResults> previous = existing_results(output, unreadable, read_error);
-  if (unreadable) {
-    std::cerr << "impactid run: " << read_error << "\nimpactid run: " << output.string()
-              << " exists but is not a readable impactid results file; it was left untouched "
-                 "(remove it, or choose another file with --output)\n";
-    return kExitFailure;
-  }
+  std::optional<StudyResults> previous = existing_results(output, unreadable);
+  if (unreadable) return kExitFailure;
   if (args.resume && previous && previous->plan_text != plan.text) {
     std::cerr << "impactid run: --resume: " << output.string()
               << " was written by a different plan (the plan text differs); it was left "
