@@ -51,6 +51,9 @@ struct __attribute__((may_alias)) Lanes {
 struct LaneMask {
   MaskRegister lo, hi;
 
+  bool operator[](int l) const {
+    return (l < kRegisterLanes ? lo[l] : hi[l - kRegisterLanes]) != 0;
+  }
   void set(int l, bool on) {
     if (l < kRegisterLanes) {
       lo[l] = on ? -1 : 0;
@@ -286,17 +289,24 @@ template <bool kDamping, bool kMassTerm>
   return new_lambda;
 }
 
-// ½·vᵀMv + ½·uᵀKu of every lane, summed in Tridiagonal::quadratic_form's order.
-[[gnu::always_inline]] inline Lanes quadratic_form(const Tridiagonal& m, const Lanes* x,
-                                                   Eigen::Index n) {
-  Lanes sum{};
+// ½·vᵀMv + ½·uᵀKu of every lane, each form summed in Tridiagonal::quadratic_form's order (as
+// SecondOrderSystem::energy). The two sums share one loop: each is a chain of dependent adds,
+// and side by side they overlap.
+[[gnu::always_inline]] inline Lanes lane_energy(const Tridiagonal& m, const Lanes* v,
+                                                 const Tridiagonal& k, const Lanes* u, Eigen::Index n) {
+  const auto row = [n](const Tridiagonal& a, const Lanes* x, Eigen::Index i)
+      __attribute__((always_inline)) {
+    Lanes r = splat(a.diag[i]) * x[i];
+    if (i > 0) r = r + splat(a.lower[i]) * x[i - 1];
+    if (i + 1 < n) r = r + splat(a.upper[i]) * x[i + 1];
+    return r;
+  };
+  Lanes kinetic{}, strain{};
   for (Eigen::Index i = 0; i < n; ++i) {
-    Lanes r = splat(m.diag[i]) * x[i];
-    if (i > 0) r = r + splat(m.lower[i]) * x[i - 1];
-    if (i + 1 < n) r = r + splat(m.upper[i]) * x[i + 1];
-    sum = sum + x[i] * r;
+    kinetic = kinetic + v[i] * row(m, v, i);
+    strain = strain + u[i] * row(k, u, i);
   }
-  return sum;
+  return 0.5 * kinetic + 0.5 * strain;
 }
 
 // What run_steps in core/simulation.cpp keeps for one run, per lane.
@@ -374,8 +384,7 @@ template <bool kDamping, bool kMassTerm>
     }
     Lanes energy{};
     if (energy_due) {
-      energy = 0.5 * quadratic_form(*x.mass, x.v, x.n) +
-               0.5 * quadratic_form(*x.stiffness, x.u, x.n);
+      energy = lane_energy(*x.mass, x.v, *x.stiffness, x.u, x.n);
     }
     // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
     const Lanes pressure = lambda / splat(b.area);
@@ -436,6 +445,90 @@ long free_flight_samples(const RodScene& scene, const RodSceneDerived& d,
   }
   return std::clamp(static_cast<long>(std::floor(d.impact_time / d.time_step) - 2.0), 0L,
                     d.step_count);
+}
+
+// True when a's off-diagonals are one value each (lower in rows 1..n−1, upper in rows
+// 0..n−2), as on a uniform rod: then so are those of any combination of such matrices.
+bool uniform_off_diagonals(const Tridiagonal& a) {
+  const Eigen::Index n = a.size();
+  for (Eigen::Index i = 1; i < n; ++i) {
+    if (a.lower[i] != a.lower[1] || a.upper[i - 1] != a.upper[0]) return false;
+  }
+  return true;
+}
+
+// The weights of each lane's effective matrix (1 − α_m)·M + (1 − α_f)·b1·Δt²·K [+ (1 − α_f)·
+// g1·Δt·C].
+struct EffectiveWeights {
+  Lanes mass, stiffness, damping;
+};
+
+// Every `factored` lane's effective matrix and its factorisation at once: lane by lane the
+// operations of Tridiagonal::combined and TridiagonalFactorization::factor, as
+// ImplicitIntegrator::initialize does them, so the inverse pivots are the same bits; the
+// serial divides of 16 factorisations become those of one. Sets the factorisation's
+// coefficients of b; a lane whose matrix is singular, or every lane when the rod is not uniform,
+// is marked failed and does not run.
+void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams> methods,
+                  const EffectiveWeights& w, const LaneMask& factored, bool uniform_stiffness,
+                  Batch& b) {
+  const Tridiagonal& M = system.mass;
+  const Tridiagonal& K = system.stiffness;
+  const Tridiagonal& C = system.damping;
+  const bool damping = system.has_damping();
+  const Eigen::Index n = system.size();
+  // Row i of mass.combined(w.mass, stiffness, w.stiffness)[.combined(1, damping, w.damping)].
+  const auto effective = [&](const Eigen::VectorXd& m, const Eigen::VectorXd& k,
+                             const Eigen::VectorXd& c, Eigen::Index i) {
+    Lanes e = w.mass * splat(m[i]) + w.stiffness * splat(k[i]);
+    if (damping) e = e + w.damping * splat(c[i]);  // combined(1.0, …): 1·e is e
+    return e;
+  };
+  // The kernel takes one lower and one upper value per lane: checked, not assumed.
+  const bool uniform = uniform_stiffness && uniform_off_diagonals(M) && uniform_off_diagonals(K) &&
+                       (!damping || uniform_off_diagonals(C));
+  const Lanes lower = effective(M.lower, K.lower, C.lower, 1);
+  const Lanes upper = effective(M.upper, K.upper, C.upper, 0);
+  std::array<bool, kBatchLanes> singular{};
+  const LaneArrays& x = b.arrays;
+  Lanes ratio{};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Lanes pivot = effective(M.diag, K.diag, C.diag, i);
+    pivot = i > 0 ? pivot - lower * ratio : pivot - Lanes{};
+    const Lanes inverse = splat(1.0) / pivot;
+    for (int l = 0; l < kBatchLanes; ++l) {
+      singular[l] = singular[l] || pivot[l] == 0.0 || !std::isfinite(pivot[l]);
+    }
+    store(&x.inverse_pivot[i], select(factored, inverse, Lanes{}));
+    ratio = i + 1 < n ? upper * inverse : Lanes{};
+  }
+  LaneCoefficients& k = b.coefficients;
+  k.lower = lower;
+  k.upper = upper;
+  for (int l = 0; l < kBatchLanes; ++l) {
+    if (!factored[l]) continue;
+    LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
+    if (singular[l] || !uniform) {
+      run.summary->status = RunStatus::failed;
+      run.summary->message =
+          !uniform ? "batched kernel: the mass, the stiffness or the damping is not uniform "
+                     "along the rod"
+                   : std::string(to_string(kind_of(methods[static_cast<std::size_t>(l)]))) +
+                         ": singular effective matrix";
+      run = LaneRun{};
+      for (Eigen::Index i = 0; i < n; ++i) x.inverse_pivot[i].set(l, 0.0);
+      continue;
+    }
+    // The first row from which the pivots of rows up to n − 2 are one value, bit for bit.
+    Eigen::Index converged = n - 1;
+    while (converged > 1 && x.inverse_pivot[converged - 1][l] == x.inverse_pivot[n - 2][l]) {
+      --converged;
+    }
+    const double tail_pivot = n > 2 ? x.inverse_pivot[n - 2][l] : 0.0;
+    k.tail_pivot.set(l, tail_pivot);
+    k.tail_ratio.set(l, upper[l] * tail_pivot);
+    k.tail_begin = std::max(k.tail_begin, converged);
+  }
 }
 
 }  // namespace
@@ -509,6 +602,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   k.tail_begin = 1;      // raised to where the slowest lane's pivots have converged
 
   const bool options_valid = options.energy_check_interval >= 1 && options.energy_growth_limit > 1.0;
+  Lanes mass_weight{}, stiffness_weight{}, damping_weight{};
+  LaneMask factored{};  // the lanes whose effective matrix is to be factored
   for (int l = 0; l < count; ++l) {
     const RodScene& scene = scenes[static_cast<std::size_t>(l)];
     const MethodParams& method = methods[static_cast<std::size_t>(l)];
@@ -556,44 +651,13 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     }
     summary.steps = summary.skipped_steps = skipped;
 
-    // The lane's effective matrix and factorisation, as ImplicitIntegrator::initialize.
+    // The weights of the lane's effective matrix, as ImplicitIntegrator::initialize; the
+    // matrix and its factorisation follow for every lane at once, below.
     const ImplicitCoefficients co = implicit_coefficients(method);
-    const double k_weight = (1.0 - co.alpha_f) * co.b1 * dt * dt;
-    Tridiagonal effective = system.mass.combined(1.0 - co.alpha_m, system.stiffness, k_weight);
-    if (system.has_damping()) {
-      effective = effective.combined(1.0, system.damping, (1.0 - co.alpha_f) * co.g1 * dt);
-    }
-    TridiagonalFactorization factorization;
-    if (!factorization.factor(effective)) {
-      summary.status = RunStatus::failed;
-      summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
-      continue;
-    }
-    // The rod is uniform, so every row has the same off-diagonals (bit for bit: each is the
-    // same expression of the same element). Checked, not assumed: the kernel relies on it.
-    const double lower = n > 1 ? effective.lower[1] : 0.0;
-    const double upper = n > 1 ? effective.upper[0] : 0.0;
-    bool uniform = true;
-    for (Eigen::Index i = 1; i < n; ++i) {
-      uniform = uniform && effective.lower[i] == lower && effective.upper[i - 1] == upper &&
-                factorization.upper_ratio()[i - 1] == upper * factorization.inverse_pivot()[i - 1];
-    }
-    if (!uniform || !uniform_stiffness) {
-      summary.status = RunStatus::failed;
-      summary.message = "batched kernel: the stiffness or the effective matrix is not uniform along the rod";
-      continue;
-    }
-    k.lower.set(l, lower);
-    k.upper.set(l, upper);
-    const Eigen::VectorXd& pivot = factorization.inverse_pivot();
-    for (Eigen::Index i = 0; i < n; ++i) x.inverse_pivot[i].set(l, pivot[i]);
-    // The first row from which the pivots of rows up to n − 2 are one value, bit for bit.
-    Eigen::Index converged = n - 1;
-    while (converged > 1 && pivot[converged - 1] == pivot[n - 2]) --converged;
-    const double tail_pivot = n > 2 ? pivot[n - 2] : 0.0;
-    k.tail_pivot.set(l, tail_pivot);
-    k.tail_ratio.set(l, upper * tail_pivot);
-    k.tail_begin = std::max(k.tail_begin, converged);
+    mass_weight.set(l, 1.0 - co.alpha_m);
+    stiffness_weight.set(l, (1.0 - co.alpha_f) * co.b1 * dt * dt);
+    damping_weight.set(l, (1.0 - co.alpha_f) * co.g1 * dt);
+    factored.set(l, true);
     const double dt2 = dt * dt;
     k.dt2_b0.set(l, dt2 * co.b0);
     k.dt_g0.set(l, dt * co.g0);
@@ -614,6 +678,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     run.last = derived.step_count - 1;
     run.energy_bound = options.energy_growth_limit * summary.initial_energy;
   }
+  factor_lanes(system, methods, {mass_weight, stiffness_weight, damping_weight}, factored,
+               uniform_stiffness, b);
   run_batch_any(b);
 
   const double seconds =
