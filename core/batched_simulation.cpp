@@ -123,8 +123,8 @@ struct LaneCoefficients {
   Lanes dt2_b0, dt_g0, one_minus_af, af, b1_dt2, g1_dt, minus_am, one_minus_w, w, gap;
   LaneMask mass_term;  // α_m ≠ 0: the scalar step adds −α_m·M·a only then
   // The effective matrix's off-diagonals, the same in every row of the uniform rod: with them
-  // the factorisation is one array (the inverse pivots), since TridiagonalFactorization stores
-  // lower() = these and upper_ratio()[i] = upper·inverse_pivot()[i], a product the back
+  // the factorisation is one array (the inverse pivots): TridiagonalFactorization::factor's
+  // lower factor is these and its upper ratio of row i is upper·(1/pivot_i), a product the back
   // substitution forms again with the same bits. Three arrays a batch would otherwise stream
   // through the cache at every step.
   Lanes lower, upper;
@@ -133,7 +133,7 @@ struct LaneCoefficients {
   // precision reaches exactly after a few rows; simulate_batch finds where every lane has
   // reached it (checked bit for bit, else tail_begin = n − 1). The sweeps then read one array
   // fewer from the cache at every row but the first few and the last.
-  Lanes tail_pivot, tail_ratio;  // tail_ratio = upper·tail_pivot, as upper_ratio() holds it
+  Lanes tail_pivot, tail_ratio;  // tail_ratio = upper·tail_pivot, factor's upper ratio
   Eigen::Index tail_begin;
 };
 

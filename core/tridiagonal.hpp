@@ -52,12 +52,6 @@ class TridiagonalFactorization {
   /// The back substitution alone: y becomes x.
   void backward_in_place(Eigen::VectorXd& y) const;
   Eigen::Index size() const { return inverse_pivot_.size(); }
-  /// The stored factors, for solvers that lay them out differently (core/batched_simulation):
-  /// solve_in_place is b₀ ·= p₀, bᵢ = (bᵢ − lᵢ·bᵢ₋₁)·pᵢ, then bᵢ −= rᵢ·bᵢ₊₁ with l = lower(),
-  /// p = inverse_pivot(), r = upper_ratio().
-  const Eigen::VectorXd& lower() const { return lower_; }
-  const Eigen::VectorXd& upper_ratio() const { return upper_ratio_; }
-  const Eigen::VectorXd& inverse_pivot() const { return inverse_pivot_; }
 
  private:
   Eigen::VectorXd lower_;          // sub-diagonal of A
