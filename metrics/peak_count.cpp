@@ -1,8 +1,6 @@
 #include "metrics/peak_count.hpp"
 
 #include <algorithm>
-#include <limits>
-#include <vector>
 
 namespace impactid {
 
@@ -25,62 +23,45 @@ double peak_prominence(std::span<const double> x, std::size_t first, std::size_t
   return top - std::max(left_base, right_base);
 }
 
-// The same rule in O(n), for sweeps: scanning from each peak to its bases costs O(n) per peak,
-// and a ringing signal has hundreds of peaks (50 µs of a 150 µs run). Two monotonic-stack
-// passes give every sample i its nearest higher-or-equal sample to the left, with the lowest
-// sample in between, and its nearest strictly higher sample to the right, with the lowest in
-// between; a peak's bases are those minima at its first and last samples. The entries popped
-// when i is pushed are exactly the samples between i and that neighbour, and their own
-// intervals tile that range, so each minimum is folded from the popped entries' minima.
-// tests/peak_count_test.cpp checks it against peak_prominence() on random signals.
+// The same rule in one pass with no memory, for sweeps: a hysteresis (zig-zag) filter. It waits
+// for a rise of at least `min_prominence` above the lowest sample since the last counted peak,
+// then follows the highest sample until a drop of at least `min_prominence` below it, counts one
+// peak, and waits again. (Both steps also require a strict rise and drop, so a threshold <= 0
+// counts every peak.) Why that is the same count: both equal the largest k for which the signal
+// has samples t₀ < p₁ < t₁ < … < p_k < t_k with every p_j at least `min_prominence` above (and
+// strictly above) its neighbours t_{j−1} and t_j.
+//   - Prominent peaks give such a sequence: between two of them lies a base of the lower one (of equal ones, the later),
+//     which is at least `min_prominence` below both; the outer bases close it.
+//   - Such a sequence gives as many prominent peaks: the earliest highest sample of each
+//     [t_{j−1}, t_j] tops a peak whose nearest higher samples lie beyond t_{j−1} and t_j, so its
+//     bases are no higher than x[t_{j−1}] and x[t_j].
+//   - The filter builds a longest sequence: it ends each rise and each drop at the first sample
+//     that completes it, and keeps the lowest (highest) candidate, so no sequence is ahead of it.
+// Rounding cannot split them: fl(a − b) is monotone in a and in b, so "top − base >= threshold"
+// and the filter's comparisons agree on every pair of samples. tests/peak_count_test.cpp checks
+// it against peak_prominence() on random signals with ties, plateaus and slow ramps.
 long count_peaks(std::span<const double> x, double min_prominence) {
-  const std::size_t n = x.size();
-  if (n < 3) return 0;
-  struct Entry {
-    std::size_t index;
-    double low;  // lowest sample in (neighbour, index]: the interval this entry covers
-  };
-  std::vector<Entry> stack;
-  stack.reserve(n);
-  // left_low[i]: the lowest sample strictly between i and its left neighbour (+inf if none).
-  std::vector<double> left_low(n), right_low(n);
-  constexpr double kNone = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < n; ++i) {
-    double low = kNone;
-    while (!stack.empty() && x[stack.back().index] < x[i]) {
-      low = std::min(low, stack.back().low);
-      stack.pop_back();
-    }
-    left_low[i] = low;
-    stack.push_back({i, std::min(low, x[i])});
-  }
-  stack.clear();
-  for (std::size_t i = n; i-- > 0;) {
-    double low = kNone;
-    while (!stack.empty() && x[stack.back().index] <= x[i]) {
-      low = std::min(low, stack.back().low);
-      stack.pop_back();
-    }
-    right_low[i] = low;
-    stack.push_back({i, std::min(low, x[i])});
-  }
-
   long peaks = 0;
-  std::size_t i = 1;
-  while (i + 1 < n) {
-    if (!(x[i - 1] < x[i])) {
-      ++i;
-      continue;
+  if (x.empty()) return peaks;
+  bool rising = false;  // a rise has been confirmed; the filter now waits for the drop
+  double low = x[0];    // while waiting for the rise: the lowest sample since the last peak
+  double high = 0.0;    // while waiting for the drop: the highest sample since the rise
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    const double v = x[i];
+    if (!rising) {
+      low = std::min(low, v);
+      if (v > low && v - low >= min_prominence) {
+        rising = true;
+        high = v;
+      }
+    } else {
+      high = std::max(high, v);
+      if (v < high && high - v >= min_prominence) {
+        ++peaks;
+        rising = false;
+        low = v;
+      }
     }
-    std::size_t last = i;  // extend over a flat top
-    while (last + 1 < n && x[last + 1] == x[i]) ++last;
-    if (last + 1 < n && x[last + 1] < x[i]) {
-      const double top = x[i];
-      const double left_base = std::min(top, left_low[i]);
-      const double right_base = std::min(top, right_low[last]);
-      if (top - std::max(left_base, right_base) >= min_prominence) ++peaks;
-    }
-    i = last + 1;
   }
   return peaks;
 }

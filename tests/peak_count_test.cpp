@@ -118,11 +118,13 @@ TEST(PeakCount, UlpWobbleOnAPlateauCountsThePlateauOnce) {
   EXPECT_EQ(peaks(x, 1e-6 * level), 1) << "a 1-ulp wobble must not add a peak";
 }
 
-// count_peaks() finds the bases with two stack passes (O(n)); the rule's definition scans from
-// each peak to its nearer higher samples (peak_prominence, O(n) per peak). They must agree on
-// every signal: random ones with few distinct values (ties, plateaus, equal summits on both
-// sides) and every threshold between the prominences that occur, and slow ramps with a ripple
-// below the threshold, where the bases lie hundreds of samples from their peaks.
+// count_peaks() is a one-pass hysteresis filter (its comment says why it counts the same); the
+// rule's definition scans from each peak to its nearer higher samples (peak_prominence, O(n) per
+// peak). They must agree on every signal: random ones with few distinct values (ties, plateaus,
+// equal summits on both sides) and every threshold between the prominences that occur; random
+// ones whose differences round (multiples of 0.1) at thresholds exactly on a difference of two
+// samples and one ulp either side; and slow ramps with a ripple below the threshold, where the
+// bases lie hundreds of samples from their peaks.
 long peaks_by_definition(const std::vector<double>& x, double min_prominence) {
   long count = 0;
   std::size_t i = 1;
@@ -142,7 +144,7 @@ long peaks_by_definition(const std::vector<double>& x, double min_prominence) {
   return count;
 }
 
-TEST(PeakCount, StackPassesEqualTheDefinitionOnRandomSignals) {
+TEST(PeakCount, OnePassEqualsTheDefinitionOnRandomSignals) {
   std::mt19937_64 rng(11);
   long compared_peaks = 0;
   for (int trial = 0; trial < 3000; ++trial) {
@@ -159,6 +161,32 @@ TEST(PeakCount, StackPassesEqualTheDefinitionOnRandomSignals) {
     }
   }
   EXPECT_GT(compared_peaks, 10000);  // the comparison saw peaks, not empty signals
+}
+
+TEST(PeakCount, OnePassEqualsTheDefinitionAtThresholdsOnRoundedDifferences) {
+  std::mt19937_64 rng(3);
+  long compared_peaks = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::uniform_int_distribution<int> level(0, 2 + trial % 6);
+    std::uniform_int_distribution<int> length(3, 16);
+    std::vector<double> x(static_cast<std::size_t>(length(rng)));
+    for (double& v : x) v = 0.1 * level(rng);  // 0.1·k rounds: 0.3 − 0.1 ≠ 0.2
+    std::vector<double> thresholds{0.0, -1.0};
+    for (const double a : x) {
+      for (const double b : x) {
+        if (a <= b) continue;
+        thresholds.insert(thresholds.end(), {std::nextafter(a - b, 0.0), a - b,
+                                             std::nextafter(a - b, 2.0)});
+      }
+    }
+    for (const double threshold : thresholds) {
+      const long expected = peaks_by_definition(x, threshold);
+      ASSERT_EQ(count_peaks(x, threshold), expected) << "trial " << trial << ", threshold "
+                                                     << threshold;
+      compared_peaks += expected;
+    }
+  }
+  EXPECT_GT(compared_peaks, 10000);
 }
 
 TEST(PeakCount, LongScansEqualTheDefinitionOnRampsWithRipple) {
