@@ -173,11 +173,11 @@ template <bool kFirst, bool kLast>
 // Flops per unknown and lane, without damping and α_m (count them in the loops below). The
 // forward sweep: the predictors u* 2 mul 2 add and v* 1 mul 1 add, the α_f-weighted u 2 mul
 // 1 add, K·u 2 mul 2 add (the off-diagonal product shared by two rows), the elimination 2 mul
-// 1 sub: 16. The back substitution 1 mul 1 sub and the update 2 mul 2 add: 6. Total 11 mul +
-// 11 add = 22 flops, plus the sign flip of rhs = −K·u and, in the first rows only, 1 mul for
-// upper·inverse pivot. The contact costs a few flops at the last row only (2 divides among
-// them). Damping: +2 mul 1 add in the predictor, 3 mul 3 add for C·v (9). α_m ≠ 0: 4 mul 2 add
-// (6) and a blend.
+// 1 sub: 9 mul + 7 add = 16. The back substitution 1 mul 1 sub and the update 2 mul 2 add: 6.
+// Total 12 mul + 10 add = 22 flops, plus the sign flip of rhs = −K·u and, in the first rows
+// only, 1 mul for upper·inverse pivot. The contact costs a few flops at the last row only (2
+// divides among them). Damping: +2 mul 1 add in the predictor, 3 mul 3 add for C·v (9).
+// α_m ≠ 0: 4 mul 2 add (6) and a blend.
 template <bool kDamping, bool kMassTerm>
 [[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays,
                                                const LaneCoefficients& coefficients,
