@@ -12,6 +12,7 @@
 #include <iostream>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "study/command_line.hpp"
 #include "study/hdf5_file.hpp"
@@ -37,6 +38,23 @@ static_assert(std::atomic<bool>::is_always_lock_free);
 extern "C" void request_stop(int) { g_stop_requested.store(true); }
 
 constexpr int kExitInterrupted = 130;
+
+// While it lives, SIGINT and SIGTERM ask the running study to stop (g_stop_requested) rather
+// than kill the process; the default handlers come back when it goes, on every path out.
+class StopOnSignals {
+ public:
+  StopOnSignals() {
+    g_stop_requested.store(false);
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+  }
+  ~StopOnSignals() {
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+  }
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+};
 
 std::string utc_now() {
   const std::time_t now = std::time(nullptr);
@@ -251,6 +269,13 @@ void write_point_histories(const PointSet& points, const std::filesystem::path& 
 
 // A spectral study: no simulation, no checkpoints; computed in full every time (--resume too),
 // in seconds. Like a results file, an existing file of another kind is never overwritten.
+// The last line of a run that was stopped: how to continue it. Returns the exit status.
+int report_interrupted(const RunArguments& args) {
+  std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
+               args.plan.c_str(), args.output.empty() ? "" : (" --output " + args.output).c_str());
+  return kExitInterrupted;
+}
+
 int run_spectral(const Plan& plan, const RunArguments& args, const std::filesystem::path& output,
                  int threads) {
   if (std::filesystem::exists(output) && !is_spectral_results_file(output)) {
@@ -333,9 +358,7 @@ int run_work_precision_plan(const Plan& plan, const RunArguments& args,
   }
   const double previous_wall_time = args.resume && previous ? results.wall_time_s : 0.0;
 
-  g_stop_requested.store(false);
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
+  std::optional<StopOnSignals> stop_on_signals(std::in_place);
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -362,21 +385,14 @@ int run_work_precision_plan(const Plan& plan, const RunArguments& args,
     std::cerr << "impactid run: " << e.what() << '\n';
     return kExitFailure;
   }
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  stop_on_signals.reset();
   std::fprintf(stderr,
                "impactid run: %s: work-precision, %ld computed, %ld reused, %ld not ok, of %ld; "
                "each run %d times, one at a time on 1 thread; %.3g s; wrote %s\n",
                plan.name.c_str(), outcome.computed, outcome.reused, outcome.unstable,
                results.points_total(), plan.work_precision.repeats, elapsed(),
                output.string().c_str());
-  if (outcome.interrupted) {
-    std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
-                 args.plan.c_str(),
-                 args.output.empty() ? "" : (" --output " + args.output).c_str());
-    return kExitInterrupted;
-  }
-  return 0;
+  return outcome.interrupted ? report_interrupted(args) : 0;
 }
 
 int run_plan(const RunArguments& args) {
@@ -427,10 +443,7 @@ int run_plan(const RunArguments& args) {
   if (!args.resume) previous.reset();
   const double previous_wall_time = previous ? previous->wall_time_s : 0.0;
 
-  g_stop_requested.store(false);
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
-
+  std::optional<StopOnSignals> stop_on_signals(std::in_place);
   const auto save = [&](StudyResults results, double wall_time_s) {
     stamp(results, threads, previous_wall_time + wall_time_s);
     write_results(output, results);
@@ -515,8 +528,7 @@ int run_plan(const RunArguments& args) {
     std::cerr << "impactid run: " << e.what() << '\n';
     return kExitFailure;
   }
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  stop_on_signals.reset();
 
   const double seconds = elapsed();
   std::fprintf(stderr,
@@ -524,13 +536,7 @@ int run_plan(const RunArguments& args) {
                "thread(s); %swrote %s\n",
                plan.name.c_str(), computed, reused, unstable, total, seconds, threads,
                extra.empty() ? "" : (extra + "; ").c_str(), output.string().c_str());
-  if (interrupted) {
-    std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
-                 args.plan.c_str(),
-                 args.output.empty() ? "" : (" --output " + args.output).c_str());
-    return kExitInterrupted;
-  }
-  return 0;
+  return interrupted ? report_interrupted(args) : 0;
 }
 
 }  // namespace
