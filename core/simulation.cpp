@@ -153,16 +153,19 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   }
   summary.steps = summary.skipped_steps = skipped;
 
+  // The step loop, with the far wall's bookkeeping only when the scene has one.
+  const auto run = [&](const auto& advance) {
+    if (far_wall) {
+      run_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+    } else {
+      run_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+    }
+  };
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     CentralDifference& stepper = ws.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
       stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
-      const auto advance = [&](State& s) { stepper.step(system, s); };
-      if (far_wall) {
-        run_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
-      } else {
-        run_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
-      }
+      run([&](State& s) { stepper.step(system, s); });
     } else {
       summary.status = RunStatus::failed;
       summary.message = "central difference: singular left-hand matrix";
@@ -170,12 +173,7 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   } else {
     ImplicitIntegrator& stepper = ws.implicit;
     if (stepper.initialize(system, implicit_coefficients(method), dt)) {
-      const auto advance = [&](State& s) { stepper.step(system, s); };
-      if (far_wall) {
-        run_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
-      } else {
-        run_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
-      }
+      run([&](State& s) { stepper.step(system, s); });
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
