@@ -15,13 +15,9 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   if (!factorization_.factor(effective)) return false;
 
   const Eigen::Index n = system.size();
-  contact_influence_ = Eigen::VectorXd::Zero(n);
-  contact_influence_[system.contact_dof] = 1.0;
-  factorization_.solve_in_place(contact_influence_);
+  contact_influence_ = factorization_.inverse_column(system.contact_dof);
   if (system.has_far_contact()) {
-    far_influence_ = Eigen::VectorXd::Zero(n);
-    far_influence_[system.far_contact_dof] = 1.0;
-    factorization_.solve_in_place(far_influence_);
+    far_influence_ = factorization_.inverse_column(system.far_contact_dof);
     contact_free_.resize(n);
   } else {
     far_influence_.resize(0);

@@ -91,6 +91,13 @@ bool TridiagonalFactorization::factor(const Tridiagonal& a) {
   return true;
 }
 
+Eigen::VectorXd TridiagonalFactorization::inverse_column(Eigen::Index j) const {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(size());
+  x[j] = 1.0;
+  solve_in_place(x);
+  return x;
+}
+
 void TridiagonalFactorization::solve_in_place(Eigen::VectorXd& b) const {
   forward_in_place(b);
   backward_in_place(b);

@@ -52,6 +52,9 @@ class TridiagonalFactorization {
   /// The back substitution alone: y becomes x.
   void backward_in_place(Eigen::VectorXd& y) const;
   Eigen::Index size() const { return inverse_pivot_.size(); }
+  /// Column j of A⁻¹ (the solution of A·x = e_j): the response to a unit point force, which the
+  /// contact solvers scale. Allocates; for set-up, not for a step.
+  Eigen::VectorXd inverse_column(Eigen::Index j) const;
 
  private:
   Eigen::VectorXd lower_;          // sub-diagonal of A

@@ -77,6 +77,18 @@ TEST(Tridiagonal, RepeatedSolvesWithOneFactorisationAgree) {
   EXPECT_LE((a.dense() * x2 - b2).norm(), 1e-13 * b2.norm());
 }
 
+// inverse_column(j) is the contact solvers' influence vector: the dense inverse's column j.
+TEST(Tridiagonal, InverseColumnIsTheDenseInversesColumn) {
+  const Tridiagonal a = random_dominant(12, 5);
+  TridiagonalFactorization lu;
+  ASSERT_TRUE(lu.factor(a));
+  const Eigen::MatrixXd inverse = a.dense().inverse();
+  for (const Eigen::Index j : {0, 5, 11}) {
+    const Eigen::VectorXd column = lu.inverse_column(j);
+    EXPECT_LE((column - inverse.col(j)).norm(), 1e-13 * inverse.col(j).norm()) << "j = " << j;
+  }
+}
+
 // Singular matrices must be reported, not divided by zero (the integrators return `failed`).
 TEST(Tridiagonal, FactorReportsZeroAndNonFinitePivots) {
   TridiagonalFactorization lu;
