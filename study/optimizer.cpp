@@ -118,9 +118,7 @@ class Problem {
     return results_.find_column(name);
   }
   const ResultColumn& column(const std::string& name) const { return *find_column(name); }
-  ResultColumn& column(const std::string& name) {
-    return const_cast<ResultColumn&>(*results_.find_column(name));
-  }
+  ResultColumn& column(const std::string& name) { return *results_.find_column(name); }
 
   // Re-uses the previous run's row `row` if it was computed at exactly this x.
   bool replay(const double* x, std::size_t row) {

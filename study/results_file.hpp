@@ -53,6 +53,9 @@ struct StudyResults {
   long points_total() const { return static_cast<long>(status.size()); }
   long points_done() const;
   const ResultColumn* find_column(const std::string& name) const;  ///< parameter or indicator
+  ResultColumn* find_column(const std::string& name) {
+    return const_cast<ResultColumn*>(std::as_const(*this).find_column(name));
+  }
 };
 
 /// Writes atomically. Throws Hdf5Error naming the file, also for a table that cannot be stored

@@ -36,13 +36,6 @@ ResultColumn parameter_column(const char* name, std::size_t size) {
           std::vector<double>(size, kNaN)};
 }
 
-ResultColumn* column(std::vector<ResultColumn>& columns, std::string_view name) {
-  for (ResultColumn& c : columns) {
-    if (c.name == name) return &c;
-  }
-  return nullptr;
-}
-
 }  // namespace
 
 SimulationSettings work_precision_settings(const Plan& plan, long method, long elements,
@@ -138,13 +131,18 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
     }
   }
   // Columns looked up once; the table was made by empty_work_precision_results().
-  std::vector<ResultColumn*> indicator_columns;
-  for (const char* name : kIndicators)
-    indicator_columns.push_back(column(results.indicators, name));
-  ResultColumn* wall_min = column(results.indicators, "wall_time_s");
-  ResultColumn* wall_max = column(results.indicators, "wall_time_max_s");
-  ResultColumn* steps = column(results.indicators, "steps");
-  ResultColumn* dof_steps = column(results.indicators, "dof_steps");
+  struct StoredIndicator {
+    ResultColumn* column;
+    const IndicatorInfo* info;
+  };
+  std::vector<StoredIndicator> stored;
+  for (const char* name : kIndicators) {
+    stored.push_back({results.find_column(name), find_indicator(name)});
+  }
+  ResultColumn* wall_min = results.find_column("wall_time_s");
+  ResultColumn* wall_max = results.find_column("wall_time_max_s");
+  ResultColumn* steps = results.find_column("steps");
+  ResultColumn* dof_steps = results.find_column("dof_steps");
 
   SimulationWorkspace workspace;  // reused: after the first run of a size, no allocation
   auto last_checkpoint = Clock::now();
@@ -176,9 +174,7 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
     for (ResultColumn& p : results.parameters) {
       p.values[i] = numeric_value(simulation, p.name).value_or(kNaN);
     }
-    for (std::size_t k = 0; k < indicator_columns.size(); ++k) {
-      indicator_columns[k]->values[i] = find_indicator(kIndicators[k])->value(evaluation);
-    }
+    for (const StoredIndicator& s : stored) s.column->values[i] = s.info->value(evaluation);
     wall_min->values[i] = fastest;
     wall_max->values[i] = slowest;
     steps->values[i] = static_cast<double>(evaluation.summary.steps);
