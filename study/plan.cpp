@@ -16,6 +16,7 @@
 #include "core/amplification.hpp"
 #include "study/indicator_table.hpp"
 #include "study/point_set.hpp"
+#include "study/work_precision.hpp"
 
 namespace impactid {
 namespace {
@@ -1194,10 +1195,9 @@ class PlanReader {
     for (std::size_t m = 0; m < wp.methods.size(); ++m) {
       for (const long n : wp.elements) {
         for (const double c : wp.courant) {
-          SimulationSettings settings = plan_->base;
-          settings.method = wp.methods[m].settings;
-          std::optional<ParameterError> error = assign(settings, "elements", double(n));
-          if (!error) error = assign(settings, "courant", c);
+          SimulationSettings settings;
+          std::optional<ParameterError> error = assign_work_precision_point(
+              *plan_, static_cast<long>(m), n, c, settings);
           if (!error) {
             auto built = build(settings);
             if (auto* e = std::get_if<ParameterError>(&built)) error = *e;

@@ -38,14 +38,23 @@ ResultColumn parameter_column(const char* name, std::size_t size) {
 
 }  // namespace
 
+std::optional<ParameterError> assign_work_precision_point(const Plan& plan, long method,
+                                                          long elements, double courant,
+                                                          SimulationSettings& settings) {
+  settings = plan.base;
+  settings.method = plan.work_precision.methods[static_cast<std::size_t>(method)].settings;
+  std::optional<ParameterError> error = assign(settings, "elements", static_cast<double>(elements));
+  if (!error) error = assign(settings, "courant", courant);
+  return error;
+}
+
 SimulationSettings work_precision_settings(const Plan& plan, long method, long elements,
                                            double courant) {
-  SimulationSettings settings = plan.base;
-  settings.method = plan.work_precision.methods[static_cast<std::size_t>(method)].settings;
+  SimulationSettings settings;
   // load_plan() assigned and built these same values: an error here is a bug.
-  [[maybe_unused]] const auto e1 = assign(settings, "elements", static_cast<double>(elements));
-  [[maybe_unused]] const auto e2 = assign(settings, "courant", courant);
-  assert(!e1 && !e2);
+  [[maybe_unused]] const auto error =
+      assign_work_precision_point(plan, method, elements, courant, settings);
+  assert(!error);
   return settings;
 }
 

@@ -26,6 +26,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 
 #include "study/plan.hpp"
 #include "study/results_file.hpp"
@@ -34,7 +35,13 @@
 namespace impactid {
 
 /// The settings of one point: [scene] and [output] of the plan, the method's settings, then
-/// `elements` and `courant`. load_plan() has built every one of them.
+/// `elements` and `courant`, into `settings`. Returns the first error of those two assignments
+/// (load_plan() reports it; there is none in a loaded plan).
+std::optional<ParameterError> assign_work_precision_point(const Plan& plan, long method,
+                                                          long elements, double courant,
+                                                          SimulationSettings& settings);
+
+/// The same for a loaded plan, where every point has been built.
 SimulationSettings work_precision_settings(const Plan& plan, long method, long elements,
                                            double courant);
 
