@@ -71,14 +71,8 @@ ContactNodeValues RodImpactExact::two_walls_at(double t, double jump_tolerance) 
   return two_walls_phase(std::min(tau, period_), true);
 }
 
-ContactNodeValues RodImpactExact::one_sided(double t, bool from_left) const {
-  const auto before = [&](double jump) { return from_left ? t <= jump : t < jump; };
-  if (before(impact_time_)) return {0.0, velocity_, velocity_ * t};
-  if (before(release_time_)) return {pressure_, 0.0, gap_};
-  return {0.0, -velocity_, gap_ - velocity_ * (t - release_time_)};
-}
-
-ContactNodeValues RodImpactExact::at(double t, double jump_tolerance) const {
+// at()'s other cases: a far wall, or a sample on a jump.
+ContactNodeValues RodImpactExact::at_jump_or_two_walls(double t, double jump_tolerance) const {
   if (two_walls_) return two_walls_at(t, jump_tolerance);
   const bool on_jump = std::abs(t - impact_time_) <= jump_tolerance ||
                        std::abs(t - release_time_) <= jump_tolerance;

@@ -25,6 +25,8 @@
 // Thread safety: a value; const methods only.
 #pragma once
 
+#include <cmath>
+
 #include "core/rod_scene.hpp"
 
 namespace impactid {
@@ -46,12 +48,27 @@ class RodImpactExact {
   double period() const { return period_; }
 
   /// Values at time t, with the mean of the one-sided limits on a jump within `jump_tolerance`.
-  ContactNodeValues at(double t, double jump_tolerance) const;
+  /// Inline for its common case (one wall, away from a jump): the indicators call it at every
+  /// sample of every sweep point.
+  ContactNodeValues at(double t, double jump_tolerance) const {
+    if (!two_walls_ && std::abs(t - impact_time_) > jump_tolerance &&
+        std::abs(t - release_time_) > jump_tolerance) {
+      return one_sided(t, true);
+    }
+    return at_jump_or_two_walls(t, jump_tolerance);
+  }
   /// The sampling convention of the indicators: t_i = i·Δt, jumps within 1e-6·Δt averaged.
   ContactNodeValues at_sample(long i) const { return at(i * dt_, 1e-6 * dt_); }
 
  private:
-  ContactNodeValues one_sided(double t, bool from_left) const;
+  /// One wall: the solution on one side of each jump (on a jump, its left or right limit).
+  ContactNodeValues one_sided(double t, bool from_left) const {
+    const auto before = [&](double jump) { return from_left ? t <= jump : t < jump; };
+    if (before(impact_time_)) return {0.0, velocity_, velocity_ * t};
+    if (before(release_time_)) return {pressure_, 0.0, gap_};
+    return {0.0, -velocity_, gap_ - velocity_ * (t - release_time_)};
+  }
+  ContactNodeValues at_jump_or_two_walls(double t, double jump_tolerance) const;
   ContactNodeValues two_walls_at(double t, double jump_tolerance) const;
   /// The two-wall motion at phase τ in [0, T], from the left or the right of τ.
   ContactNodeValues two_walls_phase(double tau, bool from_left) const;

@@ -6,11 +6,6 @@
 
 namespace impactid {
 
-void RelativeErrorSum::add(double exact, double computed) {
-  difference_ += std::abs(exact - computed);
-  reference_ += std::abs(exact);
-}
-
 double RelativeErrorSum::value() const {
   return reference_ > 0.0 ? difference_ / reference_ : std::numeric_limits<double>::quiet_NaN();
 }
