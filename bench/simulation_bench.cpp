@@ -106,7 +106,8 @@ void BM_Sweep(benchmark::State& state) {
 BENCHMARK(BM_Sweep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The batched kernel (core/batched_simulation.hpp): kBatchLanes HHT runs of the default scene
-// with α evenly spread over (−0.5, 0) up to −0.5 (δ = −α), set-up and stepping, no indicators.
+// with α = −0.5·(l + 1)/kBatchLanes in lane l, from −0.03 to −0.5 (δ = −α), set-up and
+// stepping, no indicators.
 // Time per run = time / lanes (a lane that stops early still costs its lane until the batch
 // ends).
 void BM_BatchedRun(benchmark::State& state) {

@@ -17,9 +17,9 @@
 // start stepping at different samples (different free flights) and end at different ones.
 //
 // Per unknown and step (HHT or Newmark with a lumped or consistent mass, no damping, α_m = 0)
-// a lane costs 13 multiplies and 11 adds or subtracts (24 flops) plus one sign flip, and 2 more
-// flops while its contact is closed; no divides (2 per lane and step at the contact node).
-// Damping adds 9, α_m ≠ 0 adds 6 (core/batched_simulation.cpp counts them at the loop).
+// a lane costs 12 multiplies and 10 adds or subtracts (22 flops) plus one sign flip; the contact
+// adds a few flops at the contact node only (2 divides among them). Damping adds 9, α_m ≠ 0
+// adds 6 (core/batched_simulation.cpp counts them at the loop).
 //
 // What batches (batchable / same_batch): implicit methods on the single-wall rod scene (no
 // far wall), with no histories requested; lanes of one batch share the rod (elements, length,

@@ -30,8 +30,9 @@ double peak_prominence(std::span<const double> x, std::size_t first, std::size_t
 // counts every peak.) Why that is the same count: both equal the largest k for which the signal
 // has samples t₀ < p₁ < t₁ < … < p_k < t_k with every p_j at least `min_prominence` above (and
 // strictly above) its neighbours t_{j−1} and t_j.
-//   - Prominent peaks give such a sequence: between two of them lies a base of the lower one (of equal ones, the later),
-//     which is at least `min_prominence` below both; the outer bases close it.
+//   - Prominent peaks give such a sequence: between two of them lies a base of the lower one
+//     (of equal ones, the later), which is at least `min_prominence` below both; the outer
+//     bases close it.
 //   - Such a sequence gives as many prominent peaks: the earliest highest sample of each
 //     [t_{j−1}, t_j] tops a peak whose nearest higher samples lie beyond t_{j−1} and t_j, so its
 //     bases are no higher than x[t_{j−1}] and x[t_j].

@@ -267,8 +267,6 @@ void write_point_histories(const PointSet& points, const std::filesystem::path& 
                points.size(), folder.string().c_str());
 }
 
-// A spectral study: no simulation, no checkpoints; computed in full every time (--resume too),
-// in seconds. Like a results file, an existing file of another kind is never overwritten.
 // The last line of a run that was stopped: how to continue it. Returns the exit status.
 int report_interrupted(const RunArguments& args) {
   std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
@@ -276,6 +274,8 @@ int report_interrupted(const RunArguments& args) {
   return kExitInterrupted;
 }
 
+// A spectral study: no simulation, no checkpoints; computed in full every time (--resume too),
+// in seconds. Like a results file, an existing file of another kind is never overwritten.
 int run_spectral(const Plan& plan, const RunArguments& args, const std::filesystem::path& output,
                  int threads) {
   if (std::filesystem::exists(output) && !is_spectral_results_file(output)) {
