@@ -120,8 +120,11 @@ struct LaneMask {
 // (ImplicitIntegrator: dt2 * c_.b0 is (Δt·Δt)·b0, c_.b1 * dt2 is b1·(Δt·Δt), …).
 struct LaneCoefficients {
   double dt;  // the same in every lane (same_batch), so one register rather than two
-  Lanes dt2_b0, dt_g0, one_minus_af, af, b1_dt2, g1_dt, minus_am, one_minus_w, w, gap;
+  Lanes dt2_b0, dt_g0, af, b1_dt2, g1_dt, minus_am, one_minus_w, w, gap;
   LaneMask mass_term;  // α_m ≠ 0: the scalar step adds −α_m·M·a only then
+  // Lanes that start stepping at this sample: set_lane wrote their state as it is (u, v, a),
+  // not in the deferred form of the other lanes (see step_lanes).
+  LaneMask plain_state;
   // The effective matrix's off-diagonals, the same in every row of the uniform rod: with them
   // the factorisation is one array (the inverse pivots): TridiagonalFactorization::factor's
   // lower factor is these and its upper ratio of row i is upper·(1/pivot_i), a product the back
@@ -134,6 +137,8 @@ struct LaneCoefficients {
   // reached it (checked bit for bit, else tail_begin = n − 1). The sweeps then read one array
   // fewer from the cache at every row but the first few and the last.
   Lanes tail_pivot, tail_ratio;  // tail_ratio = upper·tail_pivot, factor's upper ratio
+  Lanes tail_lower_ratio;        // lower·tail_pivot, factor's lower ratio
+  Lanes tail_ratio2;             // tail_ratio·tail_ratio
   Eigen::Index tail_begin;
 };
 
@@ -171,14 +176,15 @@ template <bool kFirst, bool kLast>
 // by lane the same operations. Returns each lane's λ at t + Δt.
 //
 // Flops per unknown and lane, without damping and α_m (count them in the loops below). The
-// forward sweep: the predictors u* 2 mul 2 add and v* 1 mul 1 add, the α_f-weighted u 2 mul
-// 1 add, K·u 2 mul 2 add (the off-diagonal product shared by two rows), the elimination 2 mul
-// 1 sub: 9 mul + 7 add = 16. The back substitution 1 mul 1 sub and the update 2 mul 2 add: 6.
-// Total 12 mul + 10 add = 22 flops, plus the sign flip of rhs = −K·u and, in the first rows
-// only, 1 mul for upper·inverse pivot. The contact costs a few flops at the last row only (2
-// divides among them). Damping: +2 mul 1 add in the predictor, 3 mul 3 add for C·v (9).
-// α_m ≠ 0: 4 mul 2 add (6) and a blend.
-template <bool kDamping, bool kMassTerm>
+// forward sweep: the deferred update of u and v 2 mul 2 add, the predictors u* 2 mul 2 add
+// and v* 1 mul 1 add, the α_f-weighted u 1 mul 1 sub, K·u 2 mul 2 add (the off-diagonal
+// product shared by two rows), the elimination 2 mul 1 sub: 10 mul + 9 add = 19. The back
+// substitution, two rows at a time, 2 mul 2 add. Total 12 mul + 11 add = 23 flops, plus the
+// sign flip of rhs = −K·u and, in the first rows only, 1 mul each for lower·inverse pivot,
+// upper·inverse pivot and the product of two upper ratios. The contact costs a few flops at
+// the last row only (2 divides among them). Damping: +1 mul 1 add in the predictor, 3 mul 3
+// add for C·v (8). α_m ≠ 0: 4 mul 2 add (6) and a blend.
+template <bool kDamping, bool kMassTerm, bool kStartingLanes>
 [[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays,
                                                const LaneCoefficients& coefficients,
                                                const Lanes& lambda) {
@@ -196,11 +202,12 @@ template <bool kDamping, bool kMassTerm>
   const Lanes k_lower = splat(x.k_lower), k_diag = splat(x.k_diag);
   const Lanes dt = splat(c.dt);
 
-  // Three arrays per lane, each used twice per step. The forward sweep reads u, v, a at t and
-  // leaves in their place the predictors u*, v* and the forward-swept right-hand side y; the
-  // back substitution turns y into a at t + Δt and u*, v* into u, v. (A separate rhs array, or
-  // predictors computed again from u, v, a, made the step slower: the step is bound by moving
-  // these arrays between the caches about as much as by its arithmetic.)
+  // Three arrays per lane. The forward sweep reads u*, v*, a (the previous step's predictors
+  // and its new acceleration; plain u, v, a in the last row and in lanes that start now), forms
+  // u, v at t, and leaves in their place this step's predictors u*, v* and the forward-swept
+  // right-hand side y; the back substitution turns y into a at t + Δt and leaves u*, v* (the
+  // last row: u, v). (A separate rhs array, or predictors computed again from u, v, a, made the
+  // step slower: stores bound the step about as much as its arithmetic.)
   //
   // The α_f-weighted u, v (kept in registers, three rows at a time), and a for the α_m term.
   // p = k·u_w with k = K's off-diagonal: K is symmetric (lower = upper, checked), so the
@@ -209,25 +216,35 @@ template <bool kDamping, bool kMassTerm>
   struct Weighted {
     Lanes u, v, a, p;
   };
-  const auto predict = [&](Eigen::Index i) __attribute__((always_inline)) {
-    const Lanes u = x.u[i], v = x.v[i], a = x.a[i];
-    const Lanes up = u + dt * v + c.dt2_b0 * a;
-    const Lanes vp = v + c.dt_g0 * a;
+  const auto predict = [&]<bool kLastRow>(Eigen::Index i) __attribute__((always_inline)) {
+    const Lanes a = x.a[i];
+    Lanes u = x.u[i], v = x.v[i];
+    if constexpr (!kLastRow) {  // the update the previous step's back substitution deferred
+      const Lanes u_updated = u + c.b1_dt2 * a, v_updated = v + c.g1_dt * a;
+      u = kStartingLanes ? select(c.plain_state, u, u_updated) : u_updated;
+      v = kStartingLanes ? select(c.plain_state, v, v_updated) : v_updated;
+    }
+    const Lanes du = dt * v + c.dt2_b0 * a;
+    const Lanes dv = c.dt_g0 * a;
+    const Lanes up = u + du;
+    const Lanes vp = v + dv;
     store(&x.u[i], up);
     store(&x.v[i], vp);
     Weighted w;
-    w.u = c.one_minus_af * up + c.af * u;
+    w.u = up - c.af * du;
     w.p = k_lower * w.u;
-    if constexpr (kDamping) w.v = c.one_minus_af * vp + c.af * v;
+    if constexpr (kDamping) w.v = vp - c.af * dv;
     if constexpr (kMassTerm) w.a = a;
     return w;
   };
   // rhs = −K·u_w − C·v_w − α_m·M·a − (1−w)·λ·e_c, then the forward sweep of the solve.
-  Weighted prev{}, cur = predict(0), next{};
+  Weighted prev{}, cur = predict.template operator()<false>(0), next{};
   Lanes eliminated{};
-  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i, const Lanes& pivot)
+  // Row i; kNextIsLast: row i + 1 is the last (which holds u, v rather than u*, v*).
+  const auto forward = [&]<bool kFirst, bool kLast, bool kNextIsLast = false>(
+                           Eigen::Index i, const Lanes& pivot, const Lanes& ratio)
                            __attribute__((always_inline)) {
-    if constexpr (!kLast) next = predict(i + 1);
+    if constexpr (!kLast) next = predict.template operator()<kNextIsLast>(i + 1);
     Lanes r;
     if constexpr (kFirst || kLast) {
       r = -row<kFirst, kLast>(K, i, prev.u, cur.u, next.u);
@@ -242,7 +259,7 @@ template <bool kDamping, bool kMassTerm>
     if constexpr (kFirst) {
       r = r * pivot;
     } else {
-      r = (r - c.lower * eliminated) * pivot;
+      r = r * pivot - ratio * eliminated;
     }
     store(&x.a[i], r);
     eliminated = r;
@@ -250,17 +267,31 @@ template <bool kDamping, bool kMassTerm>
     cur = next;
   };
   const Eigen::Index tail = c.tail_begin;  // 1 <= tail <= last (n >= 2)
-  forward.template operator()<true, false>(0, x.inverse_pivot[0]);
-  for (Eigen::Index i = 1; i < tail; ++i) {
-    forward.template operator()<false, false>(i, x.inverse_pivot[i]);
-  }
-  // Two rows per iteration in the two long loops: the scheduler then overlaps one row's
-  // recurrence with the next row's independent work a little better (about 3% per step).
+  if (last == 1) {
+    forward.template operator()<true, false, true>(0, x.inverse_pivot[0], Lanes{});
+  } else {
+    forward.template operator()<true, false>(0, x.inverse_pivot[0], Lanes{});
+    // Rows 1 .. last − 2, then last − 1 (whose next row is the last).
+    for (Eigen::Index i = 1; i < std::min(tail, last - 1); ++i) {
+      forward.template operator()<false, false>(i, x.inverse_pivot[i],
+                                                c.lower * x.inverse_pivot[i]);
+    }
+    // Two rows per iteration in the two long loops: the scheduler then overlaps one row's
+    // recurrence with the next row's independent work a little better (about 3% per step).
 #pragma GCC unroll 2
-  for (Eigen::Index i = tail; i < last; ++i) {
-    forward.template operator()<false, false>(i, c.tail_pivot);
+    for (Eigen::Index i = tail; i < last - 1; ++i) {
+      forward.template operator()<false, false>(i, c.tail_pivot, c.tail_lower_ratio);
+    }
+    const Eigen::Index i = last - 1;
+    if (i < tail) {
+      forward.template operator()<false, false, true>(i, x.inverse_pivot[i],
+                                                      c.lower * x.inverse_pivot[i]);
+    } else {
+      forward.template operator()<false, false, true>(i, c.tail_pivot, c.tail_lower_ratio);
+    }
   }
-  forward.template operator()<false, true>(last, x.inverse_pivot[last]);
+  forward.template operator()<false, true>(last, x.inverse_pivot[last],
+                                           c.lower * x.inverse_pivot[last]);
 
   // The forward sweep leaves the last unknown final, so the contact test comes first, and the
   // constraint sets that unknown before the back substitution carries it up the rod: the same
@@ -276,44 +307,86 @@ template <bool kDamping, bool kMassTerm>
     new_lambda = select(closes, weighted / c.w, Lanes{});
     store(&x.a[last], select(closes, x.a[last] - weighted * last_influence, x.a[last]));
   }
-  // Back substitution and the update.
-  Lanes solved = x.a[last];
-  const auto backward = [&]<bool kLast>(Eigen::Index i, const Lanes& ratio)
-                            __attribute__((always_inline)) {
-    if constexpr (!kLast) solved = x.a[i] - ratio * solved;
-    store(&x.a[i], solved);
-    store(&x.u[i], x.u[i] + c.b1_dt2 * solved);
-    store(&x.v[i], x.v[i] + c.g1_dt * solved);
-  };
-  backward.template operator()<true>(last, Lanes{});
-#pragma GCC unroll 2
-  for (Eigen::Index i = last - 1; i >= tail; --i) {
-    backward.template operator()<false>(i, c.tail_ratio);
+  // Back substitution. The update u = u* + b1·Δt²·a, v = v* + g1·Δt·a of every row but the
+  // last is deferred to the next step's forward sweep, which reads u*, v* and a anyway: the
+  // same operations on the same numbers, so the same bits, but the back substitution then
+  // loads and stores one array instead of three. Stores are what bounds the step: it went
+  // from 6 to 4 per unknown and register. (The last row is updated here: the contact and the
+  // recorded velocity read it.)
+  // Two rows at a time, as TridiagonalFactorization::backward_in_place: x_i = (y_i − c'_i·y_{i+1})
+  // + c'_i·c'_{i+1}·x_{i+2}, so that even and odd rows are two recurrences (per register), each
+  // a multiply and an add per two rows: this loop is bound by the recurrence's latency.
+  Lanes x1 = x.a[last];  // x_{i+1}
+  store(&x.u[last], x.u[last] + c.b1_dt2 * x1);
+  store(&x.v[last], x.v[last] + c.g1_dt * x1);
+  Lanes x2{};            // x_{i+2}
+  Lanes y_next;          // y_{i+1}, as the forward sweep left it
+  Lanes ratio_next;      // c'_{i+1}
+  {
+    const Eigen::Index i = last - 1;
+    const Lanes ratio = i >= tail ? c.tail_ratio : c.upper * x.inverse_pivot[i];
+    y_next = x.a[i];
+    x2 = x1;
+    x1 = y_next - ratio * x1;
+    store(&x.a[i], x1);
+    ratio_next = ratio;
   }
-  for (Eigen::Index i = tail - 1; i >= 0; --i) {
-    backward.template operator()<false>(i, c.upper * x.inverse_pivot[i]);
+  const auto backward = [&](Eigen::Index i, const Lanes& ratio, const Lanes& ratio2)
+                            __attribute__((always_inline)) {
+    const Lanes y = x.a[i];
+    const Lanes solved = (y - ratio * y_next) + ratio2 * x2;
+    store(&x.a[i], solved);
+    y_next = y;
+    x2 = x1;
+    x1 = solved;
+  };
+#pragma GCC unroll 2
+  for (Eigen::Index i = last - 2; i >= tail; --i) {
+    backward(i, c.tail_ratio, c.tail_ratio2);
+  }
+  for (Eigen::Index i = std::min(tail - 1, last - 2); i >= 0; --i) {
+    const Lanes ratio = c.upper * x.inverse_pivot[i];
+    backward(i, ratio, ratio * ratio_next);
+    ratio_next = ratio;
   }
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
   x.u[last] = select(greater(new_lambda, Lanes{}), c.gap, x.u[last]);
   return new_lambda;
 }
 
-// ½·vᵀMv + ½·uᵀKu of every lane, each form summed in Tridiagonal::quadratic_form's order (as
-// SecondOrderSystem::energy). The two sums share one loop: each is a chain of dependent adds,
-// and side by side they overlap.
-[[gnu::always_inline]] inline Lanes lane_energy(const Tridiagonal& m, const Lanes* v,
-                                                 const Tridiagonal& k, const Lanes* u, Eigen::Index n) {
-  const auto row = [n](const Tridiagonal& a, const Lanes* x, Eigen::Index i)
-      __attribute__((always_inline)) {
-    Lanes r = splat(a.diag[i]) * x[i];
-    if (i > 0) r = r + splat(a.lower[i]) * x[i - 1];
-    if (i + 1 < n) r = r + splat(a.upper[i]) * x[i + 1];
+// ½·vᵀMv + ½·uᵀKu of every lane after step_lanes, each form summed in
+// Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy). Every row but the last
+// holds u*, v*, a: u and v are formed as the next forward sweep will form them, so with the
+// same bits. The two sums share one loop: each is a chain of dependent adds, and side by side
+// they overlap.
+[[gnu::always_inline]] inline Lanes lane_energy(const LaneArrays& x, const LaneCoefficients& c) {
+  const Tridiagonal& m = *x.mass;
+  const Tridiagonal& k = *x.stiffness;
+  const Eigen::Index n = x.n, last = n - 1;
+  struct Row {
+    Lanes u, v;
+  };
+  const auto state = [&](Eigen::Index i) __attribute__((always_inline)) {
+    if (i == last) return Row{x.u[i], x.v[i]};
+    const Lanes a = x.a[i];
+    return Row{x.u[i] + c.b1_dt2 * a, x.v[i] + c.g1_dt * a};
+  };
+  // Row i of a·x from x's neighbours, in quadratic_form's order.
+  const auto product = [n](const Tridiagonal& a, Eigen::Index i, const Lanes& prev,
+                           const Lanes& cur, const Lanes& next) __attribute__((always_inline)) {
+    Lanes r = splat(a.diag[i]) * cur;
+    if (i > 0) r = r + splat(a.lower[i]) * prev;
+    if (i + 1 < n) r = r + splat(a.upper[i]) * next;
     return r;
   };
   Lanes kinetic{}, strain{};
+  Row prev{}, cur = state(0), next{};
   for (Eigen::Index i = 0; i < n; ++i) {
-    kinetic = kinetic + v[i] * row(m, v, i);
-    strain = strain + u[i] * row(k, u, i);
+    if (i + 1 < n) next = state(i + 1);
+    kinetic = kinetic + cur.v * product(m, i, prev.v, cur.v, next.v);
+    strain = strain + cur.u * product(k, i, prev.u, cur.u, next.u);
+    prev = cur;
+    cur = next;
   }
   return 0.5 * kinetic + 0.5 * strain;
 }
@@ -373,17 +446,25 @@ template <bool kDamping, bool kMassTerm>
   }
   Lanes lambda{};
   for (long i = begin; i <= end; ++i) {
+    bool starting = false;
     for (int l = 0; l < kBatchLanes; ++l) {
       LaneRun& run = b.lanes[l];
       if (run.first != i || run.first > run.last) continue;
       const State& start = (*b.start)[l];
       set_lane(x, l, &start);
+      b.coefficients.plain_state.set(l, true);
+      starting = true;
       lambda.set(l, start.lambda);
       run.t = start.t;
       run.next_check = run.first - 1 + b.energy_check_interval;
       run.stepping = true;
     }
-    lambda = step_lanes<kDamping, kMassTerm>(x, b.coefficients, lambda);
+    if (starting) {
+      lambda = step_lanes<kDamping, kMassTerm, true>(x, b.coefficients, lambda);
+      b.coefficients.plain_state = LaneMask{};
+    } else {
+      lambda = step_lanes<kDamping, kMassTerm, false>(x, b.coefficients, lambda);
+    }
 
     // Bookkeeping of run_steps, lane by lane; the energy (two O(n) products) only when a lane
     // checks it at this sample, for every lane at once.
@@ -393,7 +474,7 @@ template <bool kDamping, bool kMassTerm>
     }
     Lanes energy{};
     if (energy_due) {
-      energy = lane_energy(*x.mass, x.v, *x.stiffness, x.u, x.n);
+      energy = lane_energy(x, b.coefficients);
     }
     // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
     const Lanes pressure = lambda / splat(b.area);
@@ -536,6 +617,8 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
     const double tail_pivot = n > 2 ? x.inverse_pivot[n - 2][l] : 0.0;
     k.tail_pivot.set(l, tail_pivot);
     k.tail_ratio.set(l, upper[l] * tail_pivot);
+    k.tail_lower_ratio.set(l, lower[l] * tail_pivot);
+    k.tail_ratio2.set(l, (upper[l] * tail_pivot) * (upper[l] * tail_pivot));
     k.tail_begin = std::max(k.tail_begin, converged);
   }
 }
@@ -671,7 +754,6 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     const double dt2 = dt * dt;
     k.dt2_b0.set(l, dt2 * co.b0);
     k.dt_g0.set(l, dt * co.g0);
-    k.one_minus_af.set(l, 1.0 - co.alpha_f);
     k.af.set(l, co.alpha_f);
     k.b1_dt2.set(l, co.b1 * dt2);
     k.g1_dt.set(l, co.g1 * dt);

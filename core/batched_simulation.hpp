@@ -10,15 +10,19 @@
 // numbers, in the same order, with the same intermediate products (Δt²·b0, b1·Δt², …), no FMA
 // (the project builds with -ffp-contract=off), and the per-lane branches of the scalar step
 // (contact active or not, α_m = 0 or not) become blends. The fused loops (predictor, K·u and
-// the forward sweep in one pass; back substitution, contact correction and update in another)
+// the forward sweep in one pass; contact correction and back substitution in another)
 // reorder work across unknowns, never the operations on one number. So a lane's RunSummary and
 // trace equal simulate()'s bit for bit (tests/batched_simulation_test.cpp), whatever the other
 // lanes do: a lane that goes unstable stops and is zeroed while the others continue, lanes may
 // start stepping at different samples (different free flights) and end at different ones.
 //
+// Between steps the arrays hold, in every row but the last, the predictors u*, v* and the new
+// a: the update u = u* + b1·Δt²·a, v = v* + g1·Δt·a is deferred to the next forward sweep (the
+// same operations, so the same bits), which halves the back substitution's stores.
+//
 // Per unknown and step (HHT or Newmark with a lumped or consistent mass, no damping, α_m = 0)
-// a lane costs 12 multiplies and 10 adds or subtracts (22 flops) plus one sign flip; the contact
-// adds a few flops at the contact node only (2 divides among them). Damping adds 9, α_m ≠ 0
+// a lane costs 12 multiplies and 11 adds or subtracts (23 flops) plus one sign flip; the contact
+// adds a few flops at the contact node only (2 divides among them). Damping adds 8, α_m ≠ 0
 // adds 6 (core/batched_simulation.cpp counts them at the loop).
 //
 // What batches (batchable / same_batch): implicit methods on the single-wall rod scene (no

@@ -74,8 +74,9 @@ Eigen::MatrixXd Tridiagonal::dense() const {
 
 bool TridiagonalFactorization::factor(const Tridiagonal& a) {
   const Eigen::Index n = a.size();
-  lower_ = a.lower;
+  lower_ratio_.resize(n);
   upper_ratio_.resize(n);
+  upper_ratio2_.resize(n);
   inverse_pivot_.resize(n);
   double previous_ratio = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -85,8 +86,12 @@ bool TridiagonalFactorization::factor(const Tridiagonal& a) {
       return false;
     }
     inverse_pivot_[i] = 1.0 / pivot;
+    lower_ratio_[i] = i > 0 ? a.lower[i] * inverse_pivot_[i] : 0.0;
     previous_ratio = (i + 1 < n) ? a.upper[i] * inverse_pivot_[i] : 0.0;
     upper_ratio_[i] = previous_ratio;
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    upper_ratio2_[i] = i + 2 < n ? upper_ratio_[i] * upper_ratio_[i + 1] : 0.0;
   }
   return true;
 }
@@ -105,16 +110,30 @@ void TridiagonalFactorization::solve_in_place(Eigen::VectorXd& b) const {
 
 void TridiagonalFactorization::forward_in_place(Eigen::VectorXd& b) const {
   const Eigen::Index n = inverse_pivot_.size();
+  // y_i = b_i/pivot_i − (lower_i/pivot_i)·y_{i−1} rather than (b_i − lower_i·y_{i−1})/pivot_i:
+  // the same number up to round-off, but the recurrence through y is one multiply and one
+  // subtract instead of three operations, which is what bounds the batched kernel's sweep
+  // (core/batched_simulation.cpp does these operations, so its lanes equal this bit for bit).
   b[0] *= inverse_pivot_[0];
   for (Eigen::Index i = 1; i < n; ++i) {
-    b[i] = (b[i] - lower_[i] * b[i - 1]) * inverse_pivot_[i];
+    b[i] = b[i] * inverse_pivot_[i] - lower_ratio_[i] * b[i - 1];
   }
 }
 
 void TridiagonalFactorization::backward_in_place(Eigen::VectorXd& y) const {
+  // x_i = y_i − c'_i·x_{i+1}, two rows at a time: x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}.
+  // The same number up to round-off, but x_i depends on x_{i+2}, not x_{i+1}: even and odd
+  // rows are two independent recurrences, each one multiply and one add per two rows. The
+  // batched kernel's back substitution is bound by this recurrence's latency, and does these
+  // operations (core/batched_simulation.cpp), so its lanes equal this bit for bit.
   const Eigen::Index n = inverse_pivot_.size();
-  for (Eigen::Index i = n - 2; i >= 0; --i) {
-    y[i] -= upper_ratio_[i] * y[i + 1];
+  if (n < 2) return;
+  double y_next = y[n - 2];  // y_{i+1} as the forward sweep left it
+  y[n - 2] -= upper_ratio_[n - 2] * y[n - 1];
+  for (Eigen::Index i = n - 3; i >= 0; --i) {
+    const double yi = y[i];
+    y[i] = (yi - upper_ratio_[i] * y_next) + upper_ratio2_[i] * y[i + 2];
+    y_next = yi;
   }
 }
 

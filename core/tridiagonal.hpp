@@ -36,7 +36,9 @@ struct Tridiagonal {
 };
 
 /// LU factorisation without pivoting (the Thomas algorithm), stored so that each solve is two
-/// sweeps of ~5 flops per unknown. Valid for the diagonally dominant or symmetric positive
+/// sweeps of 3 and 4 flops per unknown, each sweep's recurrence one multiply and one add long
+/// (the forward sweep divides by the pivot before eliminating; the back substitution runs two
+/// rows at a time: core/tridiagonal.cpp). Valid for the diagonally dominant or symmetric positive
 /// definite matrices that the integrators build; factor() reports a zero or non-finite pivot.
 class TridiagonalFactorization {
  public:
@@ -57,8 +59,9 @@ class TridiagonalFactorization {
   Eigen::VectorXd inverse_column(Eigen::Index j) const;
 
  private:
-  Eigen::VectorXd lower_;          // sub-diagonal of A
+  Eigen::VectorXd lower_ratio_;    // lower_i / pivot_i (row 0 unused)
   Eigen::VectorXd upper_ratio_;    // c'_i = upper_i / pivot_i
+  Eigen::VectorXd upper_ratio2_;   // c'_i·c'_{i+1} (0 in the last two rows)
   Eigen::VectorXd inverse_pivot_;  // 1 / pivot_i
 };
 

@@ -47,7 +47,8 @@ TEST(Tridiagonal, DenseCopyPlacesTheDiagonalsAndIgnoresUnusedEnds) {
 
 // The solver is what every implicit step and every CDM step relies on.
 TEST(Tridiagonal, FactorAndSolveMatchEigenDenseLu) {
-  for (Eigen::Index n : {1, 2, 3, 17, 200}) {
+  // 4 and 5 besides 3: the back substitution pairs rows from the end (two recurrences).
+  for (Eigen::Index n : {1, 2, 3, 4, 5, 17, 200}) {
     const Tridiagonal a = random_dominant(n, 7u + static_cast<unsigned>(n));
     const Eigen::VectorXd b = random_vector(n, 11u + static_cast<unsigned>(n));
     const Eigen::VectorXd reference = a.dense().partialPivLu().solve(b);
