@@ -127,8 +127,8 @@ struct LaneCoefficients {
   LaneMask plain_state;
   // The effective matrix's off-diagonals, the same in every row of the uniform rod: with them
   // the factorisation is one array (the inverse pivots): TridiagonalFactorization::factor's
-  // lower factor is these and its upper ratio of row i is upper·(1/pivot_i), a product the back
-  // substitution forms again with the same bits. Three arrays a batch would otherwise stream
+  // ratios of row i are lower·(1/pivot_i) and upper·(1/pivot_i), products the sweeps form again
+  // with the same bits. Three arrays a batch would otherwise stream
   // through the cache at every step.
   Lanes lower, upper;
   // The inverse pivots of rows [tail_begin, n − 1): one value per lane. The pivots of a
@@ -615,10 +615,11 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
       --converged;
     }
     const double tail_pivot = n > 2 ? x.inverse_pivot[n - 2][l] : 0.0;
+    const double tail_ratio = upper[l] * tail_pivot;
     k.tail_pivot.set(l, tail_pivot);
-    k.tail_ratio.set(l, upper[l] * tail_pivot);
+    k.tail_ratio.set(l, tail_ratio);
     k.tail_lower_ratio.set(l, lower[l] * tail_pivot);
-    k.tail_ratio2.set(l, (upper[l] * tail_pivot) * (upper[l] * tail_pivot));
+    k.tail_ratio2.set(l, tail_ratio * tail_ratio);
     k.tail_begin = std::max(k.tail_begin, converged);
   }
 }
