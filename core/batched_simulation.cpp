@@ -78,6 +78,21 @@ struct LaneMask {
 }
 [[gnu::always_inline]] inline Lanes operator-(const Lanes& a) { return {-a.lo, -a.hi}; }
 
+// a·b + c rounded once, lane by lane: the scalar path's std::fma. GCC's vector extensions have
+// no fused multiply-add, but in the x86-64-v3 and v4 versions of the kernel (run_batch_any)
+// GCC turns these per-lane fused multiply-adds into one vfmadd per register; the baseline
+// version calls the C library's fma per lane (correct, much slower: machines without FMA are
+// from before 2013).
+[[gnu::always_inline]] inline Register fma(const Register& a, const Register& b,
+                                           const Register& c) {
+  Register r;
+  for (int l = 0; l < kRegisterLanes; ++l) r[l] = __builtin_fma(a[l], b[l], c[l]);
+  return r;
+}
+[[gnu::always_inline]] inline Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
+  return {fma(a.lo, b.lo, c.lo), fma(a.hi, b.hi, c.hi)};
+}
+
 // *to = x register by register. An assignment of the whole struct made GCC 12 copy it through
 // the stack in the step loop (a store, a load and a store again), which the stores, the scarcest
 // resource of the step, paid for.
@@ -164,6 +179,7 @@ struct Diagonals {
 
 // Row i of a tridiagonal product with the neighbours `prev`, `cur`, `next` of x, summed in
 // Tridiagonal::multiply_add's order: (l·x₋ + d·x) + u·x₊, the end rows without the missing term.
+// (For C and M; K's rows are Tridiagonal::multiply's, fused: stiffness_row.)
 template <bool kFirst, bool kLast>
 [[gnu::always_inline]] inline Lanes row(const Diagonals& m, Eigen::Index i, const Lanes& prev,
                                         const Lanes& cur, const Lanes& next) {
@@ -172,18 +188,31 @@ template <bool kFirst, bool kLast>
   return (splat(m.lower[i]) * prev + splat(m.diag[i]) * cur) + splat(m.upper[i]) * next;
 }
 
+// The end rows of K·x as Tridiagonal::multiply forms them: d·x fused onto the neighbour's
+// product. (Interior rows: step_lanes, with the neighbours' products shared.)
+template <bool kFirst>
+[[gnu::always_inline]] inline Lanes stiffness_end_row(const Diagonals& m, Eigen::Index i,
+                                                      const Lanes& prev, const Lanes& cur,
+                                                      const Lanes& next) {
+  if constexpr (kFirst) return fma(splat(m.diag[i]), cur, splat(m.upper[i]) * next);
+  return fma(splat(m.diag[i]), cur, splat(m.lower[i]) * prev);
+}
+
 // One implicit step of every lane: ImplicitIntegrator::predict and ::step (single wall), lane
 // by lane the same operations. Returns each lane's λ at t + Δt.
 //
-// Flops per unknown and lane, without damping and α_m (count them in the loops below). The
-// forward sweep: the deferred update of u and v 2 mul 2 add, the predictors u* 2 mul 2 add
-// and v* 1 mul 1 add, the α_f-weighted u 1 mul 1 sub, K·u 2 mul 2 add (the off-diagonal
-// product shared by two rows), the elimination 2 mul 1 sub: 10 mul + 9 add = 19. The back
-// substitution, two rows at a time, 2 mul 2 add. Total 12 mul + 11 add = 23 flops, plus the
-// sign flip of rhs = −K·u and, in the first rows only, 1 mul each for lower·inverse pivot,
-// upper·inverse pivot and the product of two upper ratios. The contact costs a few flops at
-// the last row only (2 divides among them). Damping: +1 mul 1 add in the predictor, 3 mul 3
-// add for C·v (8). α_m ≠ 0: 4 mul 2 add (6) and a blend.
+// Flops per unknown and lane, without damping and α_m (count them in the loops below; an FMA
+// is a multiply and an add rounded once). The forward sweep: the deferred update of u and v
+// 2 FMA, the predictor u* 1 mul 1 FMA 1 add and v* 1 FMA, the α_f-weighted u 1 FMA, K·u 1 mul
+// 1 FMA 1 add (the off-diagonal product shared by two rows), the elimination 1 mul 1 FMA
+// (rhs = −K·u's sign is carried by the pivot): 3 mul + 7 FMA + 2 add = 19 flops. The back
+// substitution, two rows at a time, 2 FMA. Total 3 mul + 9 FMA + 2 add: 14 instructions,
+// 23 flops, 12 of the instructions multiplies or FMAs (which only two of the four vector
+// pipes of a Zen 4/5 core execute: the bound of the step). In the first rows only, 1 mul
+// each for lower·inverse pivot, upper·inverse pivot and the product of two upper ratios. The
+// contact costs a few flops at the last row only (2 divides among them). Damping: +1 mul
+// 1 FMA in the predictor and 3 mul 3 add for C·v, plus the sign flip; α_m ≠ 0: 4 mul 2 add
+// and a blend.
 template <bool kDamping, bool kMassTerm, bool kStartingLanes>
 [[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays,
                                                const LaneCoefficients& coefficients,
@@ -201,6 +230,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   // registers instead of three loads and broadcasts per row.
   const Lanes k_lower = splat(x.k_lower), k_diag = splat(x.k_diag);
   const Lanes dt = splat(c.dt);
+  const Lanes minus_af = -c.af;  // up − α_f·du = fma(−α_f, du, up), as the scalar predict
 
   // Three arrays per lane. The forward sweep reads u*, v*, a (the previous step's predictors
   // and its new acceleration; plain u, v, a in the last row and in lanes that start now), forms
@@ -220,20 +250,19 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     const Lanes a = x.a[i];
     Lanes u = x.u[i], v = x.v[i];
     if constexpr (!kLastRow) {  // the update the previous step's back substitution deferred
-      const Lanes u_updated = u + c.b1_dt2 * a, v_updated = v + c.g1_dt * a;
+      const Lanes u_updated = fma(c.b1_dt2, a, u), v_updated = fma(c.g1_dt, a, v);
       u = kStartingLanes ? select(c.plain_state, u, u_updated) : u_updated;
       v = kStartingLanes ? select(c.plain_state, v, v_updated) : v_updated;
     }
-    const Lanes du = dt * v + c.dt2_b0 * a;
-    const Lanes dv = c.dt_g0 * a;
+    const Lanes du = fma(dt, v, c.dt2_b0 * a);
     const Lanes up = u + du;
-    const Lanes vp = v + dv;
+    const Lanes vp = fma(c.dt_g0, a, v);
     store(&x.u[i], up);
     store(&x.v[i], vp);
     Weighted w;
-    w.u = up - c.af * du;
+    w.u = fma(minus_af, du, up);
     w.p = k_lower * w.u;
-    if constexpr (kDamping) w.v = vp - c.af * dv;
+    if constexpr (kDamping) w.v = fma(minus_af, c.dt_g0 * a, vp);
     if constexpr (kMassTerm) w.a = a;
     return w;
   };
@@ -245,11 +274,23 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
                            Eigen::Index i, const Lanes& pivot, const Lanes& ratio)
                            __attribute__((always_inline)) {
     if constexpr (!kLast) next = predict.template operator()<kNextIsLast>(i + 1);
+    // Only K's term in the right-hand side (no damping, no α_m, not the contact row, the hot
+    // loop): its sign goes onto the pivot, (−s)·p = s·(−p) exactly, one instruction fewer.
+    constexpr bool kStiffnessOnly = !kDamping && !kMassTerm && !kFirst && !kLast;
+    if constexpr (kStiffnessOnly) {
+      const Lanes s = fma(k_diag, cur.u, prev.p) + next.p;
+      const Lanes r = fma(-ratio, eliminated, s * -pivot);
+      store(&x.a[i], r);
+      eliminated = r;
+      prev = cur;
+      cur = next;
+      return;
+    }
     Lanes r;
     if constexpr (kFirst || kLast) {
-      r = -row<kFirst, kLast>(K, i, prev.u, cur.u, next.u);
+      r = -stiffness_end_row<kFirst>(K, i, prev.u, cur.u, next.u);
     } else {
-      r = -((prev.p + k_diag * cur.u) + next.p);
+      r = -(fma(k_diag, cur.u, prev.p) + next.p);
     }
     if constexpr (kDamping) r = r + -1.0 * row<kFirst, kLast>(C, i, prev.v, cur.v, next.v);
     if constexpr (kMassTerm) {
@@ -259,7 +300,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     if constexpr (kFirst) {
       r = r * pivot;
     } else {
-      r = r * pivot - ratio * eliminated;
+      r = fma(-ratio, eliminated, r * pivot);
     }
     store(&x.a[i], r);
     eliminated = r;
@@ -297,7 +338,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   // constraint sets that unknown before the back substitution carries it up the rod: the same
   // operations as ImplicitIntegrator::step with the contact dof last. A⁻¹·e_c's last entry is the
   // last inverse pivot, bit for bit (its forward sweep is +0 above the last row and 1·p there).
-  const Lanes u_free = x.u[last] + c.b1_dt2 * x.a[last];
+  const Lanes u_free = fma(c.b1_dt2, x.a[last], x.u[last]);
   const LaneMask closes = greater(u_free, c.gap);
   Lanes new_lambda{};
   if (any_lane(closes)) {
@@ -317,8 +358,8 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   // + c'_i·c'_{i+1}·x_{i+2}, so that even and odd rows are two recurrences (per register), each
   // a multiply and an add per two rows: this loop is bound by the recurrence's latency.
   Lanes x1 = x.a[last];  // x_{i+1}
-  store(&x.u[last], x.u[last] + c.b1_dt2 * x1);
-  store(&x.v[last], x.v[last] + c.g1_dt * x1);
+  store(&x.u[last], fma(c.b1_dt2, x1, x.u[last]));
+  store(&x.v[last], fma(c.g1_dt, x1, x.v[last]));
   Lanes x2{};            // x_{i+2}
   Lanes y_next;          // y_{i+1}, as the forward sweep left it
   Lanes ratio_next;      // c'_{i+1}
@@ -327,14 +368,14 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     const Lanes ratio = i >= tail ? c.tail_ratio : c.upper * x.inverse_pivot[i];
     y_next = x.a[i];
     x2 = x1;
-    x1 = y_next - ratio * x1;
+    x1 = fma(-ratio, x1, y_next);
     store(&x.a[i], x1);
     ratio_next = ratio;
   }
   const auto backward = [&](Eigen::Index i, const Lanes& ratio, const Lanes& ratio2)
                             __attribute__((always_inline)) {
     const Lanes y = x.a[i];
-    const Lanes solved = (y - ratio * y_next) + ratio2 * x2;
+    const Lanes solved = fma(ratio2, x2, fma(-ratio, y_next, y));
     store(&x.a[i], solved);
     y_next = y;
     x2 = x1;
@@ -369,7 +410,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   const auto state = [&](Eigen::Index i) __attribute__((always_inline)) {
     if (i == last) return Row{x.u[i], x.v[i]};
     const Lanes a = x.a[i];
-    return Row{x.u[i] + c.b1_dt2 * a, x.v[i] + c.g1_dt * a};
+    return Row{fma(c.b1_dt2, a, x.u[i]), fma(c.g1_dt, a, x.v[i])};
   };
   // Row i of a·x from x's neighbours, in quadratic_form's order.
   const auto product = [n](const Tridiagonal& a, Eigen::Index i, const Lanes& prev,

@@ -7,8 +7,10 @@
 // of a batch by the same operation, and the recurrence's latency is paid once per batch.
 //
 // Bit-identical to simulate(): every lane performs the scalar path's operations on its own
-// numbers, in the same order, with the same intermediate products (Δt²·b0, b1·Δt², …), no FMA
-// (the project builds with -ffp-contract=off), and the per-lane branches of the scalar step
+// numbers, in the same order, with the same intermediate products (Δt²·b0, b1·Δt², …) and
+// the same fused multiply-adds (the scalar path's std::fma; the project builds with
+// -ffp-contract=off, so the compiler fuses nothing else), and the per-lane branches of the
+// scalar step
 // (contact active or not, α_m = 0 or not) become blends. The fused loops (predictor, K·u and
 // the forward sweep in one pass; contact correction and back substitution in another)
 // reorder work across unknowns, never the operations on one number. So a lane's RunSummary and
@@ -21,9 +23,9 @@
 // same operations, so the same bits), which halves the back substitution's stores.
 //
 // Per unknown and step (HHT or Newmark with a lumped or consistent mass, no damping, α_m = 0)
-// a lane costs 12 multiplies and 11 adds or subtracts (23 flops) plus one sign flip; the contact
-// adds a few flops at the contact node only (2 divides among them). Damping adds 8, α_m ≠ 0
-// adds 6 (core/batched_simulation.cpp counts them at the loop).
+// a lane costs 3 multiplies, 9 fused multiply-adds and 2 adds (23 flops in 14 instructions);
+// the contact adds a few flops at the contact node only (2 divides among them). Damping adds
+// 9, α_m ≠ 0 adds 6 (core/batched_simulation.cpp counts them at the loop).
 //
 // What batches (batchable / same_batch): implicit methods on the single-wall rod scene (no
 // far wall), with no histories requested; lanes of one batch share the rod (elements, length,

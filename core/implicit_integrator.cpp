@@ -1,5 +1,8 @@
 #include "core/implicit_integrator.hpp"
 
+#include <cmath>
+
+#include "core/fused_multiply_add.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {
@@ -29,6 +32,7 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   return true;
 }
 
+IMPACTID_FMA_VERSIONS
 void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
   const Eigen::Index n = system.size();
   const double dt = dt_, dt2 = dt * dt;
@@ -38,15 +42,16 @@ void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
   // the elastic and damping forces, written over u and v (their old values are not needed).
   // (1−α_f)·u* + α_f·u is formed as u* − α_f·(u* − u) with the increment u* − u = d kept: one
   // multiply fewer, and exactly u* for Newmark (α_f = 0). The batched kernel does the same
-  // operations (core/batched_simulation.cpp).
+  // operations (core/batched_simulation.cpp). A multiply whose product is only added is fused
+  // with the add (std::fma, correctly rounded: the same bits on every machine); the kernel
+  // fuses the same ones.
   const double dt2_b0 = dt2 * c_.b0, dt_g0 = dt * c_.g0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double du = dt * s.v[i] + dt2_b0 * s.a[i];
-    const double dv = dt_g0 * s.a[i];
+    const double du = std::fma(dt, s.v[i], dt2_b0 * s.a[i]);
     u_predicted_[i] = s.u[i] + du;
-    v_predicted_[i] = s.v[i] + dv;
-    s.u[i] = u_predicted_[i] - af * du;
-    s.v[i] = v_predicted_[i] - af * dv;
+    v_predicted_[i] = std::fma(dt_g0, s.a[i], s.v[i]);
+    s.u[i] = std::fma(-af, du, u_predicted_[i]);
+    s.v[i] = std::fma(-af, dt_g0 * s.a[i], v_predicted_[i]);
   }
   system.stiffness.multiply(s.u, rhs_);
   rhs_ = -rhs_;
@@ -58,6 +63,18 @@ void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
     rhs_[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
   }
   factorization_.forward_in_place(rhs_);
+}
+
+IMPACTID_FMA_VERSIONS
+void ImplicitIntegrator::update(State& s) const {
+  const Eigen::Index n = s.a.size();
+  const double dt = dt_, dt2 = dt * dt;
+  const double b1_dt2 = c_.b1 * dt2, g1_dt = c_.g1 * dt;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    s.a[i] = rhs_[i];
+    s.u[i] = std::fma(b1_dt2, rhs_[i], u_predicted_[i]);
+    s.v[i] = std::fma(g1_dt, rhs_[i], v_predicted_[i]);
+  }
 }
 
 bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
@@ -72,7 +89,7 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   double lambda = 0.0;
   if (system.has_contact()) {
     // With the contact dof last, rhs_[contact] is final after the forward sweep.
-    const double u_free = u_predicted_[contact] + c_.b1 * dt2 * rhs_[contact];
+    const double u_free = std::fma(c_.b1 * dt2, rhs_[contact], u_predicted_[contact]);
     if (u_free > system.gap) {
       // Force (w·λ) that moves the contact dof from u_free back onto the wall.
       const double weighted = (u_free - system.gap) / (c_.b1 * dt2 * contact_influence_[contact]);
@@ -85,11 +102,7 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
     }
   }
   if (contact_is_last) factorization_.backward_in_place(rhs_);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    s.a[i] = rhs_[i];
-    s.u[i] = u_predicted_[i] + c_.b1 * dt2 * rhs_[i];
-    s.v[i] = v_predicted_[i] + c_.g1 * dt * rhs_[i];
-  }
+  update(s);
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
   if (lambda > 0.0) s.u[contact] = system.gap;
   s.lambda = lambda;
@@ -107,8 +120,9 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
 
   // Penetrations of the contact-free prediction, and what a unit weighted force does to them.
   const double k = c_.b1 * dt2;
-  const double p_main = u_predicted_[contact] + k * contact_free_[contact] - system.gap;
-  const double p_far = -system.far_gap - (u_predicted_[far] + k * contact_free_[far]);
+  // The free positions as step() forms u_free (fused), so that the far wall idle changes no bit.
+  const double p_main = std::fma(k, contact_free_[contact], u_predicted_[contact]) - system.gap;
+  const double p_far = -system.far_gap - std::fma(k, contact_free_[far], u_predicted_[far]);
   const TwoWallForces forces =
       solve_two_wall_contact(p_main, p_far, k * contact_influence_[contact],
                              k * far_influence_[far], k * far_influence_[contact],
@@ -123,11 +137,7 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
     if (forces.main > 0.0) rhs_ -= forces.main * contact_influence_;
     if (forces.far > 0.0) rhs_ += forces.far * far_influence_;
   }
-  for (Eigen::Index i = 0; i < n; ++i) {
-    s.a[i] = rhs_[i];
-    s.u[i] = u_predicted_[i] + c_.b1 * dt2 * rhs_[i];
-    s.v[i] = v_predicted_[i] + c_.g1 * dt * rhs_[i];
-  }
+  update(s);
   if (forces.main > 0.0) s.u[contact] = system.gap;
   if (forces.far > 0.0) s.u[far] = -system.far_gap;
   s.lambda = forces.main / c_.contact_weight;

@@ -46,6 +46,8 @@ class ImplicitIntegrator {
   /// entry is the last unknown of the contact-free acceleration; backward_in_place completes it).
   void predict(const SecondOrderSystem& system, State& state);
   bool step_two_walls(const SecondOrderSystem& system, State& state);
+  /// a = rhs_, u = u* + b1·Δt²·a, v = v* + g1·Δt·a (fused multiply-adds), every dof.
+  void update(State& state) const;
 
   ImplicitCoefficients c_{};
   double dt_ = 0.0;

@@ -2,7 +2,67 @@
 
 #include <cmath>
 
+#include "core/fused_multiply_add.hpp"
+
 namespace impactid {
+
+namespace {
+
+// The three loops of the implicit step, on plain arrays: functions of this file only, because
+// a function compiled in several versions (IMPACTID_FMA_VERSIONS) is reached through a symbol
+// that clang 14 names differently from GCC; called from this file, both resolve it.
+
+// y = A·x (A by its diagonals). Written out rather than y = 0, y += 1·A·x: the same values
+// without the two no-op flops per row, which the batched kernel (core/batched_simulation.cpp)
+// would have to repeat to stay bit-identical. The diagonal term is fused onto the lower one
+// (one rounding fewer), as the kernel does it.
+IMPACTID_FMA_VERSIONS
+void multiply_rows(const double* lower, const double* diag, const double* upper, Eigen::Index n,
+                   const double* x, double* y) {
+  if (n == 1) {
+    y[0] = diag[0] * x[0];
+    return;
+  }
+  y[0] = std::fma(diag[0], x[0], upper[0] * x[1]);
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    y[i] = std::fma(diag[i], x[i], lower[i] * x[i - 1]) + upper[i] * x[i + 1];
+  }
+  y[n - 1] = std::fma(diag[n - 1], x[n - 1], lower[n - 1] * x[n - 2]);
+}
+
+// y_i = b_i/pivot_i − (lower_i/pivot_i)·y_{i−1} rather than (b_i − lower_i·y_{i−1})/pivot_i:
+// the same number up to round-off, but the recurrence through y is one fused multiply-add
+// (4 cycles) instead of three operations, which is what bounds the batched kernel's sweep
+// (core/batched_simulation.cpp does these operations, so its lanes equal this bit for bit).
+IMPACTID_FMA_VERSIONS
+void forward_sweep(const double* inverse_pivot, const double* lower_ratio, Eigen::Index n,
+                   double* b) {
+  if (n == 0) return;
+  b[0] *= inverse_pivot[0];
+  for (Eigen::Index i = 1; i < n; ++i) {
+    b[i] = std::fma(-lower_ratio[i], b[i - 1], b[i] * inverse_pivot[i]);
+  }
+}
+
+// x_i = y_i − c'_i·x_{i+1}, two rows at a time: x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}.
+// The same number up to round-off, but x_i depends on x_{i+2}, not x_{i+1}: even and odd
+// rows are two independent recurrences, each one fused multiply-add per two rows. The
+// batched kernel's back substitution is bound by this recurrence's latency, and does these
+// operations (core/batched_simulation.cpp), so its lanes equal this bit for bit.
+IMPACTID_FMA_VERSIONS
+void backward_sweep(const double* upper_ratio, const double* upper_ratio2, Eigen::Index n,
+                    double* y) {
+  if (n < 2) return;
+  double y_next = y[n - 2];  // y_{i+1} as the forward sweep left it
+  y[n - 2] = std::fma(-upper_ratio[n - 2], y[n - 1], y[n - 2]);
+  for (Eigen::Index i = n - 3; i >= 0; --i) {
+    const double yi = y[i];
+    y[i] = std::fma(upper_ratio2[i], y[i + 2], std::fma(-upper_ratio[i], y_next, yi));
+    y_next = yi;
+  }
+}
+
+}  // namespace
 
 Tridiagonal Tridiagonal::zero(Eigen::Index n) {
   return {Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
@@ -21,19 +81,7 @@ Tridiagonal Tridiagonal::combined(double a, const Tridiagonal& other, double b) 
 }
 
 void Tridiagonal::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  // Written out rather than y = 0, y += 1·A·x: the same values without the two no-op flops per
-  // row, which the batched kernel (core/batched_simulation.cpp) would have to repeat to stay
-  // bit-identical.
-  const Eigen::Index n = size();
-  if (n == 1) {
-    y[0] = diag[0] * x[0];
-    return;
-  }
-  y[0] = diag[0] * x[0] + upper[0] * x[1];
-  for (Eigen::Index i = 1; i + 1 < n; ++i) {
-    y[i] = lower[i] * x[i - 1] + diag[i] * x[i] + upper[i] * x[i + 1];
-  }
-  y[n - 1] = lower[n - 1] * x[n - 2] + diag[n - 1] * x[n - 1];
+  multiply_rows(lower.data(), diag.data(), upper.data(), size(), x.data(), y.data());
 }
 
 void Tridiagonal::multiply_add(double s, const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
@@ -96,6 +144,14 @@ bool TridiagonalFactorization::factor(const Tridiagonal& a) {
   return true;
 }
 
+void TridiagonalFactorization::forward_in_place(Eigen::VectorXd& b) const {
+  forward_sweep(inverse_pivot_.data(), lower_ratio_.data(), inverse_pivot_.size(), b.data());
+}
+
+void TridiagonalFactorization::backward_in_place(Eigen::VectorXd& y) const {
+  backward_sweep(upper_ratio_.data(), upper_ratio2_.data(), inverse_pivot_.size(), y.data());
+}
+
 Eigen::VectorXd TridiagonalFactorization::inverse_column(Eigen::Index j) const {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(size());
   x[j] = 1.0;
@@ -106,35 +162,6 @@ Eigen::VectorXd TridiagonalFactorization::inverse_column(Eigen::Index j) const {
 void TridiagonalFactorization::solve_in_place(Eigen::VectorXd& b) const {
   forward_in_place(b);
   backward_in_place(b);
-}
-
-void TridiagonalFactorization::forward_in_place(Eigen::VectorXd& b) const {
-  const Eigen::Index n = inverse_pivot_.size();
-  // y_i = b_i/pivot_i − (lower_i/pivot_i)·y_{i−1} rather than (b_i − lower_i·y_{i−1})/pivot_i:
-  // the same number up to round-off, but the recurrence through y is one multiply and one
-  // subtract instead of three operations, which is what bounds the batched kernel's sweep
-  // (core/batched_simulation.cpp does these operations, so its lanes equal this bit for bit).
-  b[0] *= inverse_pivot_[0];
-  for (Eigen::Index i = 1; i < n; ++i) {
-    b[i] = b[i] * inverse_pivot_[i] - lower_ratio_[i] * b[i - 1];
-  }
-}
-
-void TridiagonalFactorization::backward_in_place(Eigen::VectorXd& y) const {
-  // x_i = y_i − c'_i·x_{i+1}, two rows at a time: x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}.
-  // The same number up to round-off, but x_i depends on x_{i+2}, not x_{i+1}: even and odd
-  // rows are two independent recurrences, each one multiply and one add per two rows. The
-  // batched kernel's back substitution is bound by this recurrence's latency, and does these
-  // operations (core/batched_simulation.cpp), so its lanes equal this bit for bit.
-  const Eigen::Index n = inverse_pivot_.size();
-  if (n < 2) return;
-  double y_next = y[n - 2];  // y_{i+1} as the forward sweep left it
-  y[n - 2] -= upper_ratio_[n - 2] * y[n - 1];
-  for (Eigen::Index i = n - 3; i >= 0; --i) {
-    const double yi = y[i];
-    y[i] = (yi - upper_ratio_[i] * y_next) + upper_ratio2_[i] * y[i + 2];
-    y_next = yi;
-  }
 }
 
 }  // namespace impactid

@@ -86,8 +86,12 @@ TEST(GeneralizedAlpha, RhoInfOneWithWeightedContactEqualsTrapezoidalRule) {
 
 // Why the window above: the trapezoidal rule with Lagrange contact is itself sensitive to
 // round-off. Perturbing v0 by one ulp changes nothing measurable at first but O(gap) within the
-// run; generalized-α with ρ∞ = 1 stays no further from the trapezoidal rule than that 1-ulp
-// twin does, up to where the twin has lost all agreement.
+// run; generalized-α with ρ∞ = 1 stays within a few times that 1-ulp twin's distance from the
+// trapezoidal rule, up to where the twin has lost all agreement. A few times: its seed is not
+// one ulp of v0 but the different rounding of its own operations (α_f-weighted forces, the α_m
+// mass term) at every step; measured at most 2.85 times the twin's distance (with the fused
+// multiply-adds of the implicit step; at most 1 before them). A real difference between the methods
+// would show from the first samples, orders of magnitude above.
 TEST(GeneralizedAlpha, TrapezoidalContactAmplifiesRoundOff) {
   RodScene scene, twin_scene;
   twin_scene.velocity = std::nextafter(scene.velocity, 2.0 * scene.velocity);
@@ -103,7 +107,7 @@ TEST(GeneralizedAlpha, TrapezoidalContactAmplifiesRoundOff) {
   for (long i = 0; i < trapezoid.trace.size() && twin_gap < 1e-3 * scene.gap; ++i) {
     twin_gap = std::max(twin_gap, std::abs(u[i] - twin.trace.displacement[i]));
     alpha_gap = std::max(alpha_gap, std::abs(u[i] - alpha.trace.displacement[i]));
-    EXPECT_LE(alpha_gap, std::max(twin_gap, 1e-14 * scene.gap)) << "sample " << i + 1;
+    EXPECT_LE(alpha_gap, 4.0 * std::max(twin_gap, 1e-14 * scene.gap)) << "sample " << i + 1;
   }
 }
 
