@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/batched_simulation.hpp"
+#include "core/function_versions.hpp"
 #include "core/simulation.hpp"
 #include "sparse_reference.hpp"
 #include "study/evaluation.hpp"
@@ -206,7 +207,7 @@ BENCHMARK(BM_Clock)->Unit(benchmark::kMillisecond);
 // then bound the loop instead of the arithmetic. flops/s ÷ Hz ÷ 8 = how many vector multiplies
 // or adds of 8 doubles issue per cycle.
 using BenchRegister = double __attribute__((vector_size(sizeof(double) * 8)));
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) double
+IMPACTID_SIMD_VERSIONS double
 mul_add_chains(long iterations) {
   BenchRegister m, c, a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13, a14, a15;
   for (int l = 0; l < 8; ++l) {
@@ -236,7 +237,7 @@ mul_add_chains(long iterations) {
   for (int l = 0; l < 8; ++l) r[l] = __builtin_fma(a[l], b[l], c[l]);
   return r;
 }
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) double
+IMPACTID_SIMD_VERSIONS double
 fma_chains(long iterations) {
   BenchRegister m, c, a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13, a14, a15;
   for (int l = 0; l < 8; ++l) {

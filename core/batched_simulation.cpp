@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "core/function_versions.hpp"
 #include "core/second_order_system.hpp"
 #include "core/tridiagonal.hpp"
 
@@ -554,7 +555,7 @@ template <bool kDamping, bool kMassTerm>
 
 // The batch loop for the machine at hand: GCC compiles it for each target and picks one when
 // the program starts. Everything it calls in the step loop is inlined into each version.
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) void run_batch_any(Batch& b) {
+IMPACTID_SIMD_VERSIONS void run_batch_any(Batch& b) {
   const bool damping = b.arrays.damping != nullptr;
   const bool mass_term = any_lane(b.coefficients.mass_term);
   if (damping && mass_term) {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/fused_multiply_add.hpp"
+#include "core/function_versions.hpp"
 
 namespace impactid {
 
