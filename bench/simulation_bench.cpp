@@ -200,62 +200,49 @@ void BM_Clock(benchmark::State& state) {
 }
 BENCHMARK(BM_Clock)->Unit(benchmark::kMillisecond);
 
-// The kernel's own arithmetic ceiling: separate vector multiplies and adds (as
-// -ffp-contract=off issues them), 16 independent chains of one 8-double register each, compiled
-// like the kernel for the best of AVX-512, AVX2 and baseline. The chains are named variables,
-// not an array: GCC keeps an array indexed in a loop on the stack, and the loads and stores
-// then bound the loop instead of the arithmetic. flops/s ÷ Hz ÷ 8 = how many vector multiplies
-// or adds of 8 doubles issue per cycle.
+// The kernel's own arithmetic ceiling: 16 independent chains a = a·m + c of one 8-double
+// register each, compiled like the kernel for the best of AVX-512, AVX2 and baseline, once with
+// a separate multiply and add (as -ffp-contract=off issues a·m + c) and once fused, as the
+// kernel issues its multiply-adds now. The chains are named variables, not an array: GCC keeps
+// an array indexed in a loop on the stack, and the loads and stores then bound the loop instead
+// of the arithmetic. flops/s ÷ Hz ÷ 8 = how many flops of 8 doubles retire per cycle.
 using BenchRegister = double __attribute__((vector_size(sizeof(double) * 8)));
-IMPACTID_SIMD_VERSIONS double
-mul_add_chains(long iterations) {
-  BenchRegister m, c, a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13, a14, a15;
-  for (int l = 0; l < 8; ++l) {
-    m[l] = 0.999999, c[l] = 1e-3;
-    a0[l] = a1[l] = a2[l] = a3[l] = a4[l] = a5[l] = a6[l] = a7[l] = l;
-    a8[l] = a9[l] = a10[l] = a11[l] = a12[l] = a13[l] = a14[l] = a15[l] = l + 1;
-  }
-  for (long i = 0; i < iterations; ++i) {
-    a0 = a0 * m + c, a1 = a1 * m + c, a2 = a2 * m + c, a3 = a3 * m + c;
-    a4 = a4 * m + c, a5 = a5 * m + c, a6 = a6 * m + c, a7 = a7 * m + c;
-    a8 = a8 * m + c, a9 = a9 * m + c, a10 = a10 * m + c, a11 = a11 * m + c;
-    a12 = a12 * m + c, a13 = a13 * m + c, a14 = a14 * m + c, a15 = a15 * m + c;
-  }
-  const BenchRegister sum = ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7)) +
-                            ((a8 + a9) + (a10 + a11)) + ((a12 + a13) + (a14 + a15));
-  return sum[0];
-}
 
-// The same chains with fused multiply-adds, as the kernel issues them now: a per-lane
-// __builtin_fma that GCC turns into one vfmadd per register in the x86-64-v3 and v4 versions
-// (a C library call per lane in the baseline one). 2 flops per lane and instruction.
-// `fused` is always inlined, so its wide return value never crosses a call between targets.
+// One link of a chain. Fused: a per-lane __builtin_fma, which GCC turns into one vfmadd per
+// register in the x86-64-v3 and v4 versions (a C library call per lane in the baseline one).
+// Always inlined, so a wide value never crosses a call between targets.
 #pragma GCC diagnostic ignored "-Wpsabi"
-[[gnu::always_inline]] inline BenchRegister fused(const BenchRegister& a, const BenchRegister& b,
-                                                  const BenchRegister& c) {
+template <bool kFused>
+[[gnu::always_inline]] inline BenchRegister link(const BenchRegister& a, const BenchRegister& m,
+                                                 const BenchRegister& c) {
+  if constexpr (!kFused) return a * m + c;
   BenchRegister r;
-  for (int l = 0; l < 8; ++l) r[l] = __builtin_fma(a[l], b[l], c[l]);
+  for (int l = 0; l < 8; ++l) r[l] = __builtin_fma(a[l], m[l], c[l]);
   return r;
 }
-IMPACTID_SIMD_VERSIONS double
-fma_chains(long iterations) {
+
+// Inlined into each versioned caller below, so compiled once per target.
+template <bool kFused>
+[[gnu::always_inline]] inline double chains(long iterations) {
   BenchRegister m, c, a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13, a14, a15;
   for (int l = 0; l < 8; ++l) {
     m[l] = 0.999999, c[l] = 1e-3;
     a0[l] = a1[l] = a2[l] = a3[l] = a4[l] = a5[l] = a6[l] = a7[l] = l;
     a8[l] = a9[l] = a10[l] = a11[l] = a12[l] = a13[l] = a14[l] = a15[l] = l + 1;
   }
+  const auto f = [&m, &c](const BenchRegister& a)
+                     __attribute__((always_inline)) { return link<kFused>(a, m, c); };
   for (long i = 0; i < iterations; ++i) {
-    a0 = fused(a0, m, c), a1 = fused(a1, m, c), a2 = fused(a2, m, c), a3 = fused(a3, m, c);
-    a4 = fused(a4, m, c), a5 = fused(a5, m, c), a6 = fused(a6, m, c), a7 = fused(a7, m, c);
-    a8 = fused(a8, m, c), a9 = fused(a9, m, c), a10 = fused(a10, m, c), a11 = fused(a11, m, c);
-    a12 = fused(a12, m, c), a13 = fused(a13, m, c), a14 = fused(a14, m, c);
-    a15 = fused(a15, m, c);
+    a0 = f(a0), a1 = f(a1), a2 = f(a2), a3 = f(a3), a4 = f(a4), a5 = f(a5), a6 = f(a6);
+    a7 = f(a7), a8 = f(a8), a9 = f(a9), a10 = f(a10), a11 = f(a11), a12 = f(a12);
+    a13 = f(a13), a14 = f(a14), a15 = f(a15);
   }
   const BenchRegister sum = ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7)) +
                             ((a8 + a9) + (a10 + a11)) + ((a12 + a13) + (a14 + a15));
   return sum[0];
 }
+IMPACTID_SIMD_VERSIONS double mul_add_chains(long iterations) { return chains<false>(iterations); }
+IMPACTID_SIMD_VERSIONS double fma_chains(long iterations) { return chains<true>(iterations); }
 
 void BM_MulAddPeak(benchmark::State& state) {
   constexpr long kIterations = 1'000'000;
