@@ -275,34 +275,30 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
                            Eigen::Index i, const Lanes& pivot, const Lanes& ratio)
                            __attribute__((always_inline)) {
     if constexpr (!kLast) next = predict.template operator()<kNextIsLast>(i + 1);
-    // Only K's term in the right-hand side (no damping, no α_m, not the contact row, the hot
-    // loop): its sign goes onto the pivot, (−s)·p = s·(−p) exactly, one instruction fewer.
+    // The right-hand side times the pivot. With only K's term in it (no damping, no α_m, not
+    // the contact row: the hot loop) the sign of −K·u goes onto the pivot, (−s)·p = s·(−p)
+    // exactly, one instruction fewer.
     constexpr bool kStiffnessOnly = !kDamping && !kMassTerm && !kFirst && !kLast;
+    Lanes scaled;
     if constexpr (kStiffnessOnly) {
-      const Lanes s = fma(k_diag, cur.u, prev.p) + next.p;
-      const Lanes r = fma(-ratio, eliminated, s * -pivot);
-      store(&x.a[i], r);
-      eliminated = r;
-      prev = cur;
-      cur = next;
-      return;
-    }
-    Lanes r;
-    if constexpr (kFirst || kLast) {
-      r = -stiffness_end_row<kFirst>(K, i, prev.u, cur.u, next.u);
+      scaled = (fma(k_diag, cur.u, prev.p) + next.p) * -pivot;
     } else {
-      r = -(fma(k_diag, cur.u, prev.p) + next.p);
+      Lanes r;
+      if constexpr (kFirst || kLast) {
+        r = -stiffness_end_row<kFirst>(K, i, prev.u, cur.u, next.u);
+      } else {
+        r = -(fma(k_diag, cur.u, prev.p) + next.p);
+      }
+      if constexpr (kDamping) r = r + -1.0 * row<kFirst, kLast>(C, i, prev.v, cur.v, next.v);
+      if constexpr (kMassTerm) {
+        r = select(c.mass_term, r + c.minus_am * row<kFirst, kLast>(M, i, prev.a, cur.a, next.a),
+                   r);
+      }
+      if constexpr (kLast) r = r - c.one_minus_w * lambda;
+      scaled = r * pivot;
     }
-    if constexpr (kDamping) r = r + -1.0 * row<kFirst, kLast>(C, i, prev.v, cur.v, next.v);
-    if constexpr (kMassTerm) {
-      r = select(c.mass_term, r + c.minus_am * row<kFirst, kLast>(M, i, prev.a, cur.a, next.a), r);
-    }
-    if constexpr (kLast) r = r - c.one_minus_w * lambda;
-    if constexpr (kFirst) {
-      r = r * pivot;
-    } else {
-      r = fma(-ratio, eliminated, r * pivot);
-    }
+    Lanes r = scaled;
+    if constexpr (!kFirst) r = fma(-ratio, eliminated, scaled);
     store(&x.a[i], r);
     eliminated = r;
     prev = cur;

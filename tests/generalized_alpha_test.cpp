@@ -90,8 +90,8 @@ TEST(GeneralizedAlpha, RhoInfOneWithWeightedContactEqualsTrapezoidalRule) {
 // trapezoidal rule, up to where the twin has lost all agreement. A few times: its seed is not
 // one ulp of v0 but the different rounding of its own operations (α_f-weighted forces, the α_m
 // mass term) at every step; measured at most 2.85 times the twin's distance (with the fused
-// multiply-adds of the implicit step; at most 1 before them). A real difference between the methods
-// would show from the first samples, orders of magnitude above.
+// multiply-adds of the implicit step; at most 1 before them). A real difference between the
+// methods would show from the first samples, orders of magnitude above.
 TEST(GeneralizedAlpha, TrapezoidalContactAmplifiesRoundOff) {
   RodScene scene, twin_scene;
   twin_scene.velocity = std::nextafter(scene.velocity, 2.0 * scene.velocity);
