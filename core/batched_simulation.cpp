@@ -165,7 +165,8 @@ struct LaneArrays {
   const Tridiagonal* damping;
   const Tridiagonal* mass;
   double k_lower, k_diag, k_upper;  // the stiffness's interior row, the same in every row
-  Lanes *u, *v, *a;            // the state
+  double m_lower, m_diag, m_upper;  // the mass's interior row, likewise (for the energy)
+  Lanes *u, *v, *a;                 // the state
   Lanes* inverse_pivot;  // each lane's factorisation (rows [tail_begin, n − 1) are tail_pivot)
 };
 
@@ -215,14 +216,12 @@ template <bool kFirst>
 // 1 FMA in the predictor and 3 mul 3 add for C·v, plus the sign flip; α_m ≠ 0: 4 mul 2 add
 // and a blend.
 template <bool kDamping, bool kMassTerm, bool kStartingLanes>
-[[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays,
-                                               const LaneCoefficients& coefficients,
+[[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays, const LaneCoefficients& c,
                                                const Lanes& lambda) {
-  // Local copies, so that the compiler keeps them in registers: a store through a Lanes
-  // pointer (may_alias) could otherwise change them, and every use would reload them. Without
-  // these copies the step ran 2.5 times as many instructions.
+  // A local copy, so that the compiler keeps it in registers: a store through a Lanes pointer
+  // (may_alias) could otherwise change it, and every use would reload it. (c must be such a
+  // copy too: run_batch's.) Without these copies the step ran 2.5 times as many instructions.
   const LaneArrays x = arrays;
-  const LaneCoefficients c = coefficients;
   const Eigen::Index n = x.n, last = n - 1;
   const Diagonals K(*x.stiffness);
   const Diagonals C(kDamping ? *x.damping : *x.stiffness);
@@ -396,10 +395,10 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
 // Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy). Every row but the last
 // holds u*, v*, a: u and v are formed as the next forward sweep will form them, so with the
 // same bits. The two sums share one loop: each is a chain of dependent adds, and side by side
-// they overlap.
+// they overlap. The interior rows of K and M are one row each (checked by simulate_batch), held
+// in registers: loading and broadcasting six values per row made the energy, checked every
+// energy_check_interval steps, a twentieth of the batch's time.
 [[gnu::always_inline]] inline Lanes lane_energy(const LaneArrays& x, const LaneCoefficients& c) {
-  const Tridiagonal& m = *x.mass;
-  const Tridiagonal& k = *x.stiffness;
   const Eigen::Index n = x.n, last = n - 1;
   struct Row {
     Lanes u, v;
@@ -409,7 +408,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     const Lanes a = x.a[i];
     return Row{fma(c.b1_dt2, a, x.u[i]), fma(c.g1_dt, a, x.v[i])};
   };
-  // Row i of a·x from x's neighbours, in quadratic_form's order.
+  // Row i of a·x from x's neighbours, in quadratic_form's order: d·x, then + l·x₋, then + u·x₊.
   const auto product = [n](const Tridiagonal& a, Eigen::Index i, const Lanes& prev,
                            const Lanes& cur, const Lanes& next) __attribute__((always_inline)) {
     Lanes r = splat(a.diag[i]) * cur;
@@ -417,15 +416,26 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     if (i + 1 < n) r = r + splat(a.upper[i]) * next;
     return r;
   };
+  const Lanes k_lower = splat(x.k_lower), k_diag = splat(x.k_diag), k_upper = splat(x.k_upper);
+  const Lanes m_lower = splat(x.m_lower), m_diag = splat(x.m_diag), m_upper = splat(x.m_upper);
   Lanes kinetic{}, strain{};
   Row prev{}, cur = state(0), next{};
-  for (Eigen::Index i = 0; i < n; ++i) {
+  const auto end_row = [&](Eigen::Index i) __attribute__((always_inline)) {
     if (i + 1 < n) next = state(i + 1);
-    kinetic = kinetic + cur.v * product(m, i, prev.v, cur.v, next.v);
-    strain = strain + cur.u * product(k, i, prev.u, cur.u, next.u);
+    kinetic = kinetic + cur.v * product(*x.mass, i, prev.v, cur.v, next.v);
+    strain = strain + cur.u * product(*x.stiffness, i, prev.u, cur.u, next.u);
+    prev = cur;
+    cur = next;
+  };
+  end_row(0);
+  for (Eigen::Index i = 1; i < last; ++i) {
+    next = state(i + 1);
+    kinetic = kinetic + cur.v * ((m_diag * cur.v + m_lower * prev.v) + m_upper * next.v);
+    strain = strain + cur.u * ((k_diag * cur.u + k_lower * prev.u) + k_upper * next.u);
     prev = cur;
     cur = next;
   }
+  if (last > 0) end_row(last);
   return 0.5 * kinetic + 0.5 * strain;
 }
 
@@ -440,7 +450,6 @@ struct LaneRun {
   // modulo: 2·kBatchLanes integer divisions per step were a tenth of the batch's time.
   long next_check = 0;
   bool stepping = false;
-  double t = 0.0;
   double energy_bound = 0.0;
 };
 
@@ -469,76 +478,146 @@ void stop_unstable(LaneRun& run, std::string message) {
   run.stepping = false;
 }
 
+// Zero in every lane whose λ and contact velocity are finite; NaN as soon as one lane's is not
+// (x − x is NaN for ±∞ and NaN). Lanes that are not stepping hold a zero state, so they pass.
+[[gnu::always_inline]] inline bool all_finite(const Lanes& lambda, const Lanes& velocity) {
+  const Register probe = ((lambda.lo - lambda.lo) + (velocity.lo - velocity.lo)) +
+                         ((lambda.hi - lambda.hi) + (velocity.hi - velocity.hi));
+  double sum = 0.0;
+  for (int l = 0; l < kRegisterLanes; ++l) sum += probe[l];
+  return sum == 0.0;
+}
+
+// The samples of the contact pressure and velocity of every lane, [sample][lane] as the step
+// gives them, written into the lanes' traces (one vector per lane) a chunk at a time. Written
+// sample by sample, the 2·kBatchLanes scattered stores and the lane loop around them were a
+// twentieth of the batch's time.
+constexpr long kTraceChunk = 32;
+struct TraceChunk {
+  Lanes pressure[kTraceChunk], velocity[kTraceChunk];
+  long begin = 0;  // the sample held in slot 0
+
+  // Writes samples [begin, through] into the traces of the lanes stepping now (which stepped
+  // at every one of them: a lane starts or stops only at an event, and events flush first).
+  void flush(std::array<LaneRun, kBatchLanes>& lanes, long through) {
+    if (through >= begin) {
+      for (int l = 0; l < kBatchLanes; ++l) {
+        LaneRun& run = lanes[static_cast<std::size_t>(l)];
+        if (!run.stepping) continue;
+        double* p = run.trace->pressure.data();
+        double* v = run.trace->velocity.data();
+        for (long i = begin; i <= through; ++i) {
+          p[i] = pressure[i - begin][l];
+          v[i] = velocity[i - begin][l];
+        }
+        run.summary->steps = through + 1;
+      }
+    }
+    begin = through + 1;
+  }
+};
+
 // The samples from the first lane's start to the last lane's end. A lane that is not stepping
 // (before its free flight ends, after its last sample or its instability, a failed or unused
 // lane) holds a zero state, which a step maps to zero: it costs lanes, never correctness.
+//
+// run_steps' bookkeeping happens lane by lane only at events: a lane starting, a lane's energy
+// check or last sample, a non-finite λ or velocity in some lane. Between events the loop only
+// steps, advances every lane's t (as run_steps' state.t += Δt) and buffers the trace.
 template <bool kDamping, bool kMassTerm>
 [[gnu::always_inline]] inline void run_batch(Batch& b) {
   const LaneArrays& x = b.arrays;
-  const Eigen::Index c = x.n - 1;
+  // A local copy, taken once: the compiler then knows that the step's stores through Lanes
+  // pointers (may_alias) cannot change it, and keeps its fields in registers. Referred to in
+  // Batch, every field was reloaded after every store; copied at every step (a 2 KB copy) it
+  // cost a twentieth of the batch's time.
+  LaneCoefficients c = b.coefficients;
+  std::array<LaneRun, kBatchLanes>& lanes = b.lanes;
+  const Eigen::Index contact = x.n - 1;
   long begin = std::numeric_limits<long>::max(), end = -1;
-  for (const LaneRun& run : b.lanes) {
+  for (const LaneRun& run : lanes) {
     if (run.first > run.last) continue;
     begin = std::min(begin, run.first);
     end = std::max(end, run.last);
   }
-  Lanes lambda{};
+  // The first sample at or after `i` at which some lane starts, checks its energy or ends.
+  const auto next_event = [&lanes](long i) {
+    long next = std::numeric_limits<long>::max();
+    for (const LaneRun& run : lanes) {
+      if (run.stepping) {
+        next = std::min({next, run.next_check, run.last});
+      } else if (run.first >= i && run.first <= run.last) {
+        next = std::min(next, run.first);
+      }
+    }
+    return next;
+  };
+  TraceChunk chunk;
+  chunk.begin = begin;
+  Lanes lambda{}, t{};
+  long event = next_event(begin);
   for (long i = begin; i <= end; ++i) {
+    const bool at_event = i == event;
     bool starting = false;
-    for (int l = 0; l < kBatchLanes; ++l) {
-      LaneRun& run = b.lanes[l];
-      if (run.first != i || run.first > run.last) continue;
-      const State& start = (*b.start)[l];
-      set_lane(x, l, &start);
-      b.coefficients.plain_state.set(l, true);
-      starting = true;
-      lambda.set(l, start.lambda);
-      run.t = start.t;
-      run.next_check = run.first - 1 + b.energy_check_interval;
-      run.stepping = true;
+    if (at_event) {
+      chunk.flush(lanes, i - 1);
+      for (int l = 0; l < kBatchLanes; ++l) {
+        LaneRun& run = lanes[static_cast<std::size_t>(l)];
+        if (run.first != i || run.first > run.last) continue;
+        const State& start = (*b.start)[static_cast<std::size_t>(l)];
+        set_lane(x, l, &start);
+        c.plain_state.set(l, true);
+        starting = true;
+        lambda.set(l, start.lambda);
+        t.set(l, start.t);
+        run.next_check = run.first - 1 + b.energy_check_interval;
+        run.stepping = true;
+      }
     }
     if (starting) {
-      lambda = step_lanes<kDamping, kMassTerm, true>(x, b.coefficients, lambda);
-      b.coefficients.plain_state = LaneMask{};
+      lambda = step_lanes<kDamping, kMassTerm, true>(x, c, lambda);
+      c.plain_state = LaneMask{};
     } else {
-      lambda = step_lanes<kDamping, kMassTerm, false>(x, b.coefficients, lambda);
+      lambda = step_lanes<kDamping, kMassTerm, false>(x, c, lambda);
     }
+    t = t + splat(b.dt);
+    // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
+    const Lanes velocity = x.v[contact];
+    const long slot = i - chunk.begin;
+    store(&chunk.pressure[slot], lambda / splat(b.area));
+    store(&chunk.velocity[slot], velocity);
+    if (!at_event && all_finite(lambda, velocity)) {
+      if (slot + 1 == kTraceChunk) chunk.flush(lanes, i);
+      continue;
+    }
+    chunk.flush(lanes, i);
 
-    // Bookkeeping of run_steps, lane by lane; the energy (two O(n) products) only when a lane
-    // checks it at this sample, for every lane at once.
+    // run_steps' checks, lane by lane; the energy (two O(n) products) only when a lane checks
+    // it at this sample, for every lane at once.
     bool energy_due = false;
-    for (const LaneRun& run : b.lanes) {
+    for (const LaneRun& run : lanes) {
       energy_due |= run.stepping && (i == run.last || i == run.next_check);
     }
     Lanes energy{};
-    if (energy_due) {
-      energy = lane_energy(x, b.coefficients);
-    }
-    // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
-    const Lanes pressure = lambda / splat(b.area);
-    const Lanes velocity = x.v[c];
+    if (energy_due) energy = lane_energy(x, c);
     for (int l = 0; l < kBatchLanes; ++l) {
-      LaneRun& run = b.lanes[l];
+      LaneRun& run = lanes[static_cast<std::size_t>(l)];
       if (!run.stepping) continue;
-      run.t += b.dt;
       RunSummary& summary = *run.summary;
-      run.trace->pressure[i] = pressure[l];
-      run.trace->velocity[i] = velocity[l];
-      summary.steps = i + 1;
       const bool check = i == run.last || i == run.next_check;
       if (i == run.next_check) run.next_check += b.energy_check_interval;
       if (check) {
         summary.final_energy = energy[l];
         if (!std::isfinite(energy[l])) {
-          stop_unstable(run, "non-finite values at t = " + format_value(run.t) + " s");
+          stop_unstable(run, "non-finite values at t = " + format_value(t[l]) + " s");
         } else if (summary.initial_energy > 0.0 && energy[l] > run.energy_bound) {
           stop_unstable(run, "energy grew to " + format_value(energy[l] / summary.initial_energy) +
-                                 " times the initial energy at t = " + format_value(run.t) +
+                                 " times the initial energy at t = " + format_value(t[l]) +
                                  " s (bound " + format_value(b.energy_growth_limit) + ")");
         }
       }
       if (run.stepping && (!std::isfinite(lambda[l]) || !std::isfinite(velocity[l]))) {
-        stop_unstable(run, "non-finite values at t = " + format_value(run.t) + " s");
+        stop_unstable(run, "non-finite values at t = " + format_value(t[l]) + " s");
       }
       if (run.stepping && i == run.last) run.stepping = false;
       if (!run.stepping) {
@@ -546,6 +625,7 @@ template <bool kDamping, bool kMassTerm>
         lambda.set(l, 0.0);
       }
     }
+    event = next_event(i + 1);
   }
 }
 
@@ -598,7 +678,7 @@ struct EffectiveWeights {
 // coefficients of b; a lane whose matrix is singular, or every lane when the rod is not uniform,
 // is marked failed and does not run.
 void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams> methods,
-                  const EffectiveWeights& w, const LaneMask& factored, bool uniform_stiffness,
+                  const EffectiveWeights& w, const LaneMask& factored, bool uniform_interior,
                   Batch& b) {
   const Tridiagonal& M = system.mass;
   const Tridiagonal& K = system.stiffness;
@@ -613,7 +693,7 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
     return e;
   };
   // The kernel takes one lower and one upper value per lane: checked, not assumed.
-  const bool uniform = uniform_stiffness && uniform_off_diagonals(M) && uniform_off_diagonals(K) &&
+  const bool uniform = uniform_interior && uniform_off_diagonals(M) && uniform_off_diagonals(K) &&
                        (!damping || uniform_off_diagonals(C));
   const Lanes lower = effective(M.lower, K.lower, C.lower, 1);
   const Lanes upper = effective(M.upper, K.upper, C.upper, 0);
@@ -715,12 +795,20 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   x.k_lower = n > 2 ? K.lower[1] : 0.0;
   x.k_diag = n > 2 ? K.diag[1] : 0.0;
   x.k_upper = n > 2 ? K.upper[1] : 0.0;
-  bool uniform_stiffness = true;
+  bool uniform_interior = true;
   for (Eigen::Index i = 1; i + 1 < n; ++i) {
-    uniform_stiffness = uniform_stiffness && K.lower[i] == x.k_lower && K.diag[i] == x.k_diag &&
-                        K.upper[i] == x.k_upper;
+    uniform_interior = uniform_interior && K.lower[i] == x.k_lower && K.diag[i] == x.k_diag &&
+                       K.upper[i] == x.k_upper;
   }
-  uniform_stiffness = uniform_stiffness && x.k_lower == x.k_upper;  // symmetric: step_lanes
+  uniform_interior = uniform_interior && x.k_lower == x.k_upper;  // symmetric: step_lanes
+  const Tridiagonal& M = system.mass;
+  x.m_lower = n > 2 ? M.lower[1] : 0.0;
+  x.m_diag = n > 2 ? M.diag[1] : 0.0;
+  x.m_upper = n > 2 ? M.upper[1] : 0.0;
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    uniform_interior = uniform_interior && M.lower[i] == x.m_lower && M.diag[i] == x.m_diag &&
+                       M.upper[i] == x.m_upper;
+  }
   x.u = take(), x.v = take(), x.a = take();
   x.inverse_pivot = take();
   b.start = &ws.start_;
@@ -810,7 +898,7 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     run.energy_bound = options.energy_growth_limit * summary.initial_energy;
   }
   factor_lanes(system, methods, {mass_weight, stiffness_weight, damping_weight}, factored,
-               uniform_stiffness, b);
+               uniform_interior, b);
   run_batch_any(b);
 
   const double seconds =

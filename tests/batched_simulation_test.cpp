@@ -154,6 +154,21 @@ TEST(BatchedSimulation, RunOptionsAreHonouredLaneByLane) {
   const std::vector<RunSummary> failed =
       expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 0});
   EXPECT_EQ(failed[0].status, RunStatus::failed);
+
+  // An overflow between energy checks: the lane stops at the sample where λ or the velocity
+  // first is not finite (the batch checks every sample, though it visits the lanes one by one
+  // only at events), while a stable lane runs on. Explicit-like Newmark (β = 0.01, γ = 1/2)
+  // at Courant 3 overflows after about a hundred steps.
+  RodScene coarse;
+  coarse.courant = 3.0;
+  const std::vector<RunSummary> overflow = expect_batch_equals_scalar(
+      {{"newmark, overflows", coarse, NewmarkParams{.coefficients = BetaGamma{0.01, 0.5}}},
+       {"hht", coarse, HhtParams{}}},
+      RunOptions{.energy_growth_limit = 1e300, .energy_check_interval = 100'000});
+  EXPECT_EQ(overflow[0].status, RunStatus::unstable);
+  EXPECT_NE(overflow[0].message.find("non-finite"), std::string::npos) << overflow[0].message;
+  EXPECT_LT(overflow[0].steps, overflow[0].planned_steps);
+  EXPECT_EQ(overflow[1].status, RunStatus::ok);
 }
 
 TEST(BatchedSimulation, WhatMayShareABatch) {
