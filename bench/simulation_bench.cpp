@@ -154,15 +154,21 @@ void BM_BatchedSweep(benchmark::State& state) {
     simulations.push_back(std::get<Simulation>(build(s)));
   }
   constexpr int kUnits = (kPoints + kBatchLanes - 1) / kBatchLanes;
+  // One workspace per thread for all iterations, as run_sweep keeps one per thread for the whole
+  // sweep. (Made afresh at every iteration, the second thread's were returned to the system
+  // and faulted in again each time: a cost a real sweep pays once.)
+  std::vector<BatchWorkspace> workspaces(static_cast<std::size_t>(threads));
+  std::vector<std::vector<Evaluation>> outs(static_cast<std::size_t>(threads),
+                                            std::vector<Evaluation>(kBatchLanes));
   for (auto _ : state) {
 #pragma omp parallel num_threads(threads)
     {
-      BatchWorkspace workspace;
-      std::vector<Evaluation> out(kBatchLanes);
+      const auto thread = static_cast<std::size_t>(omp_get_thread_num());
+      std::vector<Evaluation>& out = outs[thread];
 #pragma omp for schedule(dynamic, 1)
       for (int u = 0; u < kUnits; ++u) {
         const int first = u * kBatchLanes, count = std::min(kBatchLanes, kPoints - first);
-        evaluate_batch(std::span(simulations).subspan(first, count), workspace,
+        evaluate_batch(std::span(simulations).subspan(first, count), workspaces[thread],
                        std::span(out).first(count));
         benchmark::DoNotOptimize(out[0].indicators.eps_p);
       }
