@@ -155,8 +155,8 @@ void BM_BatchedSweep(benchmark::State& state) {
   }
   constexpr int kUnits = (kPoints + kBatchLanes - 1) / kBatchLanes;
   // One workspace per thread for all iterations, as run_sweep keeps one per thread for the whole
-  // sweep. (Made afresh at every iteration, the second thread's were returned to the system
-  // and faulted in again each time: a cost a real sweep pays once.)
+  // sweep. (Made afresh at every iteration, they made each iteration pay for allocating them,
+  // which a real sweep does once.)
   std::vector<BatchWorkspace> workspaces(static_cast<std::size_t>(threads));
   std::vector<std::vector<Evaluation>> outs(static_cast<std::size_t>(threads),
                                             std::vector<Evaluation>(kBatchLanes));
