@@ -581,9 +581,9 @@ template <bool kDamping, bool kMassTerm>
       lambda = step_lanes<kDamping, kMassTerm, false>(x, c, lambda);
     }
     t = t + splat(b.dt);
-    // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
     const Lanes velocity = x.v[contact];
     const long slot = i - chunk.begin;
+    // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
     store(&chunk.pressure[slot], lambda / splat(b.area));
     store(&chunk.velocity[slot], velocity);
     if (!at_event && all_finite(lambda, velocity)) {
