@@ -105,71 +105,57 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices,
     }
   }
 
-  // The points are built on every thread. Built serially they took 4.5–6.8 ms of a 3381-point
-  // sweep (bench/hht-sweep.toml, 2026-11-24): on 2 threads about 3 µs per point and core.
-  const long todo_count = static_cast<long>(todo.size());
-  std::vector<std::variant<Simulation, ParameterError>> built(todo.size());
-#pragma omp parallel for num_threads(std::max(1, options.threads)) schedule(static)
-  for (long k = 0; k < todo_count; ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    built[i] = build(points.settings(todo[i]));
-  }
-  std::vector<Simulation> simulations;
-  simulations.reserve(todo.size());
-  // load_plan() checked every point, so a failure here is a bug, not bad input.
-  for (auto& b : built) simulations.push_back(std::get<Simulation>(std::move(b)));
-
-  // Consecutive points that can share a batch (study/evaluation.hpp: batchable_together) run
-  // as one unit of up to kBatchLanes SIMD lanes; any other point is a unit of its own. A
-  // point's numbers are the same either way, so the grouping changes only the speed.
-  struct Unit {
-    std::size_t first, count;
-  };
-  std::vector<Unit> units;
-  for (std::size_t k = 0; k < simulations.size(); ++k) {
-    if (!units.empty()) {
-      Unit& last = units.back();
-      if (last.count < static_cast<std::size_t>(kBatchLanes) &&
-          batchable_together(simulations[last.first], simulations[k])) {
-        ++last.count;
-        continue;
-      }
-    }
-    units.push_back({k, 1});
-  }
-
+  // The points to compute are taken kBatchLanes at a time, in order: a thread builds the points
+  // of the window it takes, runs them and stores them. Built all at once before the runs, two
+  // arrays of 200 bytes per point were written once and read once, and their first touch alone
+  // (about 14 µs per 4 KB page on these virtual machines) cost 4–6 ms of a 3381-point sweep,
+  // 2–4 µs per point and core (bench/hht-sweep.toml, 2026-11-24).
+  //
+  // Within a window, consecutive points that can share a batch (study/evaluation.hpp:
+  // batchable_together) run as one unit through the SIMD kernel; any other point is a unit of
+  // its own. A point's numbers are the same either way, so the grouping changes only the speed.
+  // (A run of batchable points that does not start at a window's first point is split across two
+  // windows: only plans that mix methods or rods along their fastest axis lose lanes to that.)
   std::mutex results_mutex;  // guards `results` and the counters below
   long done = 0, unstable = 0;
   auto last_checkpoint = Clock::now();
   auto last_progress = Clock::now();
   const long count = static_cast<long>(todo.size());
-  const long unit_count = static_cast<long>(units.size());
+  const long window_count = (count + kBatchLanes - 1) / kBatchLanes;
   const int calling_thread = 0;
 
 #pragma omp parallel num_threads(std::max(1, options.threads))
   {
     SimulationWorkspace workspace;  // reused for every point this thread runs
     BatchWorkspace batch_workspace;
+    std::array<Simulation, kBatchLanes> simulations;
     std::array<Evaluation, kBatchLanes> evaluations;
 #pragma omp for schedule(dynamic, 1)
-    for (long u = 0; u < unit_count; ++u) {
+    for (long w = 0; w < window_count; ++w) {
       if (options.stop && options.stop->load()) continue;
-      const Unit unit = units[static_cast<std::size_t>(u)];
-      const std::span<const Simulation> unit_simulations(simulations.data() + unit.first,
-                                                         unit.count);
-      if (unit.count == 1) {
-        evaluations[0] = evaluate(unit_simulations[0], workspace);
-      } else {
-        evaluate_batch(unit_simulations, batch_workspace,
-                       std::span(evaluations).first(unit.count));
+      const long first = w * kBatchLanes;
+      const auto size = static_cast<std::size_t>(std::min<long>(kBatchLanes, count - first));
+      for (std::size_t k = 0; k < size; ++k) {
+        // load_plan() checked every point, so a failure here is a bug, not bad input.
+        simulations[k] = std::get<Simulation>(build(points.settings(todo[static_cast<std::size_t>(first) + k])));
+      }
+      for (std::size_t begin = 0, end = 0; begin < size; begin = end) {
+        end = begin + 1;
+        while (end < size && batchable_together(simulations[begin], simulations[end])) ++end;
+        if (end - begin == 1) {
+          evaluations[begin] = evaluate(simulations[begin], workspace);
+        } else {
+          evaluate_batch(std::span(simulations).subspan(begin, end - begin), batch_workspace,
+                         std::span(evaluations).subspan(begin, end - begin));
+        }
       }
 
       std::optional<StudyResults> snapshot;
       std::optional<SweepProgress> progress;
       {
         std::lock_guard lock(results_mutex);
-        for (std::size_t k = 0; k < unit.count; ++k) {
-          store_point(results, points, todo[unit.first + k], unit_simulations[k], evaluations[k]);
+        for (std::size_t k = 0; k < size; ++k) {
+          store_point(results, points, todo[static_cast<std::size_t>(first) + k], simulations[k], evaluations[k]);
           ++done;
           if (evaluations[k].summary.status != RunStatus::ok) ++unstable;
         }

@@ -4,10 +4,11 @@
 // points, the ones a resumed file lacks, a shard for another process) and where to save it are
 // the caller's choice.
 //
-// Consecutive points that can share a batch (implicit methods on the same single-wall rod and
-// time step, no histories: study/evaluation.hpp) run kBatchLanes at a time through the SIMD
-// kernel of core/batched_simulation.hpp; a batch is one unit of work for a thread, and each of
-// its points reports the batch's wall time divided by its points.
+// A thread takes the points kBatchLanes at a time (a window, its unit of work), builds them and
+// runs them: consecutive points of the window that can share a batch (implicit methods on the
+// same single-wall rod and time step, no histories: study/evaluation.hpp) run together through
+// the SIMD kernel of core/batched_simulation.hpp, and each point of a batch reports the batch's
+// wall time divided by its points.
 //
 // Determinism: a point's numbers depend only on its index (the batched kernel gives simulate()'s
 // numbers bit for bit), so any thread count and any interruption give bit-identical results

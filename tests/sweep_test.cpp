@@ -89,7 +89,7 @@ TEST(Sweep, InterruptedThenResumedEqualsUninterrupted) {
   std::atomic<bool> stop{false};
   StudyResults partial = empty_results(plan, points);
   // One thread, so that the stop lands after the unit of work in which the 5th point finishes
-  // (a batch of up to kBatchLanes points, study/sweep.hpp): progress is reported by the calling
+  // (a window of up to kBatchLanes points, study/sweep.hpp): progress is reported by the calling
   // thread only, and with more threads the others may finish everything first.
   SweepOptions options;
   options.threads = 1;
