@@ -626,6 +626,10 @@ template <bool kDamping, bool kMassTerm>
       }
     }
     event = next_event(i + 1);
+    // No lane steps or starts any more (all ended, unstable or failed): the rest would step
+    // zeros. In bench/hht-sweep.toml, a batch of unstable points then ends at its last lane's
+    // instability, and the unstable points' mean time per point fell from 77 to 42 µs.
+    if (event == std::numeric_limits<long>::max()) break;
   }
 }
 

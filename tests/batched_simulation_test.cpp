@@ -171,6 +171,24 @@ TEST(BatchedSimulation, RunOptionsAreHonouredLaneByLane) {
   EXPECT_EQ(overflow[1].status, RunStatus::ok);
 }
 
+// The batch stops stepping once no lane steps or will start (core/batched_simulation.cpp), but
+// not before a lane that starts late: here the first lane is unstable before the second lane's
+// free flight ends, and the second still runs, as alone.
+TEST(BatchedSimulation, ALaneStartingAfterTheOthersEndedStillRuns) {
+  RodScene late;
+  late.gap = 0.2;  // free flight to 0.2 ms, about half the run
+  late.t_end = 1e-3;
+  const std::vector<RunSummary> scalar = expect_batch_equals_scalar({
+      {"hht unstable", RodScene{}, HhtParams{.alpha = -0.5, .delta = 0.0}},
+      {"hht unstable, late", late, HhtParams{.alpha = -0.5, .delta = 0.0}},
+      {"hht, late", late, HhtParams{}},
+  });
+  EXPECT_EQ(scalar[0].status, RunStatus::unstable);
+  EXPECT_EQ(scalar[1].status, RunStatus::unstable);
+  EXPECT_EQ(scalar[2].status, RunStatus::ok);
+  EXPECT_LT(scalar[0].steps, scalar[1].skipped_steps) << "the first lane ends before the others start";
+}
+
 TEST(BatchedSimulation, WhatMayShareABatch) {
   const RunOptions options;
   EXPECT_TRUE(batchable(RodScene{}, HhtParams{}, options));
