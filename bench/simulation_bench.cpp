@@ -82,6 +82,27 @@ void BM_Evaluate(benchmark::State& state) {
 }
 BENCHMARK(BM_Evaluate)->Unit(benchmark::kMicrosecond);
 
+// The indicators alone (eq. 18's errors, the peak counts, p_max, the contact episodes) from the
+// trace of a finished run of the default scene: what a sweep point costs beyond its run. Arg: δ
+// of HHT with α = −0.3, 0.3 (the period-error relation: few spurious peaks) or 0.05 (a band of
+// chatter: many).
+void BM_Indicators(benchmark::State& state) {
+  const RodScene scene;
+  const double delta = static_cast<double>(state.range(0)) / 100.0;
+  SimulationWorkspace workspace;
+  const RunSummary summary = simulate(scene, HhtParams{.alpha = -0.3, .delta = delta},
+                                      RunOptions{}, workspace);
+  Indicators indicators{};
+  for (auto _ : state) {
+    indicators = evaluate_indicators(scene, workspace.trace, summary, IndicatorOptions{});
+    benchmark::DoNotOptimize(indicators.eps_p);
+  }
+  state.SetLabel("hht, delta " + std::to_string(delta).substr(0, 4) + ": nop_p " +
+                 std::to_string(static_cast<long>(indicators.nop_p)) + ", nop_v " +
+                 std::to_string(static_cast<long>(indicators.nop_v)));
+}
+BENCHMARK(BM_Indicators)->Arg(30)->Arg(45)->Arg(80)->Unit(benchmark::kMicrosecond);
+
 // Sweep throughput: 64 HHT points over (δ, α) on 1 and 2 threads, a workspace per thread.
 void BM_Sweep(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));

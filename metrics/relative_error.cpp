@@ -6,10 +6,6 @@
 
 namespace impactid {
 
-double RelativeErrorSum::value() const {
-  return reference_ > 0.0 ? difference_ / reference_ : std::numeric_limits<double>::quiet_NaN();
-}
-
 double relative_error(std::span<const double> exact, std::span<const double> computed) {
   assert(exact.size() == computed.size());
   RelativeErrorSum sum;
