@@ -103,6 +103,28 @@ void BM_Indicators(benchmark::State& state) {
 }
 BENCHMARK(BM_Indicators)->Arg(30)->Arg(45)->Arg(80)->Unit(benchmark::kMicrosecond);
 
+// The indicators of a batch's kBatchLanes runs of one scene together (HHT, α = −0.3, δ from 0.3
+// to 1.05), as evaluate_batch computes them; time per run = time / lanes.
+void BM_IndicatorsOfABatch(benchmark::State& state) {
+  const RodScene scene;
+  std::vector<SimulationWorkspace> runs(kBatchLanes);
+  std::vector<const ContactTrace*> traces;
+  std::vector<RunSummary> summaries;
+  for (int l = 0; l < kBatchLanes; ++l) {
+    summaries.push_back(simulate(scene, HhtParams{.alpha = -0.3, .delta = 0.3 + 0.05 * l},
+                                 RunOptions{}, runs[static_cast<std::size_t>(l)]));
+    traces.push_back(&runs[static_cast<std::size_t>(l)].trace);
+  }
+  const std::vector<IndicatorOptions> options(kBatchLanes);
+  std::vector<Indicators> indicators(kBatchLanes);
+  for (auto _ : state) {
+    evaluate_indicators(scene, traces, summaries, options, indicators);
+    benchmark::DoNotOptimize(indicators[0].eps_p);
+  }
+  state.counters["lanes"] = kBatchLanes;
+}
+BENCHMARK(BM_IndicatorsOfABatch)->Unit(benchmark::kMicrosecond);
+
 // Sweep throughput: 64 HHT points over (δ, α) on 1 and 2 threads, a workspace per thread.
 void BM_Sweep(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));

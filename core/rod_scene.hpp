@@ -50,6 +50,8 @@ struct RodScene {
   std::optional<double> dt;
   /// End time [s]; default t_impact + 1.5·(2L/c), i.e. the whole contact and half as long again.
   std::optional<double> t_end;
+
+  bool operator==(const RodScene&) const = default;
 };
 
 /// First invalid field, or nothing.

@@ -1,5 +1,7 @@
 #include "study/evaluation.hpp"
 
+#include <array>
+
 namespace impactid {
 
 Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
@@ -27,11 +29,26 @@ void evaluate_batch(std::span<const Simulation> simulations, BatchWorkspace& wor
   }
   simulate_batch(std::span(scenes).first(count), std::span(methods).first(count),
                  simulations[0].run, workspace, std::span(summaries).first(count));
+  // Consecutive lanes of one scene (in a sweep over method parameters, all of them) share the
+  // exact solution: their indicators are evaluated together.
+  std::array<const ContactTrace*, kBatchLanes> traces;
+  std::array<IndicatorOptions, kBatchLanes> options;
+  std::array<Indicators, kBatchLanes> indicators;
   for (std::size_t k = 0; k < count; ++k) {
     out[k].summary = summaries[k];
-    out[k].indicators = evaluate_indicators(simulations[k].scene, workspace.traces[k],
-                                            summaries[k], simulations[k].indicators);
+    traces[k] = &workspace.traces[k];
+    options[k] = simulations[k].indicators;
   }
+  for (std::size_t begin = 0, end = 0; begin < count; begin = end) {
+    end = begin + 1;
+    while (end < count && simulations[end].scene == simulations[begin].scene) ++end;
+    const std::size_t n = end - begin;
+    evaluate_indicators(simulations[begin].scene, std::span(traces).subspan(begin, n),
+                        std::span(summaries).subspan(begin, n),
+                        std::span(options).subspan(begin, n),
+                        std::span(indicators).subspan(begin, n));
+  }
+  for (std::size_t k = 0; k < count; ++k) out[k].indicators = indicators[k];
 }
 
 }  // namespace impactid

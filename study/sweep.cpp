@@ -135,9 +135,10 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices,
       if (options.stop && options.stop->load()) continue;
       const long first = w * kBatchLanes;
       const auto size = static_cast<std::size_t>(std::min<long>(kBatchLanes, count - first));
+      const long* window = todo.data() + first;  // the flat indices of its points
       for (std::size_t k = 0; k < size; ++k) {
         // load_plan() checked every point, so a failure here is a bug, not bad input.
-        simulations[k] = std::get<Simulation>(build(points.settings(todo[static_cast<std::size_t>(first) + k])));
+        simulations[k] = std::get<Simulation>(build(points.settings(window[k])));
       }
       for (std::size_t begin = 0, end = 0; begin < size; begin = end) {
         end = begin + 1;
@@ -155,7 +156,7 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices,
       {
         std::lock_guard lock(results_mutex);
         for (std::size_t k = 0; k < size; ++k) {
-          store_point(results, points, todo[static_cast<std::size_t>(first) + k], simulations[k], evaluations[k]);
+          store_point(results, points, window[k], simulations[k], evaluations[k]);
           ++done;
           if (evaluations[k].summary.status != RunStatus::ok) ++unstable;
         }

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <limits>
 #include <vector>
 
@@ -161,6 +164,57 @@ TEST(Indicators, NanWhenRunIsNotOk) {
       EXPECT_TRUE(std::isnan(value)) << to_string(status);
     }
   }
+}
+
+// The indicators of several runs of one scene at once (a sweep's batch) equal those of each run
+// alone, bit for bit: more runs than one pass takes (16), unstable runs among them, a prominence
+// of their own for each; and on a scene with a far wall.
+TEST(Indicators, RunsOfOneSceneTogetherEqualEachAlone) {
+  // Equal bits, or both NaN (a NaN's sign and payload are not results).
+  const auto bits = [](double x) {
+    return std::isnan(x) ? std::uint64_t{0x7ff8000000000000} : std::bit_cast<std::uint64_t>(x);
+  };
+  const auto expect_together_equals_alone = [&](const RodScene& scene,
+                                                const std::vector<MethodParams>& methods) {
+    std::vector<SimulationWorkspace> runs(methods.size());
+    std::vector<const ContactTrace*> traces;
+    std::vector<RunSummary> summaries;
+    std::vector<IndicatorOptions> options;
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      summaries.push_back(simulate(scene, methods[k], RunOptions{}, runs[k]));
+      traces.push_back(&runs[k].trace);
+      options.push_back({.peak_prominence = 1e-6 * static_cast<double>(k % 3 + 1)});
+    }
+    std::vector<Indicators> together(methods.size());
+    evaluate_indicators(scene, traces, summaries, options, together);
+    long ok = 0;
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      const Indicators alone = evaluate_indicators(scene, *traces[k], summaries[k], options[k]);
+      const Indicators& t = together[k];
+      const std::vector<std::pair<double, double>> fields = {
+          {t.eps_p, alone.eps_p}, {t.eps_v, alone.eps_v}, {t.nop_p, alone.nop_p},
+          {t.nop_v, alone.nop_v}, {t.p_max, alone.p_max}, {t.p_max_ratio, alone.p_max_ratio},
+          {t.contact_episodes, alone.contact_episodes}, {t.energy_ratio, alone.energy_ratio},
+          {t.far_contact_episodes, alone.far_contact_episodes}, {t.impacts, alone.impacts},
+          {t.max_penetration, alone.max_penetration}};
+      for (std::size_t f = 0; f < fields.size(); ++f) {
+        EXPECT_EQ(bits(fields[f].first), bits(fields[f].second)) << "run " << k << " field " << f;
+      }
+      ok += summaries[k].status == RunStatus::ok;
+    }
+    return ok;
+  };
+
+  std::vector<MethodParams> hht;
+  for (int k = 0; k < 26; ++k) hht.push_back(HhtParams{.alpha = -0.3, .delta = 0.04 * k});
+  const long ok = expect_together_equals_alone(RodScene{}, hht);
+  EXPECT_GT(ok, 16) << "more ok runs than one pass takes";
+  EXPECT_LT(ok, 26) << "some runs unstable";
+
+  RodScene two_walls;
+  two_walls.far_gap = 0.01;
+  two_walls.t_end = 2e-5;
+  EXPECT_EQ(expect_together_equals_alone(two_walls, {HhtParams{}, NewmarkParams{}}), 2);
 }
 
 }  // namespace
