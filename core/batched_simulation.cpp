@@ -838,8 +838,10 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     summary.dt = dt;
     ContactTrace& trace = ws.traces[static_cast<std::size_t>(l)];
     const auto samples = static_cast<std::size_t>(derived.step_count);
-    trace.pressure.assign(samples, kNaN);
-    trace.velocity.assign(samples, kNaN);
+    // NaN from the lane's last computed sample on is filled in after the run (the samples before
+    // it are all written): filling the whole trace first wrote 40 KB per lane twice.
+    trace.pressure.resize(samples);
+    trace.velocity.resize(samples);
     trace.displacement.clear();
     trace.energy.clear();
     trace.far_pressure.clear();
@@ -863,9 +865,15 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
         same_velocity = earlier;
       }
     }
-    state.a = same_velocity < 0 ? consistent_acceleration(system, state)
-                                : ws.start_[static_cast<std::size_t>(same_velocity)].a;
-    summary.initial_energy = summary.final_energy = system.energy(state.u, state.v);
+    // So does the energy ½vᵀMv + ½uᵀKu at u = 0.
+    if (same_velocity < 0) {
+      state.a = consistent_acceleration(system, state);
+      summary.initial_energy = system.energy(state.u, state.v);
+    } else {
+      state.a = ws.start_[static_cast<std::size_t>(same_velocity)].a;
+      summary.initial_energy = summaries[static_cast<std::size_t>(same_velocity)].initial_energy;
+    }
+    summary.final_energy = summary.initial_energy;
     const long skipped = free_flight_samples(scene, derived, options);
     std::fill_n(trace.pressure.begin(), skipped, 0.0);
     std::fill_n(trace.velocity.begin(), skipped, scene.velocity);
@@ -904,6 +912,12 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   factor_lanes(system, methods, {mass_weight, stiffness_weight, damping_weight}, factored,
                uniform_interior, b);
   run_batch_any(b);
+  for (int l = 0; l < count; ++l) {
+    ContactTrace& trace = ws.traces[static_cast<std::size_t>(l)];
+    const long steps = summaries[static_cast<std::size_t>(l)].steps;  // samples [0, steps) written
+    std::fill(trace.pressure.begin() + steps, trace.pressure.end(), kNaN);
+    std::fill(trace.velocity.begin() + steps, trace.velocity.end(), kNaN);
+  }
 
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
