@@ -184,16 +184,21 @@ BENCHMARK(BM_BatchedRun)
     ->UseRealTime()
     ->Repetitions(kTargetRepetitions);
 
-// BM_Sweep's 64 points through evaluate_batch, kBatchLanes points per unit of work, as
-// run_sweep groups them.
+// BM_Sweep's domain of HHT points, at eight times its δ resolution (512 points, 8 α × 64 δ from
+// 0.3 to 0.99), through evaluate_batch, kBatchLanes points per unit of work, as run_sweep
+// groups them. Why more points than BM_Sweep: with 4 units per iteration each thread ran 2
+// and then waited for the other, so on this shared machine, where one core is often slower
+// than the other for minutes, the figure was the slower core's (a median of 103 µs per run per
+// core in 60 rounds at 08:18–08:24 UTC on 2026-11-24, when `impactid run`'s 212 dynamically
+// scheduled units gave 84). Batches whose lanes all end unstable stop early, as in a sweep.
 void BM_BatchedSweep(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
-  constexpr int kPoints = 64;
+  constexpr int kPoints = 512;
   std::vector<Simulation> simulations;
   for (int k = 0; k < kPoints; ++k) {
     SimulationSettings s;
     s.method.alpha = -0.5 * (k % 8) / 7.0;
-    s.method.delta = 0.3 + 0.1 * (k / 8);
+    s.method.delta = 0.3 + 0.7 * (k / 8) / 64.0;
     simulations.push_back(std::get<Simulation>(build(s)));
   }
   constexpr int kUnits = (kPoints + kBatchLanes - 1) / kBatchLanes;

@@ -104,29 +104,14 @@ Indicators not_results() {
 
 }  // namespace
 
-Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,
-                               const RunSummary& summary, const IndicatorOptions& options) {
-  if (summary.status != RunStatus::ok) return not_results();
-  const RodImpactExact exact(scene);
-  const RodSceneDerived derived = derive(scene);
-  SamplePass pass = start_pass(scene, derived, options);  // a local: its state stays in registers
-  const double* pressure = trace.pressure.data();
-  const double* velocity = trace.velocity.data();
-  for (long i = 0; i < trace.size(); ++i) {
-    const ContactNodeValues e = exact.at_sample(i + 1);
-    pass.add(e.pressure, e.velocity, pressure[i], velocity[i]);
-  }
-  return finish(scene, derived, trace, summary, pass);
-}
-
 void evaluate_indicators(const RodScene& scene, std::span<const ContactTrace* const> traces,
                          std::span<const RunSummary> summaries,
                          std::span<const IndicatorOptions> options, std::span<Indicators> out) {
   assert(summaries.size() == traces.size() && options.size() == traces.size() &&
          out.size() == traces.size());
   // The exact solution at the samples, once for all the runs. (Evaluated per sample beside 16
-  // runs' passes instead, the passes' sums lived in memory and a run's indicators took longer
-  // than alone.)
+  // runs' passes instead, the passes' sums lived in memory and took longer per run than one
+  // run's pass with the exact solution evaluated in its loop.)
   const RodImpactExact exact(scene);
   const RodSceneDerived derived = derive(scene);
   std::vector<double> exact_pressure, exact_velocity;
@@ -156,6 +141,15 @@ void evaluate_indicators(const RodScene& scene, std::span<const ContactTrace* co
     }
     out[k] = finish(scene, derived, *traces[k], summaries[k], pass);
   }
+}
+
+Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,
+                               const RunSummary& summary, const IndicatorOptions& options) {
+  Indicators out;
+  const ContactTrace* const traces[] = {&trace};
+  evaluate_indicators(scene, traces, std::span(&summary, 1), std::span(&options, 1),
+                      std::span(&out, 1));
+  return out;
 }
 
 }  // namespace impactid

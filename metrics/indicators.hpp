@@ -45,9 +45,9 @@ Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,
                                const RunSummary& summary, const IndicatorOptions& options);
 
 /// The indicators of several runs of one scene (a sweep's batch), each the same, bit for bit,
-/// as evaluate_indicators of that run alone: the exact solution is evaluated once per sample for
-/// up to 16 runs at a time (measured: BM_Indicators and BM_IndicatorsOfABatch). The spans are
-/// parallel, one entry per run.
+/// as evaluate_indicators of that run alone: the exact solution at the samples is evaluated
+/// once for all of them (BM_IndicatorsOfABatch against BM_Indicators measures what that saves).
+/// The spans are parallel, one entry per run.
 void evaluate_indicators(const RodScene& scene, std::span<const ContactTrace* const> traces,
                          std::span<const RunSummary> summaries,
                          std::span<const IndicatorOptions> options, std::span<Indicators> out);
