@@ -83,9 +83,9 @@ void BM_Evaluate(benchmark::State& state) {
 BENCHMARK(BM_Evaluate)->Unit(benchmark::kMicrosecond);
 
 // The indicators alone (eq. 18's errors, the peak counts, p_max, the contact episodes) from the
-// trace of a finished run of the default scene: what a sweep point costs beyond its run. Arg: δ
-// of HHT with α = −0.3, 0.3 (the period-error relation: few spurious peaks) or 0.05 (a band of
-// chatter: many).
+// trace of a finished run of the default scene: what a sweep point costs beyond its run. Arg:
+// 100·δ of HHT with α = −0.3: δ = 0.3 (72 pressure peaks), 0.45 (the period-error relation
+// δ = −1.5α: 19) and 0.8 (7); the label gives the counts.
 void BM_Indicators(benchmark::State& state) {
   const RodScene scene;
   const double delta = static_cast<double>(state.range(0)) / 100.0;

@@ -29,8 +29,8 @@ struct SamplePass {
   bool in_contact = false;
   PeakCounter pressure_peaks, velocity_peaks;
 
-  // One sample, in the order of the samples: each sum is a sequence of adds, so a pass gives
-  // the same bits however runs are grouped (evaluate_indicators of one run or of many).
+  // One sample, in the order of the samples: each sum is the same sequence of adds as the
+  // separate loops this pass replaced, so the same bits.
   [[gnu::always_inline]] void add(double exact_pressure, double exact_velocity, double pressure,
                                   double velocity) {
     pressure_error.add(exact_pressure, pressure);

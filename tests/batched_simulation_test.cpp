@@ -186,7 +186,8 @@ TEST(BatchedSimulation, ALaneStartingAfterTheOthersEndedStillRuns) {
   EXPECT_EQ(scalar[0].status, RunStatus::unstable);
   EXPECT_EQ(scalar[1].status, RunStatus::unstable);
   EXPECT_EQ(scalar[2].status, RunStatus::ok);
-  EXPECT_LT(scalar[0].steps, scalar[1].skipped_steps) << "the first lane ends before the others start";
+  EXPECT_LT(scalar[0].steps, scalar[1].skipped_steps)
+      << "the first lane ends before the others start";
 }
 
 TEST(BatchedSimulation, WhatMayShareABatch) {

@@ -7,8 +7,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <utility>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "core/exact_solution.hpp"
@@ -167,8 +167,8 @@ TEST(Indicators, NanWhenRunIsNotOk) {
 }
 
 // The indicators of several runs of one scene at once (a sweep's batch) equal those of each run
-// alone, bit for bit: more runs than one pass takes (16), unstable runs among them, a prominence
-// of their own for each; and on a scene with a far wall.
+// alone, bit for bit: more ok runs than a batch has lanes (16), unstable runs among them, a
+// prominence of their own for each; and on a scene with a far wall.
 TEST(Indicators, RunsOfOneSceneTogetherEqualEachAlone) {
   // Equal bits, or both NaN (a NaN's sign and payload are not results).
   const auto bits = [](double x) {
@@ -208,7 +208,7 @@ TEST(Indicators, RunsOfOneSceneTogetherEqualEachAlone) {
   std::vector<MethodParams> hht;
   for (int k = 0; k < 26; ++k) hht.push_back(HhtParams{.alpha = -0.3, .delta = 0.04 * k});
   const long ok = expect_together_equals_alone(RodScene{}, hht);
-  EXPECT_GT(ok, 16) << "more ok runs than one pass takes";
+  EXPECT_GT(ok, 16) << "more ok runs than a batch has lanes";
   EXPECT_LT(ok, 26) << "some runs unstable";
 
   RodScene two_walls;
