@@ -1,5 +1,9 @@
 #include "core/central_difference.hpp"
 
+#include <algorithm>
+
+#include "core/constraint_set.hpp"
+#include "core/contact_lcp.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {
@@ -27,6 +31,10 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   u_previous_ = initial.u - dt * initial.v + (0.5 * dt * dt) * initial.a;
   u_next_.resize(n);
   scratch_.resize(n);
+  set_up_constraints(system, factorization_, 1.0, constraint_influence_, constraint_rows_,
+                     delassus_);
+  violation_.resize(static_cast<Eigen::Index>(system.constraints.size()));
+  forces_.resize(violation_.size());
   return true;
 }
 
@@ -50,7 +58,21 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
 
   double lambda = 0.0;
   const Eigen::Index contact = system.contact_dof;
-  if (system.has_far_contact()) {
+  if (system.has_constraint_list()) {
+    const auto m = static_cast<int>(system.constraints.size());
+    for (int j = 0; j < m; ++j) {
+      const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
+      double g = -con.gap;
+      if (con.plus >= 0) g += u_next_[con.plus];
+      if (con.minus >= 0) g -= u_next_[con.minus];
+      violation_[j] = g;
+    }
+    solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
+    apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, u_next_);
+    snap_walls(system.constraints, forces_, u_next_);
+    at_t.multipliers = forces_;  // the same size: no allocation
+    for (int j = 0; j < m; ++j) lambda = std::max(lambda, forces_[j]);
+  } else if (system.has_far_contact()) {
     const Eigen::Index far = system.far_contact_dof;
     const TwoWallForces forces = solve_two_wall_contact(
         u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
@@ -75,7 +97,7 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
     at_t.v = (u_ - u_previous_) / dt;
   }
   at_t.a = (u_next_ - 2.0 * u_ + u_previous_) * inv_dt2;
-  at_t.lambda = lambda;
+  at_t.lambda = system.has_constraint_list() ? 0.0 : lambda;  // the list's are in multipliers
   at_t.t = t_;
 
   u_previous_.swap(u_);

@@ -16,8 +16,16 @@
 // stiffness damping the left-hand matrix is diagonal, the two ends do not interact within a step,
 // and this is Carpenter's multiplier at each end independently.
 //
+// With a list of constraints (scenes of several bodies) the forward-increment multipliers of every
+// constraint come together from the complementarity problem of core/contact_lcp.hpp, with the
+// left-hand matrix's columns A⁻¹·G_kᵀ factored in initialize(): the constraints hold at t + Δt
+// and their multipliers are reported at t, as for the single wall.
+//
 // Thread safety: one object per thread.
 #pragma once
+
+#include <utility>
+#include <vector>
 
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
@@ -47,6 +55,11 @@ class CentralDifference {
   Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
   Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
   Eigen::VectorXd u_previous_, u_, u_next_, scratch_;
+  // The constraint list's columns, their non-zero rows, G·A⁻¹·Gᵀ and per-step scratch.
+  Eigen::MatrixXd constraint_influence_;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
+  Eigen::MatrixXd delassus_;
+  Eigen::VectorXd violation_, forces_;
 };
 
 }  // namespace impactid

@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "core/function_versions.hpp"
+#include "core/constraint_set.hpp"
+#include "core/contact_lcp.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {
@@ -29,6 +31,11 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   u_predicted_.resize(n);
   v_predicted_.resize(n);
   rhs_.resize(n);
+  set_up_constraints(system, factorization_, c_.b1 * dt * dt, constraint_influence_,
+                     constraint_rows_, delassus_);
+  const auto m = static_cast<Eigen::Index>(system.constraints.size());
+  violation_.resize(m);
+  forces_.resize(m);
   return true;
 }
 
@@ -62,6 +69,12 @@ void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
   if (s.far_lambda != 0.0) {
     rhs_[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
   }
+  for (std::size_t k = 0; k < system.constraints.size(); ++k) {
+    const double force = (1.0 - c_.contact_weight) * s.multipliers[static_cast<Eigen::Index>(k)];
+    if (force == 0.0) continue;
+    if (system.constraints[k].plus >= 0) rhs_[system.constraints[k].plus] -= force;
+    if (system.constraints[k].minus >= 0) rhs_[system.constraints[k].minus] += force;
+  }
   factorization_.forward_in_place(rhs_);
 }
 
@@ -78,6 +91,7 @@ void ImplicitIntegrator::update(State& s) const {
 }
 
 bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
+  if (system.has_constraint_list()) return step_constraints(system, s);
   if (system.has_far_contact()) return step_two_walls(system, s);
   predict(system, s);
   const Eigen::Index n = system.size();
@@ -146,12 +160,45 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
   return forces.main > 0.0;  // as without a far wall (and as central difference): the main wall
 }
 
+bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State& s) {
+  predict(system, s);
+  factorization_.backward_in_place(rhs_);
+  const double dt = dt_, k = c_.b1 * dt * dt;
+  const auto m = static_cast<int>(system.constraints.size());
+  // Violations of the contact-free prediction, with u_free formed as the single wall forms it.
+  for (int j = 0; j < m; ++j) {
+    const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
+    double g = -con.gap;
+    if (con.plus >= 0) g += std::fma(k, rhs_[con.plus], u_predicted_[con.plus]);
+    if (con.minus >= 0) g -= std::fma(k, rhs_[con.minus], u_predicted_[con.minus]);
+    violation_[j] = g;
+  }
+  solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
+  apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, rhs_);
+  update(s);
+  bool active = false;
+  for (int j = 0; j < m; ++j) {
+    const double weighted = forces_[j];
+    s.multipliers[j] = weighted / c_.contact_weight;
+    active = active || weighted > 0.0;
+  }
+  snap_walls(system.constraints, forces_, s.u);
+  s.t += dt;
+  return active;
+}
+
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state) {
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(system.size());
   system.stiffness.multiply_add(-1.0, state.u, rhs);
   system.damping.multiply_add(-1.0, state.v, rhs);
   rhs[system.contact_dof] -= state.lambda;
   if (state.far_lambda != 0.0) rhs[system.far_contact_dof] += state.far_lambda;
+  for (std::size_t k = 0; k < system.constraints.size(); ++k) {
+    if (state.multipliers.size() == 0) break;
+    const double force = state.multipliers[static_cast<Eigen::Index>(k)];
+    if (system.constraints[k].plus >= 0) rhs[system.constraints[k].plus] -= force;
+    if (system.constraints[k].minus >= 0) rhs[system.constraints[k].minus] += force;
+  }
   TridiagonalFactorization mass;
   if (!mass.factor(system.mass)) return Eigen::VectorXd::Constant(system.size(), NAN);
   mass.solve_in_place(rhs);

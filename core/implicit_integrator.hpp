@@ -17,8 +17,19 @@
 // problem of core/two_wall_contact.hpp instead, with A⁻¹·e_far also factored in initialize();
 // still O(n) and allocation-free. Without one the step is the single-contact code above.
 //
+// With a list of constraints (SecondOrderSystem::constraints, scenes of several bodies) the step
+// predicts the contact-free acceleration, computes each constraint's violation, and solves the
+// constraints together as the complementarity problem of core/contact_lcp.hpp, with the columns
+// A⁻¹·G_kᵀ and the matrix b1·Δt²·G·A⁻¹·Gᵀ factored in initialize(). A column is zero outside
+// the bodies its constraint touches (A has no coupling between bodies), so the correction costs
+// the size of those bodies per active constraint. The constraint holds at the end of the step,
+// where its multiplier is reported, as for the single wall.
+//
 // Thread safety: one object per thread (it holds scratch vectors).
 #pragma once
+
+#include <utility>
+#include <vector>
 
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
@@ -46,6 +57,7 @@ class ImplicitIntegrator {
   /// entry is the last unknown of the contact-free acceleration; backward_in_place completes it).
   void predict(const SecondOrderSystem& system, State& state);
   bool step_two_walls(const SecondOrderSystem& system, State& state);
+  bool step_constraints(const SecondOrderSystem& system, State& state);
   /// a = rhs_, u = u* + b1·Δt²·a, v = v* + g1·Δt·a (fused multiply-adds), every dof.
   void update(State& state) const;
 
@@ -56,6 +68,12 @@ class ImplicitIntegrator {
   Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
   Eigen::VectorXd u_predicted_, v_predicted_, rhs_;
   Eigen::VectorXd contact_free_;  // the contact-free acceleration (two walls only)
+  // The constraint list's columns A⁻¹·G_kᵀ (n × m), the rows [begin, end) where each is
+  // non-zero, b1·Δt²·G·A⁻¹·Gᵀ (m × m), and per-step scratch (m).
+  Eigen::MatrixXd constraint_influence_;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
+  Eigen::MatrixXd delassus_;
+  Eigen::VectorXd violation_, forces_;
 };
 
 /// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with

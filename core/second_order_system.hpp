@@ -8,17 +8,34 @@
 // the far wall of the repeated-impact scene. With far_gap = +inf (the default) it is absent and
 // every integrator runs its single-contact code unchanged.
 //
-// The rod scene assembles one (assemble_rod); tests build others (free vibration without a
-// wall, other boundary conditions) directly.
+// Scenes of several bodies (core/scene.hpp) need more constraints than these two: their system
+// lists them in `constraints`, each g_k = u[plus] − u[minus] − gap_k <= 0 with force −G_kᵀ·λ_k,
+// and leaves gap and far_gap at +inf. The integrators then solve the constraints together
+// (core/contact_lcp.hpp). The two named constraints above are kept as they are because the
+// paper's scene runs through them bit for bit as it always has; a system uses one form or the
+// other, never both.
+//
+// The rod scene assembles one (assemble_rod), a scene of bodies another (assemble in
+// core/scene_assembly.hpp); tests build others (free vibration without a wall, other boundary
+// conditions) directly.
 #pragma once
 
 #include <Eigen/Core>
 #include <limits>
+#include <vector>
 
 #include "core/rod_scene.hpp"
 #include "core/tridiagonal.hpp"
 
 namespace impactid {
+
+/// One unilateral constraint of the general form: u[plus] − u[minus] − gap <= 0, where a dof
+/// index of −1 means the term is absent (a wall on the right: minus = −1; on the left: plus = −1).
+struct Constraint {
+  Eigen::Index plus = -1;
+  Eigen::Index minus = -1;
+  double gap = 0.0;  ///< [mm], >= 0
+};
 
 struct SecondOrderSystem {
   Tridiagonal mass;
@@ -31,7 +48,11 @@ struct SecondOrderSystem {
   /// Allowed displacement of far_contact_dof away from the wall (u >= −far_gap); +inf: no wall.
   double far_gap = std::numeric_limits<double>::infinity();
 
+  /// The general constraints (see above); empty for the named-constraint form.
+  std::vector<Constraint> constraints;
+
   Eigen::Index size() const { return mass.size(); }
+  bool has_constraint_list() const { return !constraints.empty(); }
   bool has_contact() const { return gap < std::numeric_limits<double>::infinity(); }
   bool has_far_contact() const { return far_gap < std::numeric_limits<double>::infinity(); }
   bool has_damping() const { return !damping.is_zero(); }

@@ -30,6 +30,8 @@ void reset_trace(ContactTrace& trace, long samples, bool history, bool far_wall)
   trace.displacement.assign(history ? n : 0, kNaN);
   trace.energy.assign(history ? n : 0, kNaN);
   trace.far_pressure.assign(far_wall ? n : 0, kNaN);
+  trace.contact_pressure.clear();
+  trace.contact_velocity.clear();
 }
 
 // Samples before which the rod is certainly still in rigid free flight: every method computes
@@ -44,34 +46,26 @@ long free_flight_samples(const RodScene& scene, const RodSceneDerived& d,
   return std::clamp(static_cast<long>(before_impact), 0L, d.step_count);
 }
 
-// The step loop shared by every method, from sample `first` on. `advance` produces the state at
-// the next sample time; it is a lambda, so the call is inlined: no virtual dispatch inside the
-// loop. kFarWall adds the far wall's bookkeeping (its pressure, the largest penetration); the
-// single-wall instantiation is the loop as it was.
-template <bool kFarWall, class Advance>
-void run_steps(const SecondOrderSystem& system, double area, const RunOptions& options,
-               long first, State& state, ContactTrace& trace, RunSummary& summary,
-               Advance&& advance) {
-  const Eigen::Index c = system.contact_dof;
+// The step loop shared by every method and scene, from sample `first` on. `advance` produces the
+// state at the next sample time, `record` stores sample i of the state's contacts, `finite` says
+// whether those contact values are finite; they are lambdas, so the calls are inlined: no virtual
+// dispatch inside the loop. Histories record the displacement of `history_dof`.
+template <class Advance, class Record, class Finite>
+void run_steps(const SecondOrderSystem& system, const RunOptions& options, long first,
+               Eigen::Index history_dof, State& state, ContactTrace& trace, RunSummary& summary,
+               Advance&& advance, Record&& record, Finite&& finite) {
   const double energy_bound = options.energy_growth_limit * summary.initial_energy;
   const bool history = options.record_history;
   const long last = summary.planned_steps - 1;
   for (long i = first; i <= last; ++i) {
     advance(state);
-    trace.pressure[i] = state.lambda / area;
-    trace.velocity[i] = state.v[c];
-    if constexpr (kFarWall) {
-      trace.far_pressure[i] = state.far_lambda / area;
-      const double penetration =
-          std::max(state.u[c] - system.gap, -system.far_gap - state.u[system.far_contact_dof]);
-      summary.max_penetration = std::max(summary.max_penetration, penetration);
-    }
+    record(i, state);
     summary.steps = i + 1;
     // The bound is checked at the same steps whether or not histories are recorded, so that
     // recording them never changes the status.
     const bool check = i == last || (i - first + 1) % options.energy_check_interval == 0;
     if (history) {
-      trace.displacement[i] = state.u[c];
+      trace.displacement[i] = state.u[history_dof];
       trace.energy[i] = system.energy(state.u, state.v);
     }
     if (check) {
@@ -90,11 +84,101 @@ void run_steps(const SecondOrderSystem& system, double area, const RunOptions& o
         return;
       }
     }
-    if (!std::isfinite(state.lambda) || !std::isfinite(state.v[c]) ||
-        (kFarWall && !std::isfinite(state.far_lambda))) {
+    if (!finite(state)) {
       summary.status = RunStatus::unstable;
       summary.message = "non-finite values at t = " + format_value(state.t) + " s";
       return;
+    }
+  }
+}
+
+// The rod's two named contacts: the main wall's pressure and node, and with kFarWall the far
+// wall's pressure and the largest penetration (the single-wall loop records nothing more).
+template <bool kFarWall, class Advance>
+void run_rod_steps(const SecondOrderSystem& system, double area, const RunOptions& options,
+                   long first, State& state, ContactTrace& trace, RunSummary& summary,
+                   Advance&& advance) {
+  const Eigen::Index c = system.contact_dof;
+  run_steps(
+      system, options, first, c, state, trace, summary, advance,
+      [&](long i, const State& s) {
+        trace.pressure[i] = s.lambda / area;
+        trace.velocity[i] = s.v[c];
+        if constexpr (kFarWall) {
+          trace.far_pressure[i] = s.far_lambda / area;
+          const double penetration =
+              std::max(s.u[c] - system.gap, -system.far_gap - s.u[system.far_contact_dof]);
+          summary.max_penetration = std::max(summary.max_penetration, penetration);
+        }
+      },
+      [&](const State& s) {
+        return std::isfinite(s.lambda) && std::isfinite(s.v[c]) &&
+               !(kFarWall && !std::isfinite(s.far_lambda));
+      });
+}
+
+// Violation u[plus] − u[minus] − gap of a listed constraint (> 0: penetration).
+double violation(const Constraint& c, const Eigen::VectorXd& u) {
+  double g = -c.gap;
+  if (c.plus >= 0) g += u[c.plus];
+  if (c.minus >= 0) g -= u[c.minus];
+  return g;
+}
+
+// A scene of bodies with a constraint list: every contact's pressure and velocity, the primary
+// contact's also in the trace's main columns, and the largest penetration of any constraint.
+template <class Advance>
+void run_listed_steps(const AssembledScene& scene, const RunOptions& options, long first,
+                      State& state, ContactTrace& trace, RunSummary& summary,
+                      Advance&& advance) {
+  const SecondOrderSystem& system = scene.system;
+  const auto m = static_cast<Eigen::Index>(scene.probes.size());
+  const auto primary = static_cast<std::size_t>(scene.primary);
+  run_steps(
+      system, options, first, scene.probes[primary].velocity_dof, state, trace, summary, advance,
+      [&](long i, const State& s) {
+        for (Eigen::Index k = 0; k < m; ++k) {
+          const ContactProbe& probe = scene.probes[static_cast<std::size_t>(k)];
+          trace.contact_pressure[static_cast<std::size_t>(k)][i] = s.multipliers[k] / probe.area;
+          trace.contact_velocity[static_cast<std::size_t>(k)][i] = s.v[probe.velocity_dof];
+          summary.max_penetration = std::max(
+              summary.max_penetration, violation(system.constraints[static_cast<std::size_t>(k)], s.u));
+        }
+        trace.pressure[i] = trace.contact_pressure[primary][i];
+        trace.velocity[i] = trace.contact_velocity[primary][i];
+      },
+      [&](const State& s) {
+        for (Eigen::Index k = 0; k < m; ++k) {
+          if (!std::isfinite(s.multipliers[k]) ||
+              !std::isfinite(s.v[scene.probes[static_cast<std::size_t>(k)].velocity_dof])) {
+            return false;
+          }
+        }
+        return true;
+      });
+}
+
+// Initialises the method's stepper on the system from `state` and hands run() the step that
+// advances a state by one sample; a stepper that cannot start marks the run failed.
+template <class Run>
+void run_method(const SecondOrderSystem& system, const MethodParams& method, double dt,
+                SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
+  if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
+    CentralDifference& stepper = ws.central_difference;
+    if (stepper.initialize(system, cdm->velocity, dt, state)) {
+      stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
+      run([&](State& s) { stepper.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = "central difference: singular left-hand matrix";
+    }
+  } else {
+    ImplicitIntegrator& stepper = ws.implicit;
+    if (stepper.initialize(system, implicit_coefficients(method), dt)) {
+      run([&](State& s) { stepper.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
     }
   }
 }
@@ -156,28 +240,105 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   // The step loop, with the far wall's bookkeeping only when the scene has one.
   const auto run = [&](const auto& advance) {
     if (far_wall) {
-      run_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+      run_rod_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
     } else {
-      run_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
+      run_rod_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary,
+                           advance);
     }
   };
-  if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
-    CentralDifference& stepper = ws.central_difference;
-    if (stepper.initialize(system, cdm->velocity, dt, state)) {
-      stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
-      run([&](State& s) { stepper.step(system, s); });
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = "central difference: singular left-hand matrix";
+  run_method(system, method, dt, ws, state, summary, run);
+  summary.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
+                    const RunOptions& options, SimulationWorkspace& ws) {
+  const auto start = std::chrono::steady_clock::now();
+  const SecondOrderSystem& system = scene.system;
+  const Eigen::Index n = system.size();
+  const double dt = scene.dt;
+  const std::size_t contacts = scene.probes.size();
+  const bool listed = system.has_constraint_list();
+
+  RunSummary summary;
+  summary.planned_steps = scene.step_count;
+  summary.dt = dt;
+  reset_trace(ws.trace, scene.step_count, options.record_history, false);
+  ws.trace.contact_pressure.resize(contacts);
+  ws.trace.contact_velocity.resize(contacts);
+  for (std::size_t k = 0; k < contacts; ++k) {
+    ws.trace.contact_pressure[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
+    ws.trace.contact_velocity[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
+  }
+  if (options.energy_check_interval < 1 || !(options.energy_growth_limit > 1.0)) {
+    summary.status = RunStatus::failed;
+    summary.message = "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
+    return summary;
+  }
+  if (contacts == 0) {
+    summary.status = RunStatus::failed;
+    summary.message = "the scene has no contact: add a wall or a second body";
+    return summary;
+  }
+
+  State& state = ws.state;
+  state.u.setZero(n);
+  state.v = scene.initial_velocity;
+  state.lambda = 0.0;
+  state.far_lambda = 0.0;
+  state.multipliers.setZero(listed ? static_cast<Eigen::Index>(contacts) : 0);
+  state.t = 0.0;
+  state.a = consistent_acceleration(system, state);  // zero without damping
+  summary.initial_energy = system.energy(state.u, state.v);
+  summary.final_energy = summary.initial_energy;
+
+  // Rigid free flight of every body, filled in as for the rod: samples strictly before the first
+  // contact can close, with one step of margin for central difference's look-ahead.
+  long skipped = 0;
+  if (options.skip_free_flight && scene.rigid_flight && std::isfinite(scene.first_contact_time)) {
+    const double before = std::floor(scene.first_contact_time / dt) - 2.0;
+    skipped = std::clamp(static_cast<long>(before), 0L, scene.step_count);
+  }
+  const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
+  if (listed) summary.max_penetration = -kInf;
+  for (long i = 0; i < skipped; ++i) {
+    const double t = (i + 1) * dt;
+    for (std::size_t k = 0; k < contacts; ++k) {
+      ws.trace.contact_pressure[k][i] = 0.0;
+      ws.trace.contact_velocity[k][i] = scene.initial_velocity[scene.probes[k].velocity_dof];
+      if (listed) {
+        const Constraint& c = system.constraints[k];
+        double g = -c.gap;
+        if (c.plus >= 0) g += scene.initial_velocity[c.plus] * t;
+        if (c.minus >= 0) g -= scene.initial_velocity[c.minus] * t;
+        summary.max_penetration = std::max(summary.max_penetration, g);
+      }
     }
-  } else {
-    ImplicitIntegrator& stepper = ws.implicit;
-    if (stepper.initialize(system, implicit_coefficients(method), dt)) {
-      run([&](State& s) { stepper.step(system, s); });
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
+    ws.trace.pressure[i] = 0.0;
+    ws.trace.velocity[i] = scene.initial_velocity[primary.velocity_dof];
+    if (options.record_history) {
+      ws.trace.displacement[i] = scene.initial_velocity[primary.velocity_dof] * t;
+      ws.trace.energy[i] = summary.initial_energy;
     }
+  }
+  if (skipped > 0) {
+    state.t = skipped * dt;
+    state.u = scene.initial_velocity * state.t;
+  }
+  summary.steps = summary.skipped_steps = skipped;
+
+  run_method(system, method, dt, ws, state, summary, [&](const auto& advance) {
+    if (listed) {
+      run_listed_steps(scene, options, skipped, state, ws.trace, summary, advance);
+    } else {
+      run_rod_steps<false>(system, primary.area, options, skipped, state, ws.trace, summary,
+                           advance);
+    }
+  });
+  if (!listed) {  // the one contact's samples are the main columns
+    ws.trace.contact_pressure[0] = ws.trace.pressure;
+    ws.trace.contact_velocity[0] = ws.trace.velocity;
   }
   summary.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -14,6 +14,7 @@
 #include "core/implicit_integrator.hpp"
 #include "core/method.hpp"
 #include "core/rod_scene.hpp"
+#include "core/scene_assembly.hpp"
 #include "core/state.hpp"
 
 namespace impactid {
@@ -55,6 +56,10 @@ struct ContactTrace {
   std::vector<double> energy;        ///< [mJ]; empty unless RunOptions::record_history
   /// λ_0/A of the far wall [MPa]; empty unless the scene has one (RodScene::far_gap).
   std::vector<double> far_pressure;
+  /// A scene of bodies (simulate(AssembledScene)): every contact's pressure λ_k/A_k [MPa] and
+  /// velocity [mm/s], in scene_contacts() order. pressure, velocity and displacement above
+  /// are then the primary contact's. Empty after simulate(RodScene).
+  std::vector<std::vector<double>> contact_pressure, contact_velocity;
   long size() const { return static_cast<long>(pressure.size()); }
 };
 
@@ -87,5 +92,11 @@ struct SimulationWorkspace {
 /// workspace.trace.
 RunSummary simulate(const RodScene& scene, const MethodParams& method, const RunOptions& options,
                     SimulationWorkspace& workspace);
+
+/// Runs an assembled scene of bodies (core/scene_assembly.hpp) with a valid method. The trace,
+/// with every contact's samples, is left in workspace.trace. For the paper's form (one body, one
+/// segment, a right wall) the same numbers as simulate(RodScene) of that rod, bit for bit.
+RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
+                    const RunOptions& options, SimulationWorkspace& workspace);
 
 }  // namespace impactid

@@ -152,4 +152,57 @@ Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,
   return out;
 }
 
+Indicators evaluate_indicators(const Scene& scene, const ChainExact& exact,
+                               const ContactTrace& trace, const RunSummary& summary,
+                               const IndicatorOptions& options,
+                               std::span<ContactIndicators> contacts) {
+  const std::vector<SceneContact> list = scene_contacts(scene);
+  const SceneDerived derived = derive(scene);
+  assert(contacts.size() == list.size() && trace.contact_pressure.size() == list.size());
+  Indicators primary = not_results();
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    if (summary.status != RunStatus::ok) {
+      contacts[k] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+      continue;
+    }
+    const SceneContact& c = list[k];
+    const Body& body = scene.bodies[static_cast<std::size_t>(c.left_body >= 0 ? c.left_body : 0)];
+    const Segment& seg = c.left_body >= 0 ? body.segments.back() : body.segments.front();
+    const double pressure_scale =
+        seg.density * std::sqrt(seg.youngs_modulus / seg.density) * derived.velocity_scale;
+    SamplePass pass(options.peak_prominence * pressure_scale,
+                    options.peak_prominence * derived.velocity_scale);
+    const std::vector<double>& pressure = trace.contact_pressure[k];
+    const std::vector<double>& velocity = trace.contact_velocity[k];
+    const double dt = summary.dt;
+    for (std::size_t i = 0; i < pressure.size(); ++i) {
+      // The sampling convention of RodImpactExact::at_sample: t_i = i·Δt, jumps within 1e-6·Δt
+      // averaged.
+      const ContactNodeValues e =
+          exact.at(static_cast<int>(k), static_cast<double>(i + 1) * dt, 1e-6 * dt);
+      pass.add(e.pressure, e.velocity, pressure[i], velocity[i]);
+    }
+    contacts[k] = {pass.pressure_error.value(),
+                   pass.velocity_error.value(),
+                   static_cast<double>(pass.pressure_peaks.peaks()),
+                   static_cast<double>(pass.velocity_peaks.peaks()),
+                   pass.p_max,
+                   pressure_scale > 0.0 ? pass.p_max / pressure_scale : kNaN,
+                   static_cast<double>(pass.episodes)};
+  }
+  if (summary.status != RunStatus::ok) return primary;
+  const ContactIndicators& p = contacts[static_cast<std::size_t>(derived.primary_contact)];
+  primary.eps_p = p.eps_p;
+  primary.eps_v = p.eps_v;
+  primary.nop_p = p.nop_p;
+  primary.nop_v = p.nop_v;
+  primary.p_max = p.p_max;
+  primary.p_max_ratio = p.p_max_ratio;
+  primary.contact_episodes = p.contact_episodes;
+  primary.energy_ratio =
+      summary.initial_energy > 0.0 ? summary.final_energy / summary.initial_energy : kNaN;
+  primary.max_penetration = summary.max_penetration;
+  return primary;
+}
+
 }  // namespace impactid

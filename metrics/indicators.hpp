@@ -6,7 +6,9 @@
 
 #include <span>
 
+#include "core/chain_exact.hpp"
 #include "core/rod_scene.hpp"
+#include "core/scene.hpp"
 #include "core/simulation.hpp"
 
 namespace impactid {
@@ -51,5 +53,29 @@ Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,
 void evaluate_indicators(const RodScene& scene, std::span<const ContactTrace* const> traces,
                          std::span<const RunSummary> summaries,
                          std::span<const IndicatorOptions> options, std::span<Indicators> out);
+
+/// One contact's indicators in a scene of bodies (core/scene.hpp): the paper's indicators at
+/// that contact, against the exact reference. All NaN when the run is not ok.
+struct ContactIndicators {
+  double eps_p;             ///< eq. 18 for the contact's pressure
+  double eps_v;             ///< eq. 18 for its node's velocity
+  double nop_p;             ///< peaks of the pressure
+  double nop_v;             ///< peaks of the velocity
+  double p_max;             ///< largest sampled pressure [MPa]
+  double p_max_ratio;       ///< p_max / (ρ·c·V) of the contact's segment, V the largest |v0|
+  double contact_episodes;  ///< maximal runs of samples with λ > 0
+};
+
+/// The indicators of a run of a scene of bodies (simulate(AssembledScene)) against `exact`, the
+/// scene's exact solution up to at least the last sample: every contact's into `contacts` (one
+/// per contact, scene_contacts() order), and the primary contact's returned as Indicators
+/// (energy_ratio and max_penetration, the largest violation of any constraint, as for the rod;
+/// far_contact_episodes and impacts NaN: they describe the rod's two walls). Peak prominences
+/// are fractions of ρ·c·V for the pressure of a contact (its segment's ρ·c) and of V for the
+/// velocity, with V the largest initial |velocity| of a body.
+Indicators evaluate_indicators(const Scene& scene, const ChainExact& exact,
+                               const ContactTrace& trace, const RunSummary& summary,
+                               const IndicatorOptions& options,
+                               std::span<ContactIndicators> contacts);
 
 }  // namespace impactid

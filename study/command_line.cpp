@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <iostream>
 
+#include "study/plan.hpp"
+
 namespace impactid {
 
 std::string option_name(const std::string& parameter) {
@@ -30,8 +32,47 @@ void add_parameter_options(CLI::App& command, GivenOptions& given,
 }
 
 void report(const ParameterError& error, const std::string& command) {
-  std::cerr << "impactid " << command << ": " << option_name(error.field) << " = " << error.value
+  // A scene of bodies' keys are dotted paths (--set or the scene file), not options.
+  const bool scene_key = error.field.find('.') != std::string::npos || error.field == "body" ||
+                         error.field == "primary_contact";
+  std::cerr << "impactid " << command << ": "
+            << (scene_key ? error.field : option_name(error.field)) << " = " << error.value
             << ": " << error.constraint << '\n';
+}
+
+void add_scene_options(CLI::App& command, SceneOptions& options) {
+  command.add_option("--scene", options.file,
+                     "A scene of bodies (or the one-body rod) from a TOML scene file; the other "
+                     "scene options apply on top of it")
+      ->type_name("FILE.toml");
+  command.add_option("--set", options.set,
+                     "Set a key of the scene of bodies by its dotted path, e.g. "
+                     "body.striker.velocity=2000 or body.bar.segment.1.area=4 (repeatable)")
+      ->type_name("KEY=VALUE");
+}
+
+bool apply_scene_options(const SceneOptions& options, SimulationSettings& settings,
+                         const std::string& command) {
+  if (!options.file.empty()) {
+    try {
+      settings = load_scene_file(options.file);
+    } catch (const PlanError& error) {
+      std::cerr << "impactid " << command << ": " << error.what() << '\n';
+      return false;
+    }
+  }
+  for (const std::string& item : options.set) {
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      std::cerr << "impactid " << command << ": --set = " << item << ": must be KEY=VALUE\n";
+      return false;
+    }
+    if (auto error = assign_text(settings, item.substr(0, eq), item.substr(eq + 1))) {
+      report(*error, command);
+      return false;
+    }
+  }
+  return true;
 }
 
 bool apply_options(const GivenOptions& given, SimulationSettings& settings,

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "study/simulation_settings.hpp"
 
@@ -30,6 +31,18 @@ void add_parameter_options(CLI::App& command, GivenOptions& given,
 /// value: constraint" to stderr and returns false.
 bool apply_options(const GivenOptions& given, SimulationSettings& settings,
                    const std::string& command);
+/// `--scene FILE.toml` (a scene file, study/scene_file.hpp) and `--set KEY=VALUE` (a dotted key
+/// of a scene of bodies, study/scene_path.hpp; repeatable), for the commands that run a scene.
+struct SceneOptions {
+  std::string file;
+  std::vector<std::string> set;
+};
+void add_scene_options(CLI::App& command, SceneOptions& options);
+/// Reads the scene file into `settings` (replacing them) and applies the --set keys; on error
+/// prints the file's message or "impactid <command>: key = value: constraint" and returns false.
+bool apply_scene_options(const SceneOptions& options, SimulationSettings& settings,
+                         const std::string& command);
+
 /// Builds the simulation; on error prints the message as above and returns nothing.
 std::optional<Simulation> build_or_report(const SimulationSettings& settings,
                                           const std::string& command);

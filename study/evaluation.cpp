@@ -2,16 +2,30 @@
 
 #include <array>
 
+#include "core/chain_exact.hpp"
+#include "core/scene_assembly.hpp"
+
 namespace impactid {
 
 Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
   Evaluation out;
+  if (sim.bodies) {
+    const AssembledScene scene = assemble(*sim.bodies);
+    out.summary = simulate(scene, sim.method, sim.run, workspace);
+    const ChainExact exact(*sim.bodies, static_cast<double>(scene.step_count) * scene.dt);
+    out.contacts.resize(scene.probes.size());
+    out.indicators = evaluate_indicators(*sim.bodies, exact, workspace.trace, out.summary,
+                                         sim.indicators, out.contacts);
+    return out;
+  }
   out.summary = simulate(sim.scene, sim.method, sim.run, workspace);
   out.indicators = evaluate_indicators(sim.scene, workspace.trace, out.summary, sim.indicators);
   return out;
 }
 
 bool batchable_together(const Simulation& first, const Simulation& next) {
+  // The batched kernel knows the rod's scene only; scenes of bodies run one by one.
+  if (first.bodies || next.bodies) return false;
   return batchable(first.scene, first.method, first.run) &&
          batchable(next.scene, next.method, next.run) &&
          same_batch(first.scene, first.run, next.scene, next.run);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include "core/batched_simulation.hpp"
 #include "core/simulation.hpp"
@@ -14,11 +15,15 @@ namespace impactid {
 
 struct Evaluation {
   RunSummary summary;
-  Indicators indicators;
+  Indicators indicators;  ///< with a scene of bodies: its primary contact's
+  /// A scene of bodies: every contact's indicators, in scene_contacts() order; empty for the rod.
+  std::vector<ContactIndicators> contacts;
 };
 
 Evaluation evaluate(const Simulation& simulation, SimulationWorkspace& workspace);
 
+/// A scene of bodies runs through simulate(AssembledScene) against its exact solution
+/// (core/chain_exact.hpp) solved up to the last sample.
 /// Whether `next` can join a batch that starts with `first` (core/batched_simulation.hpp):
 /// both batchable, the same rod, time step and run options.
 bool batchable_together(const Simulation& first, const Simulation& next);

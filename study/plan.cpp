@@ -15,6 +15,8 @@
 
 #include "core/amplification.hpp"
 #include "study/indicator_table.hpp"
+#include "study/scene_file.hpp"
+#include "study/scene_path.hpp"
 #include "study/point_set.hpp"
 #include "study/work_precision.hpp"
 
@@ -161,6 +163,34 @@ class PlanReader {
     for (std::size_t i = 0; i < text_.size(); ++i) {
       if (text_[i] == '\n') line_starts_.push_back(i + 1);
     }
+  }
+
+  // A scene file: its root, or its [scene] table, read as a plan's [scene]; build() errors are
+  // reported at their keys as for a plan.
+  SimulationSettings read_scene_file(const toml::table& root) {
+    Plan plan;
+    root_ = &root;
+    plan_ = &plan;
+    // With a [scene] table the file may be a plan: its scene is taken, its study is not run.
+    const toml::node* scene_node = root.get("scene");
+    const toml::table& scene =
+        scene_node ? table(*scene_node, "scene", "must be a table ([scene])") : root;
+    if (is_scene_of_bodies(scene)) {
+      plan.base.bodies = read_scene_of_bodies(
+          scene, "scene",
+          [this](const toml::node& at, const std::string& key, const std::string& what) {
+            fail(at, key, what);
+          });
+    }
+    toml::table parameters;  // the whole-scene keys; name and description are the file's
+    for (const auto& [key, node] : scene) {
+      if (!scene_node && (key == "name" || key == "description")) continue;
+      parameters.insert(key, node);
+    }
+    read_parameters(scene_node ? scene : parameters, ParameterGroup::scene, "scene");
+    const auto built = build(plan.base);
+    if (const auto* error = std::get_if<ParameterError>(&built)) fail_base(*error, "");
+    return plan.base;
   }
 
   void read(const toml::table& root, Plan& plan) {
@@ -319,8 +349,13 @@ class PlanReader {
       } else if (e.key == "description") {
         plan_->description = string(node, e.key);
       } else if (e.key == "scene") {
-        read_parameters(table(node, e.key, "must be a table ([scene])"), ParameterGroup::scene,
-                        "scene");
+        const toml::table& scene = table(node, e.key, "must be a table ([scene])");
+        if (is_scene_of_bodies(scene)) {
+          plan_->base.bodies = read_scene_of_bodies(
+              scene, "scene", [this](const toml::node& at, const std::string& key,
+                                     const std::string& what) { fail(at, key, what); });
+        }
+        read_parameters(scene, ParameterGroup::scene, "scene");
       } else if (e.key == "method") {
         read_method(table(node, e.key, "must be a table ([method])"));
       } else if (e.key == "study") {
@@ -347,6 +382,9 @@ class PlanReader {
   void read_parameters(const toml::table& section, ParameterGroup group, const char* name) {
     for (const Entry& e : in_file_order(section)) {
       const std::string key = name + "."s + e.key;
+      if (group == ParameterGroup::scene && plan_->base.bodies && is_scene_of_bodies_key(e.key)) {
+        continue;  // read by read_scene_of_bodies
+      }
       const ParameterInfo* info = find_parameter(e.key);
       if (!info || info->group != group) {
         fail_unknown(*e.node, key, name + " keys"s, parameter_names(group));
@@ -466,6 +504,7 @@ class PlanReader {
   // A grid axis or an optimisation parameter: numeric, and not fixed in the base sections too.
   const ParameterInfo& varied_parameter(const Entry& e, const std::string& key,
                                         const char* what) const {
+    if (is_scene_path(e.key)) return varied_scene_path(e, key, what);
     const ParameterInfo* info = find_parameter(e.key);
     if (!info) {
       fail(*e.node, key,
@@ -481,6 +520,28 @@ class PlanReader {
            "is also set as " + base_key(*info) + ": a parameter is either fixed or " + what);
     }
     return *info;
+  }
+
+  // A dotted key of the scene of bodies (study/scene_path.hpp) as an axis or a parameter: it must
+  // name a number of the plan's [[scene.body]] scene. Elements are the one integer among them.
+  const ParameterInfo& varied_scene_path(const Entry& e, const std::string& key,
+                                         const char* what) const {
+    static constexpr ParameterInfo kReal{"(scene key)", ParameterGroup::scene, ParameterKind::real,
+                                         "", "a key of the scene of bodies", "", ""};
+    static constexpr ParameterInfo kInteger{"(scene key)", ParameterGroup::scene,
+                                            ParameterKind::integer, "",
+                                            "a key of the scene of bodies", "", ""};
+    if (!plan_->base.bodies) {
+      fail(*e.node, key,
+           "is a key of a scene of bodies, and [scene] has no [[scene.body]] tables (the "
+           "one-body rod's keys are length, elements, velocity, gap, ...)");
+    }
+    if (e.key == "primary_contact") {
+      fail(*e.node, key, "is a choice (a contact's name): only numbers can be "s + what);
+    }
+    Scene probe = *plan_->base.bodies;
+    if (auto error = assign_scene_path(probe, e.key, 1.0)) fail(*e.node, key, error->constraint);
+    return e.key.ends_with(".elements") ? kInteger : kReal;
   }
 
   void read_grid(const toml::table& study) {
@@ -1226,6 +1287,11 @@ class PlanReader {
   // Where a build() error about `field` is reported when the study does not vary it: its key
   // in [scene], [method] or [output] if written there, else the section (or the file start).
   [[noreturn]] void fail_base(const ParameterError& error, const std::string& suffix) const {
+    if (is_scene_path(error.field) || error.field.starts_with("body")) {  // the bodies' keys
+      const toml::node* section = root_->get("scene");
+      fail_at(section ? *section : static_cast<const toml::node&>(*root_), "scene." + error.field,
+              error.value, error.constraint + suffix);
+    }
     const ParameterInfo* info = find_parameter(error.field);
     if (info) {
       if (const toml::node* node = base_node(*info)) {
@@ -1410,6 +1476,24 @@ Plan parse_plan(const std::string& text, const std::filesystem::path& source) {
   plan.text = text;
   PlanReader(plan.text, file).read(root, plan);
   return plan;
+}
+
+SimulationSettings load_scene_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw PlanError(path.string() + ": cannot open the scene file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  const std::string file = path.string();
+  toml::table root;
+  try {
+    root = toml::parse(std::string_view(text), std::string_view(file));
+  } catch (const toml::parse_error& e) {
+    const toml::source_position p = e.source().begin;
+    throw PlanError(file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " +
+                    std::string(e.description()));
+  }
+  return PlanReader(text, file).read_scene_file(root);
 }
 
 Plan load_plan(const std::filesystem::path& path) {

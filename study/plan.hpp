@@ -151,6 +151,10 @@ struct Plan {
   OutputSpec output;
 };
 
+/// Reads and checks a scene file (study/scene_file.hpp): its scene as the settings a plan's
+/// [scene] gives, checked by build() with the default method. Throws PlanError, as load_plan.
+SimulationSettings load_scene_file(const std::filesystem::path& path);
+
 /// Reads and checks a plan file. Throws PlanError.
 Plan load_plan(const std::filesystem::path& path);
 /// The same from text; `source` names it in messages and gives the default name.

@@ -54,7 +54,7 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("nop_v").value(e.indicators.nop_v);
   json.key("p_max").value(e.indicators.p_max);
   json.key("p_max_ratio").value(e.indicators.p_max_ratio);
-  json.key("pressure_scale").value(d.pressure_scale);
+  if (!sim.bodies) json.key("pressure_scale").value(d.pressure_scale);
   json.key("contact_episodes").value(e.indicators.contact_episodes);
   json.key("energy_ratio").value(e.indicators.energy_ratio);
   if (sim.scene.far_gap) {
@@ -62,9 +62,68 @@ void write_json(const Simulation& sim, const Evaluation& e) {
     json.key("impacts").value(e.indicators.impacts);
     json.key("max_penetration").value(e.indicators.max_penetration);
   }
+  if (sim.bodies) {
+    json.key("max_penetration").value(e.indicators.max_penetration);
+    const std::vector<SceneContact> contacts = scene_contacts(*sim.bodies);
+    json.key("primary_contact")
+        .value(contacts[static_cast<std::size_t>(derive(*sim.bodies).primary_contact)].name);
+    json.key("contacts").begin_array();
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      const ContactIndicators& c = e.contacts[k];
+      json.begin_object();
+      json.key("name").value(contacts[k].name);
+      json.key("eps_p").value(c.eps_p);
+      json.key("eps_v").value(c.eps_v);
+      json.key("nop_p").value(c.nop_p);
+      json.key("nop_v").value(c.nop_v);
+      json.key("p_max").value(c.p_max);
+      json.key("p_max_ratio").value(c.p_max_ratio);
+      json.key("contact_episodes").value(c.contact_episodes);
+      json.end_object();
+    }
+    json.end_array();
+  }
   json.key("wall_time_s").value(e.summary.wall_time_s);
   json.end_object();
   std::cout << '\n';
+}
+
+// A scene of bodies: one line per body and wall, and the time grid.
+void write_bodies(const Scene& scene) {
+  if (scene.left_wall) std::printf("scene       wall (left), gap %g mm\n", scene.left_wall->gap);
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const Body& body = scene.bodies[b];
+    std::printf("%s body %-10s v0 = %g mm/s", b == 0 && !scene.left_wall ? "scene      " : "           ",
+                body.name.c_str(), body.velocity);
+    if (b > 0) std::printf(", gap %g mm", body.gap);
+    std::printf(":");
+    for (const Segment& s : body.segments) {
+      std::printf(" [L %g, n %d, E %g, rho %g, A %g]", s.length, s.elements, s.youngs_modulus,
+                  s.density, s.area);
+    }
+    std::printf("\n");
+  }
+  if (scene.right_wall) std::printf("            wall (right), gap %g mm\n", scene.right_wall->gap);
+  const SceneDerived d = derive(scene);
+  std::printf("time        dt = %.6g s (Courant %.4g of the smallest h/c), %ld steps to t_end = "
+              "%.6g s; %s mass\n",
+              d.time_step, d.time_step / d.min_h_over_c, d.step_count, d.end_time,
+              to_string(scene.mass));
+}
+
+// Every contact's indicators, the primary one marked.
+void write_contacts(const Scene& scene, const Evaluation& e) {
+  const std::vector<SceneContact> contacts = scene_contacts(scene);
+  const int primary = derive(scene).primary_contact;
+  std::printf("contact       %-24s %10s %6s %10s %6s %11s %8s %8s\n", "", "eps_p", "NoP_p", "eps_v",
+              "NoP_v", "p_max[MPa]", "p/(rcV)", "episodes");
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const ContactIndicators& c = e.contacts[k];
+    std::printf("            %s %-24s %10.4g %6g %10.4g %6g %11.4g %8.4g %8g\n",
+                static_cast<int>(k) == primary ? "*" : " ", contacts[k].name.c_str(), c.eps_p,
+                c.nop_p, c.eps_v, c.nop_v, c.p_max, c.p_max_ratio, c.contact_episodes);
+  }
+  std::printf("            (* the primary contact, whose indicators a sweep stores)\n");
 }
 
 void write_text(const Simulation& sim, const Evaluation& e) {
@@ -82,19 +141,30 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     std::printf(", alpha_m = %.6g, alpha_f = %.6g", c.alpha_m, c.alpha_f);
   }
   std::printf("%s\n", *sep == ',' ? ")" : "");
-  std::printf("scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
-              "v0 = %g mm/s, gap = %g mm, %s mass\n",
-              sim.scene.length, sim.scene.elements, sim.scene.youngs_modulus, sim.scene.density,
-              sim.scene.area, sim.scene.velocity, sim.scene.gap, to_string(sim.scene.mass));
-  std::printf("time        dt = %.6g s (Courant %.4g), %ld steps to t_end = %.6g s\n",
-              d.time_step, d.time_step * d.wave_speed / d.element_length, d.step_count,
-              d.end_time);
+  if (sim.bodies) {
+    write_bodies(*sim.bodies);
+  } else {
+    std::printf("scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
+                "v0 = %g mm/s, gap = %g mm, %s mass\n",
+                sim.scene.length, sim.scene.elements, sim.scene.youngs_modulus, sim.scene.density,
+                sim.scene.area, sim.scene.velocity, sim.scene.gap, to_string(sim.scene.mass));
+    std::printf("time        dt = %.6g s (Courant %.4g), %ld steps to t_end = %.6g s\n",
+                d.time_step, d.time_step * d.wave_speed / d.element_length, d.step_count,
+                d.end_time);
+  }
   std::printf("status      %s%s%s\n", to_string(e.summary.status),
               e.summary.message.empty() ? "" : ": ", e.summary.message.c_str());
   if (e.summary.status != RunStatus::ok) {
     // The indicators of a run that did not finish are not results (NaN in JSON and in files).
     std::printf("indicators  none: the run is %s after %ld of %ld steps\n",
                 to_string(e.summary.status), e.summary.steps, e.summary.planned_steps);
+    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    return;
+  }
+  if (sim.bodies) {
+    write_contacts(*sim.bodies, e);
+    std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g mm\n",
+                e.indicators.energy_ratio, e.indicators.max_penetration);
     std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
     return;
   }
@@ -119,12 +189,14 @@ std::function<int()> add_simulate_command(CLI::App& app) {
                                                  "and print the paper's indicators");
   struct Options {
     GivenOptions given;
+    SceneOptions scene;
     bool json = false;
     std::string history;
   };
   auto options = std::make_shared<Options>();
   add_parameter_options(*command, options->given,
                         {ParameterGroup::method, ParameterGroup::scene, ParameterGroup::output});
+  add_scene_options(*command, options->scene);
   command->add_flag("--json", options->json, "Print one JSON object instead of text");
   command->add_option("--history", options->history,
                       "Write the time histories to FILE (.csv, or .h5/.hdf5 for HDF5)")
@@ -133,7 +205,10 @@ std::function<int()> add_simulate_command(CLI::App& app) {
   return [command, options]() -> int {
     if (!command->parsed()) return -1;
     SimulationSettings settings;
-    if (!apply_options(options->given, settings, "simulate")) return kExitBadInput;
+    if (!apply_scene_options(options->scene, settings, "simulate") ||
+        !apply_options(options->given, settings, "simulate")) {
+      return kExitBadInput;
+    }
     const auto sim = build_or_report(settings, "simulate");
     if (!sim) return kExitBadInput;
     if (!options->history.empty()) {
@@ -170,12 +245,16 @@ std::function<int()> add_compare_command(CLI::App& app) {
   auto* command = app.add_subcommand(
       "compare", "Run every method at its default parameters on one scene and print a table");
   auto given = std::make_shared<GivenOptions>();
+  auto scene = std::make_shared<SceneOptions>();
   add_parameter_options(*command, *given, {ParameterGroup::scene, ParameterGroup::output});
+  add_scene_options(*command, *scene);
 
-  return [command, given]() -> int {
+  return [command, given, scene]() -> int {
     if (!command->parsed()) return -1;
     SimulationSettings base;
-    if (!apply_options(*given, base, "compare")) return kExitBadInput;
+    if (!apply_scene_options(*scene, base, "compare") || !apply_options(*given, base, "compare")) {
+      return kExitBadInput;
+    }
     std::printf("%-18s %-26s %-8s %9s %6s %9s %6s %8s %8s %9s\n", "method", "parameters",
                 "status", "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0",
                 "time[ms]");

@@ -1,5 +1,7 @@
 #include "study/simulation_settings.hpp"
 
+#include "study/scene_path.hpp"
+
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -119,6 +121,10 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
       return ParameterError{info.name, format_value(v), "must be an integer below 2e9"};
     }
   }
+  for (const char* key : {"length", "elements", "youngs_modulus", "density", "area", "velocity",
+                          "gap", "far_gap"}) {
+    if (name == key) s.rod_keys.push_back(name);
+  }
   if (name == "length") s.scene.length = v;
   else if (name == "elements") s.scene.elements = static_cast<int>(v);
   else if (name == "youngs_modulus") s.scene.youngs_modulus = v;
@@ -162,6 +168,14 @@ const ParameterInfo* find_parameter(std::string_view name) {
 
 std::optional<ParameterError> assign(SimulationSettings& settings, std::string_view name,
                                      const ParameterValue& value) {
+  if (is_scene_path(name)) {
+    if (!settings.bodies) {
+      return ParameterError{std::string(name), choice_text(value),
+                            "is a key of a scene of bodies ([[scene.body]]); this scene is the "
+                            "one-body rod (length, elements, velocity, gap, ...)"};
+    }
+    return assign_scene_path(*settings.bodies, name, value);
+  }
   const ParameterInfo* info = find_parameter(name);
   if (!info) return ParameterError{std::string(name), choice_text(value), "is not a parameter"};
   if (info->kind == ParameterKind::choice) {
@@ -182,6 +196,16 @@ std::optional<ParameterError> assign(SimulationSettings& settings, std::string_v
 
 std::optional<ParameterError> assign_text(SimulationSettings& settings, std::string_view name,
                                           std::string_view text) {
+  if (name == "primary_contact") return assign(settings, name, std::string(text));
+  if (is_scene_path(name)) {
+    double v = 0.0;
+    const std::string t(text);
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || end != t.data() + t.size() || t.empty()) {
+      return ParameterError{std::string(name), t, "must be a number"};
+    }
+    return assign(settings, name, v);
+  }
   const ParameterInfo* info = find_parameter(name);
   if (!info) return ParameterError{std::string(name), std::string(text), "is not a parameter"};
   if (info->kind == ParameterKind::choice) return assign(settings, name, std::string(text));
@@ -218,7 +242,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     }
   }
 
-  Simulation out{s.scene, default_params(m.kind), s.indicators, s.run};
+  Simulation out{s.scene, std::nullopt, default_params(m.kind), s.indicators, s.run};
   switch (m.kind) {
     case MethodKind::central_difference:
       out.method = CentralDifferenceParams{m.cdm_velocity.value_or(CdmVelocity::central)};
@@ -256,7 +280,25 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
       break;
     }
   }
-  if (auto e = validate(out.scene)) return *e;
+  if (s.bodies) {
+    if (!s.rod_keys.empty()) {
+      return ParameterError{s.rod_keys.front(), "(given)",
+                            "is a key of the one-body rod: a scene of bodies gives it on a body "
+                            "or a segment (body.<name>.velocity, body.<name>.segment.<k>.length, "
+                            "wall.right.gap, ...)"};
+    }
+    Scene scene = *s.bodies;
+    scene.mass = s.scene.mass;
+    scene.rayleigh_mass = s.scene.rayleigh_mass;
+    scene.rayleigh_stiffness = s.scene.rayleigh_stiffness;
+    scene.courant = s.scene.courant;
+    scene.dt = s.scene.dt;
+    scene.t_end = s.scene.t_end;
+    if (auto e = validate(scene)) return *e;
+    out.bodies = std::move(scene);
+  } else if (auto e = validate(out.scene)) {
+    return *e;
+  }
   if (auto e = validate(out.method)) return *e;
   if (!(out.indicators.peak_prominence > 0.0 && std::isfinite(out.indicators.peak_prominence))) {
     return ParameterError{"peak_prominence", format_value(out.indicators.peak_prominence),
@@ -270,6 +312,19 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
 }
 
 std::optional<double> numeric_value(const Simulation& sim, std::string_view name) {
+  if (sim.bodies) {
+    const SceneDerived d = derive(*sim.bodies);
+    if (is_scene_path(name)) return scene_path_value(*sim.bodies, name);
+    if (name == "courant") return d.time_step / d.min_h_over_c;
+    if (name == "dt") return d.time_step;
+    if (name == "t_end") return d.end_time;
+    if (name == "rayleigh_mass") return sim.bodies->rayleigh_mass;
+    if (name == "rayleigh_stiffness") return sim.bodies->rayleigh_stiffness;
+    for (const char* key : {"length", "elements", "youngs_modulus", "density", "area", "velocity",
+                            "gap", "far_gap"}) {
+      if (name == key) return std::nullopt;  // the rod's keys: not this scene's
+    }
+  }
   const RodScene& sc = sim.scene;
   const RodSceneDerived d = derive(sc);
   if (name == "length") return sc.length;

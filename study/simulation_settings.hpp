@@ -12,10 +12,12 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include "core/method.hpp"
 #include "core/parameter_error.hpp"
 #include "core/rod_scene.hpp"
+#include "core/scene.hpp"
 #include "core/simulation.hpp"
 #include "metrics/indicators.hpp"
 
@@ -32,6 +34,12 @@ struct MethodSettings {
 struct SimulationSettings {
   RodScene scene;
   bool courant_given = false;
+  /// A scene of bodies ([[scene.body]] in a plan or a scene file). When set it is the scene: the
+  /// whole-scene keys of `scene` (mass, rayleigh_*, courant, dt, t_end) apply to it, and the
+  /// one-body keys (length, elements, …, gap, far_gap) may not be given (rod_keys).
+  std::optional<Scene> bodies;
+  /// One-body keys given (by assign()), to refuse them beside a scene of bodies.
+  std::vector<std::string> rod_keys;
   MethodSettings method;
   IndicatorOptions indicators;
   RunOptions run;
@@ -40,6 +48,9 @@ struct SimulationSettings {
 /// A complete, validated simulation.
 struct Simulation {
   RodScene scene;
+  /// A scene of bodies, complete (its mass, step and end time set) and valid; when set, it is
+  /// the scene that runs and `scene` is unused.
+  std::optional<Scene> bodies;
   MethodParams method;
   IndicatorOptions indicators;
   RunOptions run;
@@ -65,7 +76,9 @@ const ParameterInfo* find_parameter(std::string_view name);
 using ParameterValue = std::variant<double, std::string>;
 
 /// Sets one parameter. Errors: unknown name, wrong kind, non-integral integer, unknown choice,
-/// courant together with dt. Range checks happen in build().
+/// courant together with dt. Range checks happen in build(). Keys of a scene of bodies are
+/// dotted paths (scene_path.hpp): `body.striker.velocity`, `body.bar.segment.1.area`,
+/// `wall.right.gap`, `primary_contact`; they need settings.bodies.
 std::optional<ParameterError> assign(SimulationSettings& settings, std::string_view name,
                                      const ParameterValue& value);
 /// The same from text (the command line): numbers are parsed strictly.

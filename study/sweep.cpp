@@ -19,6 +19,22 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// The indicators every contact of a scene of bodies has (metrics ContactIndicators), by name;
+// nothing for the others.
+std::optional<double> contact_indicator(const std::string& name, const ContactIndicators& c) {
+  if (name == "eps_p") return c.eps_p;
+  if (name == "eps_v") return c.eps_v;
+  if (name == "nop_p") return c.nop_p;
+  if (name == "nop_v") return c.nop_v;
+  if (name == "p_max") return c.p_max;
+  if (name == "p_max_ratio") return c.p_max_ratio;
+  if (name == "contact_episodes") return c.contact_episodes;
+  return std::nullopt;
+}
+bool contact_indicator(const std::string& name) {
+  return contact_indicator(name, ContactIndicators{}).has_value();
+}
+
 bool is_dimension(const PointSet& points, const std::string& name) {
   const auto& dims = points.dimension_names();
   return std::find(dims.begin(), dims.end(), name) != dims.end();
@@ -65,6 +81,21 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
     r.indicators.push_back({name, info->units, name, info->definition,
                             std::vector<double>(size, kNaN)});
   }
+  // A scene of several contacts: each contact's indicators beside the primary's, as
+  // "<indicator>.<contact>" (the contacts are the same at every point: axes change numbers only).
+  if (plan.base.bodies && scene_contacts(*plan.base.bodies).size() > 1) {
+    for (const SceneContact& contact : scene_contacts(*plan.base.bodies)) {
+      for (const std::string& name : plan.output.indicators) {
+        const IndicatorInfo* info = find_indicator(name);
+        if (!contact_indicator(name)) continue;
+        r.indicators.push_back({name + "." + contact.name, info->units,
+                                name + " at contact " + contact.name,
+                                std::string(info->definition) + " (at contact " + contact.name +
+                                    ")",
+                                std::vector<double>(size, kNaN)});
+      }
+    }
+  }
   return r;
 }
 
@@ -83,7 +114,20 @@ void store_point(StudyResults& results, const PointSet& points, long index,
     }
   }
   for (ResultColumn& column : results.indicators) {
-    column.values[i] = find_indicator(column.name)->value(evaluation);
+    if (const IndicatorInfo* info = find_indicator(column.name)) {
+      column.values[i] = info->value(evaluation);
+      continue;
+    }
+    // "<indicator>.<contact>" of a scene of bodies (empty_results).
+    const std::size_t dot = column.name.find('.');
+    const std::string contact = column.name.substr(dot + 1);
+    const std::vector<SceneContact> contacts = scene_contacts(*simulation.bodies);
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      if (contacts[k].name == contact && k < evaluation.contacts.size()) {
+        column.values[i] =
+            *contact_indicator(column.name.substr(0, dot), evaluation.contacts[k]);
+      }
+    }
   }
 }
 

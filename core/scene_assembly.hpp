@@ -1,0 +1,49 @@
+// A scene of bodies (core/scene.hpp) turned into what a run needs: the assembled second-order
+// system with its constraints, the initial state, the time grid, and where each contact's
+// pressure and velocity are read. The run (simulate() of core/simulation.hpp) sees only this;
+// each kind of scene produces one.
+//
+// Nodes are numbered body by body, left to right; a body's segments share their junction nodes
+// (welded), and bodies are coupled only through the constraints, so every matrix stays
+// tridiagonal with zeros between bodies.
+//
+// The paper's form (one body of one segment and a right wall, nothing else) is assembled with the
+// system's named contact (SecondOrderSystem::contact_dof, gap), through which the paper's scene
+// has always run: the same matrices, the same step, the same bits as simulate(RodScene). Every
+// other scene lists its constraints (SecondOrderSystem::constraints), in scene_contacts() order.
+//
+// Thread safety: values.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/scene.hpp"
+#include "core/second_order_system.hpp"
+
+namespace impactid {
+
+/// Where a contact's samples are read: pressure = λ/area, velocity = v[velocity_dof].
+struct ContactProbe {
+  double area;
+  Eigen::Index velocity_dof;
+};
+
+struct AssembledScene {
+  SecondOrderSystem system;
+  Eigen::VectorXd initial_velocity;  ///< per dof [mm/s]; the initial displacement is zero
+  double dt = 0.0;                   ///< [s]
+  long step_count = 0;               ///< N; samples t_i = i·Δt, i = 1..N
+  /// Before this time every body flies rigidly (no contact has closed) [s]; +inf if none closes.
+  double first_contact_time = 0.0;
+  /// Whether the free flight may be filled in rather than stepped: nothing slows a body in flight
+  /// (no mass-proportional damping).
+  bool rigid_flight = true;
+  std::vector<ContactProbe> probes;  ///< one per contact, scene_contacts() order
+  int primary = 0;                   ///< index of the primary contact
+};
+
+/// The scene must be valid (validate()).
+AssembledScene assemble(const Scene& scene);
+
+}  // namespace impactid

@@ -1,0 +1,209 @@
+// Scenes of bodies in plans and scene files: what a [[scene.body]] table parses to, its mistakes
+// reported as "file:line:column: key = value: what", dotted scene keys as sweep axes, every
+// contact's indicators stored beside the primary's, and the same numbers on 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "study/evaluation.hpp"
+#include "study/plan.hpp"
+#include "study/point_set.hpp"
+#include "study/scene_path.hpp"
+#include "study/sweep.hpp"
+
+namespace impactid {
+namespace {
+
+const char* kHopkinson = R"(
+name = "h"
+[scene]
+courant = 0.5
+[[scene.body]]
+name = "striker"
+velocity = 1000.0
+[[scene.body.segment]]
+length = 5.0
+elements = 25
+[[scene.body.segment]]
+length = 5.0
+elements = 25
+area = 2.0
+
+[[scene.body]]
+name = "bar"
+gap = 0.01
+length = 30.0
+elements = 150
+
+[scene.wall.right]
+gap = 0.02
+
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+"body.striker.velocity" = { values = [500.0, 1000.0] }
+alpha = { values = [-0.3, -0.2] }
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_plan(text, "bad.toml");
+  } catch (const PlanError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the plan was accepted:\n" << text;
+  return "";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(SceneFile, ABodiesTableParsesToItsScene) {
+  const Plan plan = parse_plan(kHopkinson, "plans/h.toml");
+  ASSERT_TRUE(plan.base.bodies.has_value());
+  const Scene& s = *plan.base.bodies;
+  ASSERT_EQ(s.bodies.size(), 2u);
+  EXPECT_EQ(s.bodies[0].name, "striker");
+  EXPECT_EQ(s.bodies[0].velocity, 1000.0);
+  ASSERT_EQ(s.bodies[0].segments.size(), 2u);
+  EXPECT_EQ(s.bodies[0].segments[1].area, 2.0);
+  EXPECT_EQ(s.bodies[0].segments[1].elements, 25);
+  EXPECT_EQ(s.bodies[1].gap, 0.01);
+  EXPECT_EQ(s.bodies[1].segments[0].length, 30.0);  // a one-segment body's own keys
+  EXPECT_EQ(s.bodies[1].segments[0].youngs_modulus, 90.0);  // the default
+  ASSERT_TRUE(s.right_wall.has_value());
+  EXPECT_EQ(s.right_wall->gap, 0.02);
+  EXPECT_FALSE(s.left_wall.has_value());
+  const auto built = build(plan.base);
+  ASSERT_TRUE(std::holds_alternative<Simulation>(built));
+  EXPECT_TRUE(std::get<Simulation>(built).bodies.has_value());
+}
+
+TEST(SceneFile, MistakesNameTheirKeyAndPlace) {
+  EXPECT_EQ(error_of(replaced(kHopkinson, "area = 2.0", "area = \"big\"")),
+            "bad.toml:14:8: scene.body.1.segment.2.area = \"big\": must be a number");
+  EXPECT_EQ(error_of(replaced(kHopkinson, "gap = 0.01", "gab = 0.01")).substr(0, 46),
+            "bad.toml:18:7: scene.body.2.gab = 0.01: unknow");
+  EXPECT_EQ(error_of(replaced(kHopkinson, "length = 30.0", "length = 30.0\n[[scene.body.segment]]"))
+                .substr(0, 64),
+            "bad.toml:19:10: scene.body.2.length = 30.0: a body gives either ");
+  // Range errors are validate()'s, reported at [scene] with the dotted key.
+  EXPECT_EQ(error_of(replaced(kHopkinson, "elements = 150", "elements = 0")),
+            "bad.toml:3:1: scene.body.bar.segment.1.elements = 0: must be an integer in [1, 1e7]");
+  EXPECT_EQ(error_of(replaced(kHopkinson, "name = \"bar\"", "name = \"striker\"")),
+            "bad.toml:3:1: scene.body.striker.name = \"striker\": is the name of an earlier body: "
+            "names must be unique");
+  EXPECT_EQ(error_of(replaced(kHopkinson, "courant = 0.5", "courant = 0.5\nlength = 3.0")),
+            "bad.toml:5:10: scene.length = 3.0: is a key of the one-body rod: a scene of bodies "
+            "gives it on a body or a segment (body.<name>.velocity, "
+            "body.<name>.segment.<k>.length, wall.right.gap, ...)");
+}
+
+TEST(SceneFile, AxisKeysMustNameANumberOfTheScene) {
+  EXPECT_EQ(error_of(replaced(kHopkinson, "body.striker.velocity", "body.hammer.velocity")),
+            "bad.toml:30:26: study.axes.body.hammer.velocity = { values = [500.0, 1000.0] }: names "
+            "no body of the scene (by name, or its position from 1)");
+  EXPECT_EQ(error_of(replaced(kHopkinson, "body.striker.velocity", "body.striker.segment.3.area")),
+            "bad.toml:30:33: study.axes.body.striker.segment.3.area = { values = [500.0, 1000.0] "
+            "}: names no segment of body striker (it has 2, counted from 1)");
+  // Without bodies a scene key is refused at the axis.
+  const std::string rod = "name = \"r\"\n[study]\nkind = \"grid\"\n[study.axes]\n"
+                          "\"body.a.velocity\" = { values = [1.0] }\n";
+  EXPECT_EQ(error_of(rod).substr(0, 76),
+            "bad.toml:5:21: study.axes.body.a.velocity = { values = [1.0] }: is a key of ");
+}
+
+TEST(ScenePath, PathsReadAndWriteTheScene) {
+  Scene s = *parse_plan(kHopkinson, "h.toml").base.bodies;
+  EXPECT_FALSE(assign_scene_path(s, "body.2.segment.1.area", 3.0).has_value());
+  EXPECT_EQ(s.bodies[1].segments[0].area, 3.0);
+  EXPECT_EQ(scene_path_value(s, "body.bar.segment.1.area"), 3.0);
+  EXPECT_FALSE(assign_scene_path(s, "wall.right.gap", 0.5).has_value());
+  EXPECT_EQ(s.right_wall->gap, 0.5);
+  EXPECT_EQ(assign_scene_path(s, "wall.left.gap", 0.5)->constraint,
+            "names a wall the scene does not have ([scene.wall.left])");
+  EXPECT_EQ(assign_scene_path(s, "body.bar.segment.1.elements", 2.5)->constraint,
+            "must be an integer below 2e9");
+  EXPECT_EQ(assign_scene_path(s, "body.bar.colour", 1.0)->constraint,
+            "is not a body key (velocity, gap, segment.<k>.<key>)");
+  EXPECT_EQ(assign_scene_path(s, "body.striker.gap", 1.0)->constraint,
+            "is the gap of the first body: the scene has no left wall");
+}
+
+StudyResults run_all(const Plan& plan, int threads) {
+  const PointSet points(plan);
+  StudyResults results = empty_results(plan, points);
+  std::vector<long> indices(static_cast<std::size_t>(points.size()));
+  for (long k = 0; k < points.size(); ++k) indices[static_cast<std::size_t>(k)] = k;
+  SweepOptions options;
+  options.threads = threads;
+  run_sweep(points, indices, results, options);
+  return results;
+}
+
+const ResultColumn* column(const StudyResults& r, const std::string& name) {
+  for (const ResultColumn& c : r.indicators) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+TEST(SceneSweep, EveryContactIsStoredBesideThePrimaryOnAnyThreadCount) {
+  const Plan plan = parse_plan(kHopkinson, "plans/h.toml");
+  const StudyResults one = run_all(plan, 1);
+  const StudyResults two = run_all(plan, 2);
+  for (const char* name : {"eps_p", "eps_p.striker-bar", "eps_p.wall_right", "nop_v.wall_right",
+                           "p_max.striker-bar", "contact_episodes.wall_right"}) {
+    const ResultColumn* a = column(one, name);
+    const ResultColumn* b = column(two, name);
+    ASSERT_TRUE(a && b) << name;
+    for (std::size_t i = 0; i < a->values.size(); ++i) {
+      EXPECT_TRUE(a->values[i] == b->values[i] ||
+                  (std::isnan(a->values[i]) && std::isnan(b->values[i])))
+          << name << " point " << i;
+    }
+  }
+  EXPECT_EQ(column(one, "eps_p.far_wall"), nullptr);
+  // The primary contact is the first to close, striker-bar: its columns are the main ones.
+  EXPECT_EQ(column(one, "eps_p")->values, column(one, "eps_p.striker-bar")->values);
+  EXPECT_NE(column(one, "eps_p")->values, column(one, "eps_p.wall_right")->values);
+  // The axis reached the scene: the faster striker presses harder.
+  ASSERT_EQ(one.dimensions[0].name, "body.striker.velocity");
+  EXPECT_EQ(one.dimensions[0].values, (std::vector<double>{500.0, 1000.0}));
+  const auto& p = column(one, "p_max.striker-bar")->values;  // [velocity][alpha], alpha fastest
+  ASSERT_EQ(one.status[0], 0);
+  ASSERT_EQ(one.status[2], 0);
+  EXPECT_GT(p[2], 1.5 * p[0]);
+}
+
+TEST(SceneFile, ASceneFileGivesTheSettingsOfItsScene) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "impactid_scene_file";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path file = dir / "s.toml";
+  std::ofstream(file) << "courant = 0.25\n[[body]]\nname = \"a\"\nvelocity = 10.0\n"
+                         "[[body]]\nname = \"b\"\ngap = 0.5\n";
+  const SimulationSettings s = load_scene_file(file);
+  ASSERT_TRUE(s.bodies.has_value());
+  EXPECT_EQ(s.bodies->bodies.size(), 2u);
+  EXPECT_EQ(s.scene.courant, 0.25);
+  std::ofstream(file) << "[[body]]\nname = \"a\"\nvelocity = 10.0\n";
+  try {
+    load_scene_file(file);
+    ADD_FAILURE() << "a scene without a contact was accepted";
+  } catch (const PlanError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              file.string() + ":1:1: scene.body = a: a scene needs at least one contact (a wall "
+                              "or a second body)");
+  }
+}
+
+}  // namespace
+}  // namespace impactid
