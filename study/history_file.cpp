@@ -2,8 +2,10 @@
 
 #include <array>
 #include <fstream>
+#include <string>
 #include <vector>
 
+#include "core/chain_exact.hpp"
 #include "core/exact_solution.hpp"
 #include "study/hdf5_file.hpp"
 
@@ -11,9 +13,9 @@ namespace impactid {
 namespace {
 
 struct Column {
-  const char* name;
-  const char* units;
-  const char* description;
+  std::string name;
+  std::string units;
+  std::string description;
   std::vector<double> values;
 };
 
@@ -43,6 +45,56 @@ std::vector<Column> history_columns(const RodScene& scene, const ContactTrace& t
   if (scene.far_gap) {
     columns.push_back({"far_pressure", "MPa", "far-wall pressure lambda_0/A at node 0 (far_gap)",
                        trace.far_pressure});
+  }
+  return columns;
+}
+
+// A scene of bodies: the primary contact's samples and exact values under the rod's column
+// names (a plot of one contact reads the same file either way), then every contact's, named
+// "<column>.<contact>".
+std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrace& trace,
+                                           double dt) {
+  const std::vector<SceneContact> contacts = scene_contacts(scene);
+  const int primary = derive(scene).primary_contact;
+  const auto n = static_cast<std::size_t>(trace.size());
+  const ChainExact exact(scene, static_cast<double>(n) * dt);
+  const std::string reference = "exact solution of the chain (core/chain_exact.hpp; mean of the "
+                                "limits on a jump)";
+  std::vector<Column> columns{
+      {"t", "s", "sample time t_i = i*dt", {}},
+      {"pressure", "MPa", "primary contact's pressure lambda/A", trace.pressure},
+      {"velocity", "mm/s", "primary contact's node velocity, +x positive", trace.velocity},
+      {"displacement", "mm", "primary contact's node displacement", trace.displacement},
+      {"energy", "mJ", "kinetic + strain energy", trace.energy},
+      {"exact_pressure", "MPa", reference, {}},
+      {"exact_velocity", "mm/s", reference, {}},
+      {"exact_displacement", "mm", reference, {}},
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i + 1) * dt;
+    const ContactNodeValues e = exact.at(primary, t, 1e-6 * dt);
+    columns[0].values.push_back(t);
+    columns[5].values.push_back(e.pressure);
+    columns[6].values.push_back(e.velocity);
+    columns[7].values.push_back(e.displacement);
+  }
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const std::string& name = contacts[k].name;
+    Column exact_p{"exact_pressure." + name, "MPa", reference, {}};
+    Column exact_v{"exact_velocity." + name, "mm/s", reference, {}};
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = static_cast<double>(i + 1) * dt;
+      const ContactNodeValues e = exact.at(static_cast<int>(k), t, 1e-6 * dt);
+      exact_p.values.push_back(e.pressure);
+      exact_v.values.push_back(e.velocity);
+    }
+    columns.push_back({"pressure." + name, "MPa", "pressure lambda/A at contact " + name,
+                       trace.contact_pressure[k]});
+    columns.push_back({"velocity." + name, "mm/s",
+                       "velocity of the node of contact " + name + ", +x positive",
+                       trace.contact_velocity[k]});
+    columns.push_back(std::move(exact_p));
+    columns.push_back(std::move(exact_v));
   }
   return columns;
 }
@@ -91,8 +143,8 @@ void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& co
     const Hdf5Dims dims{columns[0].values.size()};
     for (const Column& c : columns) {
       file.dataset(c.name, c.values, dims);
-      file.attribute(c.name, "units", std::string(c.units));
-      file.attribute(c.name, "long_name", std::string(c.description));
+      file.attribute(c.name, "units", c.units);
+      file.attribute(c.name, "long_name", c.description);
     }
     file.dimension_scale("t", "t");
     for (std::size_t c = 1; c < columns.size(); ++c) file.attach_scale(columns[c].name, "t", 0);
@@ -117,7 +169,9 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
     std::filesystem::create_directories(path.parent_path(), ec);
     if (ec) throw HistoryFileError(path.parent_path().string() + ": " + ec.message());
   }
-  const std::vector<Column> columns = history_columns(simulation.scene, trace);
+  const std::vector<Column> columns =
+      simulation.bodies ? bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step)
+                        : history_columns(simulation.scene, trace);
   if (ext == ".csv") {
     write_csv(path, columns);
   } else {
