@@ -14,17 +14,12 @@
 #include "core/implicit_integrator.hpp"
 #include "core/method.hpp"
 #include "core/rod_scene.hpp"
+#include "core/run_record.hpp"
 #include "core/scene_assembly.hpp"
 #include "core/state.hpp"
 
 namespace impactid {
 
-enum class RunStatus {
-  ok,        ///< every sample finite, energy within the bound
-  unstable,  ///< a value became non-finite or the energy exceeded the bound; the run stopped
-  failed,    ///< the method could not start (singular effective matrix)
-};
-const char* to_string(RunStatus status);
 
 struct RunOptions {
   /// A run is `unstable` as soon as the energy ½vᵀMv + ½uᵀKu exceeds this multiple of the
@@ -46,37 +41,6 @@ struct RunOptions {
   /// mass-proportional damping), the steps up to shortly before the impact are filled in rather
   /// than computed; the results differ from stepped ones by round-off only.
   bool skip_free_flight = true;
-};
-
-/// Samples of the contact node (and the energy) at t_i = i·Δt, stored at index i − 1.
-struct ContactTrace {
-  std::vector<double> pressure;      ///< λ/A [MPa] (central difference: Carpenter's λ_t)
-  std::vector<double> velocity;      ///< [mm/s]
-  std::vector<double> displacement;  ///< [mm]; empty unless RunOptions::record_history
-  std::vector<double> energy;        ///< [mJ]; empty unless RunOptions::record_history
-  /// λ_0/A of the far wall [MPa]; empty unless the scene has one (RodScene::far_gap).
-  std::vector<double> far_pressure;
-  /// A scene of bodies (simulate(AssembledScene)): every contact's pressure λ_k/A_k [MPa] and
-  /// velocity [mm/s], in scene_contacts() order. pressure, velocity and displacement above
-  /// are then the primary contact's. Empty after simulate(RodScene).
-  std::vector<std::vector<double>> contact_pressure, contact_velocity;
-  long size() const { return static_cast<long>(pressure.size()); }
-};
-
-struct RunSummary {
-  RunStatus status = RunStatus::ok;
-  std::string message;        ///< why the run is not ok; empty when it is
-  long planned_steps = 0;     ///< N
-  long steps = 0;             ///< samples completed (N unless the run stopped early)
-  long skipped_steps = 0;     ///< of those, free-flight samples filled in, not computed
-  double dt = 0.0;            ///< [s]
-  double initial_energy = 0;  ///< [mJ]
-  double final_energy = 0;    ///< [mJ], at the last completed sample
-  /// Largest penetration of a wall by its contact node over the completed samples [mm]
-  /// (u_n − gap and −far_gap − u_0; <= 0 means none). Tracked only with a far wall (the
-  /// single-wall step loop is kept as it was); NaN without one.
-  double max_penetration = std::numeric_limits<double>::quiet_NaN();
-  double wall_time_s = 0;     ///< set-up and stepping [s]
 };
 
 /// Per-thread storage reused from run to run: after the first run of a given size, further

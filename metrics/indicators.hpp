@@ -9,7 +9,7 @@
 #include "core/chain_exact.hpp"
 #include "core/rod_scene.hpp"
 #include "core/scene.hpp"
-#include "core/simulation.hpp"
+#include "core/run_record.hpp"
 
 namespace impactid {
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/exact_solution.hpp"
+#include "core/simulation.hpp"
 
 namespace impactid {
 namespace {
