@@ -1,5 +1,7 @@
 #include "core/scene.hpp"
 
+#include "core/contact_lcp.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -185,6 +187,11 @@ std::optional<ParameterError> validate(const Scene& s) {
     return ParameterError{"t_end", format_value(*s.t_end), "must be positive and finite"};
   }
   const std::vector<SceneContact> contacts = scene_contacts(s);
+  if (contacts.size() > static_cast<std::size_t>(kMaxConstraints)) {
+    return ParameterError{"body", std::to_string(s.bodies.size()) + " bodies",
+                          "give at most " + std::to_string(kMaxConstraints) +
+                              " contacts (bodies and walls): the bound of the contact solver"};
+  }
   if (contacts.empty()) {
     return ParameterError{"body", s.bodies[0].name,
                           "a scene needs at least one contact (a wall or a second body)"};
