@@ -7,6 +7,7 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "core/rod_scene.hpp"
 #include "core/run_record.hpp"
 #include "core/scene_assembly.hpp"
+#include "core/scene_reference.hpp"
 #include "core/state.hpp"
 
 namespace impactid {
@@ -50,6 +52,10 @@ struct SimulationWorkspace {
   CentralDifference central_difference;
   State state;
   ContactTrace trace;
+  /// The reference of the last scene of bodies evaluated with this workspace (study/
+  /// evaluation.cpp): a sweep over method parameters keeps one scene, whose reference is then
+  /// computed once per thread.
+  std::optional<SceneReference> reference;
 };
 
 /// Runs scene and method (both must be valid: see validate()). The trace is left in

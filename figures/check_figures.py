@@ -4,7 +4,8 @@
     check_figures.py [--impactid PATH] [--keep DIR]
 
 1. writes small versions of the figure plans (a 40-element rod, a few grid points; the
-   work-precision study on 20 and 40 elements, timed once) to a temporary folder and runs
+   work-precision study on 20 and 40 elements, timed once; the scenes of bodies of
+   plans/hopkinson.toml, two-rods.toml and stepped-rod.toml on 40 to 80 elements) to a temporary folder and runs
    `impactid run` on each, from that folder, so the results and the per-point histories land in
    TMP/results/;
 2. runs plans/spectral.toml of the project too, if it exists (its results go to
@@ -125,6 +126,94 @@ points = [
 [output]
 histories = "results/histories/identical-dissipation"
 """,
+    # Scenes of bodies ([[scene.body]]), small stand-ins for plans/hopkinson.toml, two-rods.toml
+    # and stepped-rod.toml: the maps, the δ sweep and the histories at a contact of a chain.
+    "hopkinson": f"""
+name = "hopkinson"
+description = "check_figures: striker on a bar, HHT over delta x alpha, 20 + 60 elements"
+
+[scene]
+[[scene.body]]
+name = "striker"
+velocity = 1000.0
+length = 10.0
+elements = 20
+
+[[scene.body]]
+name = "bar"
+gap = 0.01
+length = 30.0
+elements = 60
+
+[method]
+name = "hht"
+
+[study]
+kind = "grid"
+
+[study.axes]
+alpha = {{ from = -0.5, to = 0.0, partitions = 5 }}
+delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
+{PRACTICAL}""",
+    "two-rods": f"""
+name = "two-rods"
+description = "check_figures: two equal rods, Newmark over delta, 40 + 40 elements"
+
+[scene]
+[[scene.body]]
+name = "striker"
+velocity = 1000.0
+length = 20.0
+elements = 40
+
+[[scene.body]]
+name = "target"
+gap = 0.01
+length = 20.0
+elements = 40
+
+[method]
+name = "newmark"
+
+[study]
+kind = "grid"
+
+[study.axes]
+delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
+{PRACTICAL}""",
+    "stepped-rod": f"""
+name = "stepped-rod"
+description = "check_figures: a stepped rod (A : 4A) on a wall, the five methods, 20 + 20 elements, with histories"
+
+[scene]
+[[scene.body]]
+name = "rod"
+velocity = 1000.0
+[[scene.body.segment]]
+length = 10.0
+elements = 20
+area = 4.0
+[[scene.body.segment]]
+length = 10.0
+elements = 20
+area = 1.0
+
+[scene.wall.right]
+gap = 0.01
+
+[study]
+kind = "list"
+points = [
+  {{ method = "cdm" }},
+  {{ method = "backward-euler" }},
+  {{ method = "newmark", delta = 0.2 }},
+  {{ method = "hht", alpha = -0.3, delta = 0.45 }},
+  {{ method = "generalized-alpha", rho_inf = 0.6 }},
+]
+{PRACTICAL}
+[output]
+histories = "results/histories/stepped-rod"
+""",
     "stability-map": f"""
 name = "stability-map"
 description = "check_figures: HHT status over Courant x alpha x delta, 40 elements"
@@ -166,9 +255,13 @@ SINGLE_THREAD = {"work-precision"}
 FIGURES = {
     "fig3_newmark_delta.png": ["newmark-delta"],
     "fig4_hht_delta_alpha.png": ["hht-delta-alpha"],
+    "fig_hopkinson.png": ["hopkinson"],
+    "fig_two_rods.png": ["two-rods"],
     "fig_period_error_line.png": ["hht-period-error-line"],
     "fig5_pressure_history.png": ["identical-dissipation"],
     "fig6_velocity_history.png": ["identical-dissipation"],
+    "fig_stepped_rod_pressure.png": ["stepped-rod"],
+    "fig_stepped_rod_velocity.png": ["stepped-rod"],
     "fig7_compare_pressure.png": ["identical-dissipation"],
     "fig8_compare_velocity.png": ["identical-dissipation"],
     "fig_spectral.png": ["spectral"],

@@ -209,7 +209,10 @@ def load(results_dir, name):
 
 
 def scene_text(scene, varying=()):
-    """'rod L = 20 mm, n = 200, Courant 0.5, v0 = 1000 mm/s' plus whatever is not the default."""
+    """'rod L = 20 mm, n = 200, Courant 0.5, v0 = 1000 mm/s' plus whatever is not the default;
+    a scene of bodies ([[scene.body]]) as bodies_scene_text describes it."""
+    if is_scene_of_bodies(scene):
+        return bodies_scene_text(scene, varying)
     s = dict(DEFAULT_SCENE)
     s.update({k: v for k, v in scene.items() if v is not None})
     parts = []
@@ -242,10 +245,140 @@ def scene_text(scene, varying=()):
 
 
 def results_scene(r):
-    """The scene of a results file: the plan's [scene] table, minus the parameters that vary."""
+    """The scene of a results file: the plan's [scene] table, minus the parameters that vary
+    (for a scene of bodies also its dotted keys, such as 'body.striker.velocity')."""
     scene = dict(r.plan.get("scene", {}))
-    varying = {name for name in list(DEFAULT_SCENE) + ["dt"] if r.param_varies(name)}
+    names = list(DEFAULT_SCENE) + ["dt"] + [d for d in r.dims if "." in d]
+    varying = {name for name in names if r.param_varies(name)}
     return scene_text(scene, varying)
+
+
+# ---------------------------------------------------------------------------------------------
+# Scenes of several bodies ([[scene.body]] in a plan's [scene]; plans/README.md)
+# ---------------------------------------------------------------------------------------------
+
+SEGMENT_KEYS = ("length", "elements", "youngs_modulus", "density", "area")
+
+
+def is_scene_of_bodies(scene):
+    """Whether a [scene] table describes a scene of bodies (it has `body` or `wall`), as
+    study/scene_file.hpp decides."""
+    return "body" in scene or "wall" in scene
+
+
+def scene_bodies(scene):
+    """The bodies of a scene of bodies, left to right, each as {name, velocity, gap, segments},
+    a segment being a dict of SEGMENT_KEYS with the one-body defaults filled in."""
+    bodies = []
+    for k, b in enumerate(scene.get("body", [])):
+        segments = b.get("segment") or [{key: b[key] for key in SEGMENT_KEYS if key in b}]
+        segments = [{key: seg.get(key, DEFAULT_SCENE[key]) for key in SEGMENT_KEYS} for seg in segments]
+        bodies.append({"name": str(b.get("name", f"body{k + 1}")), "velocity": float(b.get("velocity", 0.0)),
+                       "gap": float(b.get("gap", 0.0)), "segments": segments})
+    return bodies
+
+
+def scene_contacts(scene):
+    """The contacts of a scene of bodies, left to right, as core/scene.cpp names them:
+    [(name, gap, dotted keys of the gap)] with 'wall_left', '<left>-<right>' and 'wall_right'."""
+    bodies = scene_bodies(scene)
+    walls = scene.get("wall", {})
+    out = []
+    if "left" in walls and bodies:
+        out.append(("wall_left", float(walls["left"].get("gap", bodies[0]["gap"])),
+                    ("wall.left.gap", f"body.{bodies[0]['name']}.gap", "body.1.gap")))
+    for k, (left, right) in enumerate(zip(bodies, bodies[1:])):
+        out.append((f"{left['name']}-{right['name']}", right["gap"], (f"body.{right['name']}.gap", f"body.{k + 2}.gap")))
+    if "right" in walls:
+        out.append(("wall_right", float(walls["right"].get("gap", 0.0)), ("wall.right.gap",)))
+    return out
+
+
+def primary_contact(scene, data=None):
+    """The name of a scene's primary contact, whose indicators are stored unsuffixed: the plan's
+    `primary_contact`, the only contact, or the contact whose `eps_p.<contact>` equals `eps_p`
+    in `data` (a results file's datasets); None if that does not tell."""
+    if scene.get("primary_contact"):
+        return str(scene["primary_contact"])
+    contacts = [name for name, *_ in scene_contacts(scene)]
+    if len(contacts) == 1:
+        return contacts[0]
+    if data is not None and "eps_p" in data:
+        same = [c for c in contacts if f"eps_p.{c}" in data and
+                np.array_equal(np.asarray(data[f"eps_p.{c}"]), np.asarray(data["eps_p"]), equal_nan=True)]
+        if len(same) == 1:
+            return same[0]
+    return None
+
+
+def contact_text(name):
+    """'striker-bar' -> 'striker–bar contact'; 'wall_right' -> 'right wall'."""
+    if name is None:
+        return "primary contact"
+    if name.startswith("wall_"):
+        return f"{name[5:]} wall"
+    return f"{name.replace('-', '–')} contact"
+
+
+def bodies_scene_text(scene, varying=()):
+    """A scene of bodies in one line: 'striker 10 mm + bar 60 mm, n = 100 + 600, gap 0.01 mm,
+    Courant 0.5, v0 = 1000 mm/s (striker)'; a body of several segments as
+    'rod (10 mm, A = 4 mm² | 10 mm, A = 1 mm²)', a wall as 'on the right wall'. Material values
+    are named where they differ from the paper's rod; keys that vary in the study are left out."""
+    bodies = scene_bodies(scene)
+    walls = scene.get("wall", {})
+
+    def varies(body, k, key):
+        return any(v in varying for v in (f"body.{body['name']}.{key}", f"body.{k + 1}.{key}"))
+
+    def segment_text(seg, several):
+        parts = [f"{num(seg['length'])} mm"]
+        if several or not math.isclose(float(seg["area"]), float(DEFAULT_SCENE["area"])):
+            parts.append(f"A = {num(seg['area'])} mm²")
+        for key, template in (("youngs_modulus", "E = {} MPa"), ("density", "ρ = {} t/mm³")):
+            if not math.isclose(float(seg[key]), float(DEFAULT_SCENE[key]), rel_tol=1e-12):
+                parts.append(template.format(num(seg[key])))
+        return ", ".join(parts)
+
+    names = []
+    for b in bodies:
+        segs = b["segments"]
+        if len(segs) == 1:
+            t = segment_text(segs[0], False)
+            names.append(f"{b['name']} {t}" if "," not in t else f"{b['name']} ({t})")
+        else:
+            names.append(f"{b['name']} (" + " | ".join(segment_text(g, True) for g in segs) + ")")
+    line = " + ".join(names)
+    if "left" in walls and "right" in walls:
+        line = f"{line} between two walls"
+    elif "left" in walls:
+        line = f"left wall, {line}"
+    elif "right" in walls:
+        line = f"{line} on the right wall"
+    parts = [line]
+    n = [num(seg["elements"]) for b in bodies for seg in b["segments"]]
+    parts.append(f"n = {' + '.join(n)}")
+    gaps = [(name, g) for name, g, keys in scene_contacts(scene) if not any(k in varying for k in keys)]
+    if gaps and len({g for _, g in gaps}) == 1:
+        what = "gap" if len(gaps) == 1 else "gaps"
+        parts.append(f"{what} {num(gaps[0][1])} mm")
+    else:
+        parts += [f"gap {contact_text(name)} {num(g)} mm" for name, g in gaps]
+    if "dt" in scene and "courant" not in scene and "dt" not in varying:
+        parts.append(f"Δt = {float(scene['dt']):.3g} s")
+    elif "courant" not in varying and "dt" not in varying:
+        parts.append(f"Courant {num(scene.get('courant', DEFAULT_SCENE['courant']))}")
+    moving = [(k, b) for k, b in enumerate(bodies) if b["velocity"] != 0 and not varies(b, k, "velocity")]
+    if len(bodies) == 1 and moving:
+        parts.append(f"v0 = {num(moving[0][1]['velocity'])} mm/s")
+    elif moving:
+        parts.append("v0 = " + ", ".join(f"{num(b['velocity'])} mm/s ({b['name']})" for _, b in moving))
+    for key, template in (("rayleigh_mass", "a0 = {} 1/s"), ("rayleigh_stiffness", "a1 = {} s")):
+        if key not in varying and key in scene and float(scene[key]) != float(DEFAULT_SCENE[key]):
+            parts.append(template.format(num(scene[key])))
+    if "mass" not in varying and text(scene.get("mass", "lumped")) != "lumped":
+        parts.append(f"{text(scene['mass'])} mass")
+    return ", ".join(parts)
 
 
 def method_info(method):
@@ -487,19 +620,37 @@ def indicator_panels_1d(r, x, xlabel, symbol, color, keys, paper=None, secondary
     return fig, axes
 
 
-def fig3(results_dir, out_dir):
-    r = load(results_dir, "newmark-delta")
+def newmark_delta_figure(results_dir, out_dir, name, png, title, paper_label, where="", scene_sep="; "):
+    """Fig. 3's layout for the results file `name`.h5 (Newmark over δ): ε_p and NoP_p against δ.
+    `where` names the contact the indicators are taken at ("" for the paper's one contact);
+    `scene_sep` goes between the title and the scene ("\n" for a long title)."""
+    r = load(results_dir, name)
     if r.dims != ["delta"]:
         raise Skip(f"{r.path}: expected one grid axis 'delta', found {r.dims}")
     x = np.asarray(r.data["delta"], dtype=float)
     keys = [
-        ("eps_p", "ε_p [−]", "(a) relative error of the contact pressure (eq. 18)"),
-        ("nop_p", "NoP_p [−]", "(b) number of peaks of the contact pressure"),
+        ("eps_p", "ε_p [−]", f"(a) relative error of the {where}contact pressure (eq. 18)"),
+        ("nop_p", "NoP_p [−]", f"(b) number of peaks of the {where}contact pressure"),
     ]
     fig, _ = indicator_panels_1d(r, x, "δ [−]  (β = (1+δ)²/4, γ = ½+δ, eq. 13)", "δ", method_color("newmark"), keys,
-                                 paper=(0.3, 1.0, "paper's practical stage δ ∈ [0.3, 1]"))
-    fig.suptitle(f"Fig. 3 — Newmark method over δ; {results_scene(r)}")
-    return [save(fig, out_dir, "fig3_newmark_delta.png")]
+                                 paper=(0.3, 1.0, paper_label))
+    fig.suptitle(f"{title}{scene_sep}{results_scene(r)}")
+    return [save(fig, out_dir, png)]
+
+
+def fig3(results_dir, out_dir):
+    return newmark_delta_figure(results_dir, out_dir, "newmark-delta", "fig3_newmark_delta.png",
+                                "Fig. 3 — Newmark method over δ", "paper's practical stage δ ∈ [0.3, 1]")
+
+
+def fig_two_rods(results_dir, out_dir):
+    r = load(results_dir, "two-rods")
+    contact = primary_contact(r.plan.get("scene", {}), r.data)
+    return newmark_delta_figure(
+        results_dir, out_dir, "two-rods", "fig_two_rods.png",
+        f"Two equal rods — Newmark method over δ, at the {contact_text(contact)} (exact reference: the chain's "
+        "characteristics)", "paper's practical stage on one rod δ ∈ [0.3, 1]",
+        where=f"{contact.replace('-', '–')} " if contact and not contact.startswith("wall_") else "", scene_sep="\n")
 
 
 def fig_period_error_line(results_dir, out_dir):
@@ -567,8 +718,9 @@ def hht_map(ax, r, key, norm_kind="log", cbar_label="", fig=None, valid=None):
     return x, y, z, st
 
 
-def hht_lines(ax, x, y, paper_stage=True):
-    """The lines δ = −1.5α (eq. 19) and δ = −α (eq. 15) over the α range of the map."""
+def hht_lines(ax, x, y, paper_stage=True, paper_stage_label=None):
+    """The lines δ = −1.5α (eq. 19) and δ = −α (eq. 15) over the α range of the map, and the
+    paper's practical stage on eq. 19 (its legend text `paper_stage_label`, if given)."""
     a = np.linspace(y.min(), y.max(), 50)
     handles = []
     handles += ax.plot(-1.5 * a, a, color="white", lw=2.0, ls=(0, (5, 2)), zorder=4,
@@ -581,7 +733,7 @@ def hht_lines(ax, x, y, paper_stage=True):
         s = s[(s >= y.min()) & (s <= y.max())]
         if s.size:
             handles += ax.plot(-1.5 * s, s, color="0.78", lw=10, alpha=0.9, solid_capstyle="butt", zorder=3,
-                               label="paper's practical stage α ∈ [−0.5, −0.3] on eq. 19")
+                               label=paper_stage_label or "paper's practical stage α ∈ [−0.5, −0.3] on eq. 19")
     return handles
 
 
@@ -610,7 +762,7 @@ def outline_practical(ax, r):
     return [Line2D([], [], color=PRACTICAL_COLOR, lw=2.0, label=label)]
 
 
-def stability_handles(st, stable, source, closed_form):
+def stability_handles(st, stable, source, closed_form, chatter_where="on the wall"):
     """Legend entries of Fig. 4's masks: the predicted-unstable cells (hatched) and, among them,
     those that still ran ok (dots), and the chatter cells (not ok although predicted stable).
     `source` is the second value of predicted_stable(); `closed_form` the map δ ≥ −α."""
@@ -632,12 +784,33 @@ def stability_handles(st, stable, source, closed_form):
         codes = sorted({int(c) for c in np.unique(st[chatter])})
         what = " / ".join(STATUS_TEXT[c].replace("not ok: ", "") for c in codes)
         handles.append(Line2D([], [], marker="x", ms=6, mew=1.8, color=CHATTER_COLOR, ls="none",
-                              label=f"{what} although predicted stable: chatter on the wall ({int(chatter.sum())})"))
+                              label=f"{what} although predicted stable: chatter {chatter_where} ({int(chatter.sum())})"))
     return handles
 
 
 def fig4(results_dir, out_dir):
-    r = load(results_dir, "hht-delta-alpha")
+    return hht_maps_figure(results_dir, out_dir, "hht-delta-alpha", "fig4_hht_delta_alpha.png",
+                           "Fig. 4 — HHT-α with independent δ (eq. 13) and α (eq. 14)")
+
+
+def fig_hopkinson(results_dir, out_dir):
+    r = load(results_dir, "hopkinson")
+    contact = primary_contact(r.plan.get("scene", {}), r.data)
+    where = f"{contact.replace('-', '–')} " if contact and not contact.startswith("wall_") else ""
+    return hht_maps_figure(
+        results_dir, out_dir, "hopkinson", "fig_hopkinson.png",
+        f"Split-Hopkinson striker on a bar — HHT-α over (δ, α), at the {contact_text(contact)} (exact reference: "
+        "the chain's characteristics)", where=where, scene_sep="\n", paper_stage_label="paper's practical stage "
+        "(on one rod) α ∈ [−0.5, −0.3] on eq. 19",
+        chatter_where=f"at the {contact_text(contact)}" if contact else "at a contact")
+
+
+def hht_maps_figure(results_dir, out_dir, name, png, heading, where="", scene_sep="; ", paper_stage_label=None,
+                    chatter_where="on the wall"):
+    """Fig. 4's layout for the results file `name`.h5 (HHT over δ × α): maps of ε_p and NoP_p.
+    `where` names the contact the indicators are taken at ("" for the paper's one contact),
+    `chatter_where` where the chatter of the not-ok, predicted-stable runs happens."""
+    r = load(results_dir, name)
     x, y, st = grid_2d(r, "status")
     # The mask is the linear stability the spectral analysis predicts, not the simulated status:
     # near δ = −α a linearly unstable run can end ok (slow growth), and it must not be read as data.
@@ -648,11 +821,11 @@ def fig4(results_dir, out_dir):
     fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.9), constrained_layout=True)
     handles = []
     for ax, key, label, title in (
-        (axes[0], "eps_p", "ε_p [−]", "(a) relative error of the contact pressure ε_p (eq. 18)"),
-        (axes[1], "nop_p", "NoP_p [−]", "(b) number of peaks of the contact pressure NoP_p"),
+        (axes[0], "eps_p", "ε_p [−]", f"(a) relative error of the {where}contact pressure ε_p (eq. 18)"),
+        (axes[1], "nop_p", "NoP_p [−]", f"(b) number of peaks of the {where}contact pressure NoP_p"),
     ):
         _, _, z, _ = hht_map(ax, r, key, "log", label, fig, valid=valid)
-        lines = hht_lines(ax, x, y)
+        lines = hht_lines(ax, x, y, paper_stage_label=paper_stage_label)
         jj, ii = np.nonzero(slow)
         ax.plot(x[ii], y[jj], "o", ms=3.0, mfc="none", mec="0.25", mew=0.9, ls="none", zorder=2)
         # a chatter cell is predicted stable: white, not hatched, under its cross
@@ -671,11 +844,11 @@ def fig4(results_dir, out_dir):
         ax.set_title(title)
         if not handles:
             closed_form = x[None, :] >= -y[:, None] - 1e-12
-            handles = lines + star + stability_handles(st, stable, source, closed_form) + practical
+            handles = lines + star + stability_handles(st, stable, source, closed_form, chatter_where) + practical
     fig.legend(handles=handles, loc="lower center", ncol=2, frameon=False, bbox_to_anchor=(0.5, 0.0))
     fig.get_layout_engine().set(rect=(0, 0.17, 1, 0.83))
-    fig.suptitle(f"Fig. 4 — HHT-α with independent δ (eq. 13) and α (eq. 14); {results_scene(r)}")
-    return [save(fig, out_dir, "fig4_hht_delta_alpha.png")]
+    fig.suptitle(f"{heading}{scene_sep}{results_scene(r)}")
+    return [save(fig, out_dir, png)]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -791,6 +964,22 @@ def bulk_ylim(curves, exact, lo, hi, factor=0.3, pad=0.08):
     return window_ylim(kept, lo, hi, pad), out
 
 
+def least_covering(ax, rects):
+    """Of the rectangles `rects` ([x0, y0, width, height] in axes coordinates), the first that the
+    lines of `ax` cross least (their samples inside it): where an inset hides the least. The
+    upper-left one for Figs 5-6; lower right when the pressure rises after the plateau (stepped rod)."""
+    ax.get_ylim()  # the autoscaled limits, without drawing (a draw would shift the layout)
+    to_axes = ax.transData + ax.transAxes.inverted()  # data to axes: the limits only
+    counts = []
+    for x0, y0, w, h in rects:
+        n = 0
+        for line in ax.get_lines():
+            xy = to_axes.transform(np.column_stack([np.asarray(v, dtype=float) for v in line.get_data()]))
+            n += int(np.sum((xy[:, 0] >= x0) & (xy[:, 0] <= x0 + w) & (xy[:, 1] >= y0) & (xy[:, 1] <= y0 + h)))
+        counts.append(n)
+    return rects[int(np.argmin(counts))]
+
+
 def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel):
     """An inset in panel (a) over the plateau after the impact (20 to 250 steps after it), its y-range
     magnified to the ripple that is left there: central difference's undamped ringing, which gives
@@ -807,7 +996,7 @@ def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel):
     if ylim is None or max(ylim[1] - level, level - ylim[0]) < 1e-4 * (abs(level) or 1.0):
         return
     half = max(ylim[1] - level, level - ylim[0])
-    ins = ax.inset_axes([0.09, 0.47, 0.48, 0.43])
+    ins = ax.inset_axes(least_covering(ax, [[0.09, 0.47, 0.48, 0.43], [0.58, 0.08, 0.38, 0.29]]))
     for line in ax.get_lines():
         t, y = (np.asarray(v, dtype=float) for v in line.get_data())
         sel = (t >= lo - 5 * dt_us) & (t <= hi + 5 * dt_us)
@@ -822,29 +1011,89 @@ def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel):
                      if left_out else ""), fontsize=8, pad=3)
 
 
-def history_figure(results_dir, out_dir, quantity):
-    folder, hist = load_histories(results_dir)
+def exact_pressure_jumps(h, t_imp, t_rel, margin):
+    """The jumps of a history's exact pressure between the impact and the release, more than
+    `margin` [µs] from either, as [(t [µs], before, after)]: the waves that reach the contact (from a
+    step of a stepped rod, from the far end of a body). A jump sampled as the mean of its limits
+    spans two samples: one jump."""
+    p = h.data["exact_pressure"]
+    t = h.t_us
+    scale = np.nanmax(np.abs(p)) or 1.0
+    changes = np.nonzero(np.abs(np.diff(p)) > 1e-6 * scale)[0]
+    out = []
+    k = 0
+    while k < changes.size:
+        i = changes[k]
+        j = i
+        while k + 1 < changes.size and changes[k + 1] == j + 1:  # the mean-of-limits sample
+            k += 1
+            j = changes[k]
+        when = 0.5 * (t[i] + t[j + 1]) if j > i else t[i + 1]
+        if t_imp + margin < when < t_rel - margin:
+            out.append((when, float(p[i]), float(p[j + 1])))
+        k += 1
+    return out
+
+
+def history_windows(hist, quantity, t_imp, t_rel, dt_us, max_windows=4):
+    """The zoom windows of a history figure as [(what, lo, hi, title)], up to max_windows: the
+    impact, each jump of the exact pressure in between (a wave from a step or a far end reaching the
+    contact; none on the paper's rod), and the release if the run goes on after it (Figs 5-6).
+    A velocity window at a pressure jump is left out when no curve's velocity moves there (a node
+    held at v = 0 in contact); those jumps are returned as the second value, [(t, before, after)]."""
+    ref = hist[0]
+    t_end = float(ref.t_us[-1])
+    windows = [("impact", t_imp - 6 * dt_us, t_imp + 45 * dt_us, f"zoom at impact, t = {t_imp:.1f} µs")]
+    still = []
+    jumps = exact_pressure_jumps(ref, t_imp, t_rel, 3 * dt_us)
+    release_inside = t_rel + 15 * dt_us <= t_end
+    room = max_windows - 1 - (1 if release_inside else 0)
+    for when, before, after in jumps[:room]:
+        # the numerical wave front is spread over some 40 steps before and after the exact one
+        lo, hi = when - 40 * dt_us, min(when + 60 * dt_us, t_end)
+        if quantity != "pressure":
+            v0 = np.nanmax(np.abs(ref.data["exact_velocity"])) or 1.0
+            moves = [np.ptp(h.data["velocity"][(h.t_us >= lo) & (h.t_us <= hi)]) > 1e-6 * v0 for h in hist]
+            if not any(moves):
+                still.append((when, before, after))
+                continue
+        windows.append((when, lo, hi, f"zoom at t = {when:.1f} µs, where the exact\npressure jumps from "
+                                      f"{num(round(before, 3))} to {num(round(after, 3))} MPa"))
+    if release_inside:
+        # the pressure falls before the release; the velocity overshoots after it
+        release = (t_rel - 85 * dt_us, t_rel + 15 * dt_us) if quantity == "pressure" else (t_rel - 15 * dt_us, t_rel + 85 * dt_us)
+        windows.append(("release", *release, f"zoom at release, t = {t_rel:.1f} µs"))
+    return windows, still
+
+
+def history_figure(results_dir, out_dir, quantity, study="identical-dissipation", png=None, heading=None,
+                   subject="at identical dissipation", scene_sep="; "):
+    """Figs 5 and 6 (study 'identical-dissipation'), or the same layout for the histories of another
+    list study: `png` and `heading` then name the figure, `subject` the comparison in its title.
+    A scene of bodies (histories with per-contact columns) takes its scene from the study's results
+    file and its exact reference from the chain's characteristics; the quantities are those of the
+    primary contact."""
+    folder, hist = load_histories(results_dir, study)
     if not hist:
         raise Skip(f"{folder}: no point-*.h5 files")
+    ref = hist[0]
+    bodies = any("." in k for k in ref.data)
     if quantity == "pressure":
         key, exact_key, ylabel, scale = "pressure", "exact_pressure", "contact pressure p [MPa]", 1.0
-        name = "fig5_pressure_history.png"
-        title = "Fig. 5 — Time evolution of the contact pressure"
+        name = png or "fig5_pressure_history.png"
+        title = heading or "Fig. 5 — Time evolution of the contact pressure"
     else:
         key, exact_key, ylabel, scale = "velocity", "exact_velocity", "contact-node velocity v [mm/s]", 1.0
-        name = "fig6_velocity_history.png"
-        title = "Fig. 6 — Time evolution of the velocity of the contact node"
-    ref = hist[0]
+        name = png or "fig6_velocity_history.png"
+        title = heading or "Fig. 6 — Time evolution of the velocity of the contact node"
     t_imp, t_rel = ref.jump_times()
     dt_us = float(ref.attrs.get("dt", np.median(np.diff(ref.data["t"])))) * 1e6
-    # the pressure falls before the release; the velocity overshoots after it
-    release = (t_rel - 85 * dt_us, t_rel + 15 * dt_us) if quantity == "pressure" else (t_rel - 15 * dt_us, t_rel + 85 * dt_us)
-    windows = [("impact", t_imp - 6 * dt_us, t_imp + 45 * dt_us), ("release", *release)]
+    windows, still = history_windows(hist, quantity, t_imp, t_rel, dt_us)
 
-    fig = plt.figure(figsize=(11, 7.6), layout="constrained")
-    gs = fig.add_gridspec(2, 2, height_ratios=[1.15, 1])
+    fig = plt.figure(figsize=(11 if len(windows) <= 2 else 14, 7.6), layout="constrained")
+    gs = fig.add_gridspec(2, len(windows), height_ratios=[1.15, 1])
     ax = fig.add_subplot(gs[0, :])
-    zooms = [fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[1, 1])]
+    zooms = [fig.add_subplot(gs[1, k]) for k in range(len(windows))]
     series = []
     # the roughest curves behind the smooth ones (total variation), the legend in point order
     variation = [np.nansum(np.abs(np.diff(h.data[key]))) for h in hist]
@@ -859,16 +1108,28 @@ def history_figure(results_dir, out_dir, quantity):
                           f" {INDICATOR_SYMBOLS[ind[1]]} = {num(h.indicators[ind[1]])}")
             a.plot(h.t_us, y, color=method_color(h.method), lw=1.0 if a is ax else 1.3, label=label,
                    zorder=2 + 0.1 * rank[id(h)])
-        a.plot(ref.t_us, ref.data[exact_key] * scale, color=EXACT_COLOR, lw=1.3, ls="--", label="exact (d'Alembert)", zorder=3)
+        a.plot(ref.t_us, ref.data[exact_key] * scale, color=EXACT_COLOR, lw=1.3, ls="--",
+               label="exact (chain: characteristics)" if bodies else "exact (d'Alembert)", zorder=3)
     for h in hist:
         series.append((method_label(h.method, h.attrs), h.t_us, h.data[key] * scale))
     exact = (ref.t_us, ref.data[exact_key] * scale)
     ax.set_xlim(0, ref.t_us[-1])
     ax.set_xlabel("t [µs]")
     ax.set_ylabel(ylabel)
-    ax.set_title("(a) the whole run; boxes: the zoomed windows")
-    letters = "bc"
-    for z, (what, lo, hi), letter in zip(zooms, windows, letters):
+    if any(w[0] == "release" for w in windows):
+        ax.set_title("(a) the whole run; boxes: the zoomed windows")
+    elif t_rel >= ref.t_us[-1] - 2 * dt_us:
+        ax.set_title(f"(a) the whole run, to the exact release at its last step (t = {t_rel:.1f} µs); "
+                     "boxes: the zoomed windows")
+    else:
+        ax.set_title("(a) the whole run, in contact to its end; boxes: the zoomed windows")
+    if still:  # say why the pressure jumps have no velocity zoom
+        ax.text(0.5, 0.5, "in contact, the contact node stays at v = 0 (to round-off) through the jumps of the "
+                "exact pressure at t = " + ", ".join(f"{w:.1f}" for w, _, _ in still) + " µs: no zoom there",
+                transform=ax.transAxes, ha="center", va="bottom", fontsize=8.5, color="0.2",
+                bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor="0.6", alpha=0.92))
+    letters = "bcdefg"
+    for z, (what, lo, hi, zoom_title), letter in zip(zooms, windows, letters):
         z.set_xlim(lo, hi)
         ylim, left_out = bulk_ylim(series, exact, lo, hi)
         if ylim:
@@ -886,19 +1147,23 @@ def history_figure(results_dir, out_dir, quantity):
                                                      edgecolor="0.6", alpha=0.92))
         z.set_xlabel("t [µs]")
         z.set_ylabel(ylabel)
-        when = t_imp if what == "impact" else t_rel
+        when = t_imp if what == "impact" else t_rel if what == "release" else what
         z.axvline(when, color="0.5", lw=0.8, ls=":", zorder=1)
-        z.set_title(f"({letter}) zoom at {what}, t = {when:.1f} µs")
+        z.set_title(f"({letter}) {zoom_title}")
         _, connectors = ax.indicate_inset_zoom(z, edgecolor="0.3", alpha=0.9)
         for c in connectors:  # they would cross the figure: keep only the box
             c.set_visible(False)
     plateau_inset(ax, series, exact, t_imp, dt_us, ylabel)
-    if quantity == "pressure":
+    if quantity == "pressure" or not any(w[0] == "release" for w in windows):
         ax.legend(loc="upper right", framealpha=0.92)
     else:  # the velocity oscillates after the release: the empty band between 0 and −v0 before it
         ax.legend(loc="center left", bbox_to_anchor=(0.2, 0.40), framealpha=0.92, fontsize=8)
-    scene = scene_text({k: ref.attrs[k] for k in DEFAULT_SCENE if k in ref.attrs} | ({"dt": ref.attrs["dt"]} if "courant" not in ref.attrs and "dt" in ref.attrs else {}))
-    fig.suptitle(f"{title} at identical dissipation; {scene}")
+    results_path = Path(results_dir) / f"{study}.h5"
+    if bodies and results_path.exists():  # a history file of a scene of bodies does not describe it
+        scene = results_scene(Results(results_path))
+    else:
+        scene = scene_text({k: ref.attrs[k] for k in DEFAULT_SCENE if k in ref.attrs} | ({"dt": ref.attrs["dt"]} if "courant" not in ref.attrs and "dt" in ref.attrs else {}))
+    fig.suptitle(f"{title} {subject}{scene_sep}{scene}")
     return [save(fig, out_dir, name)]
 
 
@@ -908,6 +1173,28 @@ def fig5(results_dir, out_dir):
 
 def fig6(results_dir, out_dir):
     return history_figure(results_dir, out_dir, "velocity")
+
+
+def stepped_rod_history(results_dir, out_dir, quantity):
+    where = "at the wall"
+    path = Path(results_dir) / "stepped-rod.h5"
+    if path.exists():
+        try:
+            where = f"at the {contact_text(primary_contact(Results(path).plan.get('scene', {})))}"
+        except Skip:
+            pass
+    what = "pressure" if quantity == "pressure" else "velocity of the contact node"
+    return history_figure(results_dir, out_dir, quantity, "stepped-rod", f"fig_stepped_rod_{quantity}.png",
+                          f"Stepped rod — time evolution of the {what} {where}",
+                          "at identical dissipation (as Figs 5–6)", scene_sep="\n")
+
+
+def fig_stepped_rod_pressure(results_dir, out_dir):
+    return stepped_rod_history(results_dir, out_dir, "pressure")
+
+
+def fig_stepped_rod_velocity(results_dir, out_dir):
+    return stepped_rod_history(results_dir, out_dir, "velocity")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1544,10 +1831,14 @@ def fig_optimize(results_dir, out_dir):
 
 FIGURES = [
     ("fig3_newmark_delta.png", fig3),
+    ("fig_two_rods.png", fig_two_rods),
     ("fig4_hht_delta_alpha.png", fig4),
+    ("fig_hopkinson.png", fig_hopkinson),
     ("fig_period_error_line.png", fig_period_error_line),
     ("fig5_pressure_history.png", fig5),
     ("fig6_velocity_history.png", fig6),
+    ("fig_stepped_rod_pressure.png", fig_stepped_rod_pressure),
+    ("fig_stepped_rod_velocity.png", fig_stepped_rod_velocity),
     ("fig7_compare_pressure.png", fig7),
     ("fig8_compare_velocity.png", fig8),
     ("fig_spectral.png", fig_spectral),

@@ -152,7 +152,7 @@ Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,
   return out;
 }
 
-Indicators evaluate_indicators(const Scene& scene, const ChainExact& exact,
+Indicators evaluate_indicators(const Scene& scene, const SceneReference& reference,
                                const ContactTrace& trace, const RunSummary& summary,
                                const IndicatorOptions& options,
                                std::span<ContactIndicators> contacts) {
@@ -174,13 +174,10 @@ Indicators evaluate_indicators(const Scene& scene, const ChainExact& exact,
                     options.peak_prominence * derived.velocity_scale);
     const std::vector<double>& pressure = trace.contact_pressure[k];
     const std::vector<double>& velocity = trace.contact_velocity[k];
-    const double dt = summary.dt;
+    const ContactSamples& expected = reference.contacts[k];
+    assert(expected.pressure.size() == pressure.size());
     for (std::size_t i = 0; i < pressure.size(); ++i) {
-      // The sampling convention of RodImpactExact::at_sample: t_i = i·Δt, jumps within 1e-6·Δt
-      // averaged.
-      const ContactNodeValues e =
-          exact.at(static_cast<int>(k), static_cast<double>(i + 1) * dt, 1e-6 * dt);
-      pass.add(e.pressure, e.velocity, pressure[i], velocity[i]);
+      pass.add(expected.pressure[i], expected.velocity[i], pressure[i], velocity[i]);
     }
     contacts[k] = {pass.pressure_error.value(),
                    pass.velocity_error.value(),

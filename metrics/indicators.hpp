@@ -6,9 +6,9 @@
 
 #include <span>
 
-#include "core/chain_exact.hpp"
 #include "core/rod_scene.hpp"
 #include "core/scene.hpp"
+#include "core/scene_reference.hpp"
 #include "core/run_record.hpp"
 
 namespace impactid {
@@ -17,6 +17,10 @@ struct IndicatorOptions {
   /// Minimum prominence of a counted peak, as a fraction of ρ·c·v0 (pressure) and of |v0|
   /// (velocity). See peak_count.hpp for the rule and why. > 0.
   double peak_prominence = 1e-6;
+  /// A scene of bodies with damping is measured against a converged numerical solution
+  /// (core/scene_reference.hpp), refined until its primary contact's pressure and velocity
+  /// change by less than this between two halvings of the mesh and the step. > 0.
+  double reference_tolerance = 1e-2;
 };
 
 /// All NaN when the run is not ok: an unstable run's numbers are not results.
@@ -66,14 +70,15 @@ struct ContactIndicators {
   double contact_episodes;  ///< maximal runs of samples with λ > 0
 };
 
-/// The indicators of a run of a scene of bodies (simulate(AssembledScene)) against `exact`, the
-/// scene's exact solution up to at least the last sample: every contact's into `contacts` (one
-/// per contact, scene_contacts() order), and the primary contact's returned as Indicators
+/// The indicators of a run of a scene of bodies (simulate(AssembledScene)) against `reference`,
+/// the scene's reference at the run's samples (core/scene_reference.hpp: the exact solution, or a
+/// converged one): every contact's into `contacts` (one per contact, scene_contacts() order),
+/// and the primary contact's returned as Indicators
 /// (energy_ratio and max_penetration, the largest violation of any constraint, as for the rod;
 /// far_contact_episodes and impacts NaN: they describe the rod's two walls). Peak prominences
 /// are fractions of ρ·c·V for the pressure of a contact (its segment's ρ·c) and of V for the
 /// velocity, with V the largest initial |velocity| of a body.
-Indicators evaluate_indicators(const Scene& scene, const ChainExact& exact,
+Indicators evaluate_indicators(const Scene& scene, const SceneReference& reference,
                                const ContactTrace& trace, const RunSummary& summary,
                                const IndicatorOptions& options,
                                std::span<ContactIndicators> contacts);

@@ -2,7 +2,6 @@
 
 #include <array>
 
-#include "core/chain_exact.hpp"
 #include "core/scene_assembly.hpp"
 
 namespace impactid {
@@ -12,10 +11,16 @@ Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
   if (sim.bodies) {
     const AssembledScene scene = assemble(*sim.bodies);
     out.summary = simulate(scene, sim.method, sim.run, workspace);
-    const ChainExact exact(*sim.bodies, static_cast<double>(scene.step_count) * scene.dt);
+    const ReferenceOptions options{.tolerance = sim.indicators.reference_tolerance};
+    if (!workspace.reference || workspace.reference->scene != *sim.bodies ||
+        workspace.reference->options != options) {
+      workspace.reference = scene_reference(*sim.bodies, options);
+    }
     out.contacts.resize(scene.probes.size());
-    out.indicators = evaluate_indicators(*sim.bodies, exact, workspace.trace, out.summary,
-                                         sim.indicators, out.contacts);
+    out.indicators = evaluate_indicators(*sim.bodies, *workspace.reference, workspace.trace,
+                                         out.summary, sim.indicators, out.contacts);
+    out.reference_refinements = workspace.reference->refinements;
+    out.reference_change = workspace.reference->change;
     return out;
   }
   out.summary = simulate(sim.scene, sim.method, sim.run, workspace);

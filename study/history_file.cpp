@@ -2,11 +2,13 @@
 
 #include <array>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "core/chain_exact.hpp"
 #include "core/exact_solution.hpp"
+#include "core/scene_reference.hpp"
 #include "study/hdf5_file.hpp"
 
 namespace impactid {
@@ -53,13 +55,12 @@ std::vector<Column> history_columns(const RodScene& scene, const ContactTrace& t
 // names (a plot of one contact reads the same file either way), then every contact's, named
 // "<column>.<contact>".
 std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrace& trace,
-                                           double dt) {
+                                           double dt, const ReferenceOptions& options) {
   const std::vector<SceneContact> contacts = scene_contacts(scene);
   const int primary = derive(scene).primary_contact;
   const auto n = static_cast<std::size_t>(trace.size());
-  const ChainExact exact(scene, static_cast<double>(n) * dt);
-  const std::string reference = "exact solution of the chain (core/chain_exact.hpp; mean of the "
-                                "limits on a jump)";
+  const SceneReference exact = scene_reference(scene, options);
+  const std::string reference = exact.description() + " (mean of the limits on a jump)";
   std::vector<Column> columns{
       {"t", "s", "sample time t_i = i*dt", {}},
       {"pressure", "MPa", "primary contact's pressure lambda/A", trace.pressure},
@@ -71,23 +72,25 @@ std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrac
       {"exact_displacement", "mm", reference, {}},
   };
   for (std::size_t i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i + 1) * dt;
-    const ContactNodeValues e = exact.at(primary, t, 1e-6 * dt);
-    columns[0].values.push_back(t);
-    columns[5].values.push_back(e.pressure);
-    columns[6].values.push_back(e.velocity);
-    columns[7].values.push_back(e.displacement);
+    const auto p = static_cast<std::size_t>(primary);
+    columns[0].values.push_back(static_cast<double>(i + 1) * dt);
+    columns[5].values.push_back(exact.contacts[p].pressure[i]);
+    columns[6].values.push_back(exact.contacts[p].velocity[i]);
+  }
+  // The displacement of the exact solution of the chain (not of a converged reference).
+  if (exact.refinements == 0) {
+    const ChainExact chain(scene, static_cast<double>(n) * dt);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = static_cast<double>(i + 1) * dt;
+      columns[7].values.push_back(chain.at(primary, t, 1e-6 * dt).displacement);
+    }
+  } else {
+    columns[7].values.assign(n, std::numeric_limits<double>::quiet_NaN());
   }
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const std::string& name = contacts[k].name;
-    Column exact_p{"exact_pressure." + name, "MPa", reference, {}};
-    Column exact_v{"exact_velocity." + name, "mm/s", reference, {}};
-    for (std::size_t i = 0; i < n; ++i) {
-      const double t = static_cast<double>(i + 1) * dt;
-      const ContactNodeValues e = exact.at(static_cast<int>(k), t, 1e-6 * dt);
-      exact_p.values.push_back(e.pressure);
-      exact_v.values.push_back(e.velocity);
-    }
+    Column exact_p{"exact_pressure." + name, "MPa", reference, exact.contacts[k].pressure};
+    Column exact_v{"exact_velocity." + name, "mm/s", reference, exact.contacts[k].velocity};
     columns.push_back({"pressure." + name, "MPa", "pressure lambda/A at contact " + name,
                        trace.contact_pressure[k]});
     columns.push_back({"velocity." + name, "mm/s",
@@ -170,8 +173,11 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
     if (ec) throw HistoryFileError(path.parent_path().string() + ": " + ec.message());
   }
   const std::vector<Column> columns =
-      simulation.bodies ? bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step)
-                        : history_columns(simulation.scene, trace);
+      simulation.bodies
+          ? bodies_history_columns(*simulation.bodies, trace,
+                                   derive(*simulation.bodies).time_step,
+                                   {.tolerance = simulation.indicators.reference_tolerance})
+          : history_columns(simulation.scene, trace);
   if (ext == ".csv") {
     write_csv(path, columns);
   } else {

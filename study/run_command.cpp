@@ -259,7 +259,7 @@ void write_point_histories(const PointSet& points, const std::filesystem::path& 
   for (long index = 0; index < points.size(); ++index) {
     Simulation simulation = std::get<Simulation>(build(points.settings(index)));
     simulation.run.record_history = true;
-    simulate(simulation.scene, simulation.method, simulation.run, workspace);
+    evaluate(simulation, workspace);  // the rod's or a scene of bodies' run, as the sweep's
     write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation,
                   workspace.trace);
   }

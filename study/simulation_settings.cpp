@@ -14,7 +14,7 @@ namespace {
 using G = ParameterGroup;
 using K = ParameterKind;
 
-constexpr std::array<ParameterInfo, 24> kParameters{{
+constexpr std::array<ParameterInfo, 25> kParameters{{
     {"length", G::scene, K::real, "mm", "rod length L (default 20, > 0)", "", ""},
     {"elements", G::scene, K::integer, "", "number of 2-node truss elements n (default 200, >= 1)",
      "", ""},
@@ -62,6 +62,10 @@ constexpr std::array<ParameterInfo, 24> kParameters{{
     {"peak_prominence", G::output, K::real, "",
      "minimum prominence of a counted peak, as a fraction of rho*c*v0 (pressure) and |v0| "
      "(velocity) (default 1e-6, > 0)",
+     "", ""},
+    {"reference_tolerance", G::output, K::real, "",
+     "a scene of bodies with damping is measured against a numerical solution refined until "
+     "its primary contact changes by less than this (default 1e-2, > 0)",
      "", ""},
     {"energy_growth_limit", G::output, K::real, "",
      "a run is unstable once its energy exceeds this multiple of the initial energy (default "
@@ -151,6 +155,7 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   else if (name == "gamma") s.method.gamma = v;
   else if (name == "rho_inf") s.method.rho_inf = v;
   else if (name == "peak_prominence") s.indicators.peak_prominence = v;
+  else if (name == "reference_tolerance") s.indicators.reference_tolerance = v;
   else if (name == "energy_growth_limit") s.run.energy_growth_limit = v;
   return std::nullopt;
 }
@@ -304,6 +309,11 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     return ParameterError{"peak_prominence", format_value(out.indicators.peak_prominence),
                           "must be positive and finite"};
   }
+  if (!(out.indicators.reference_tolerance > 0.0 &&
+        std::isfinite(out.indicators.reference_tolerance))) {
+    return ParameterError{"reference_tolerance", format_value(out.indicators.reference_tolerance),
+                          "must be positive and finite"};
+  }
   if (!(out.run.energy_growth_limit > 1.0)) {
     return ParameterError{"energy_growth_limit", format_value(out.run.energy_growth_limit),
                           "must be > 1"};
@@ -320,6 +330,7 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
     if (name == "t_end") return d.end_time;
     if (name == "rayleigh_mass") return sim.bodies->rayleigh_mass;
     if (name == "rayleigh_stiffness") return sim.bodies->rayleigh_stiffness;
+    if (name == "reference_tolerance") return sim.indicators.reference_tolerance;
     for (const char* key : {"length", "elements", "youngs_modulus", "density", "area", "velocity",
                             "gap", "far_gap"}) {
       if (name == key) return std::nullopt;  // the rod's keys: not this scene's
@@ -341,6 +352,7 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
   if (name == "dt") return d.time_step;
   if (name == "t_end") return d.end_time;
   if (name == "peak_prominence") return sim.indicators.peak_prominence;
+  if (name == "reference_tolerance") return std::nullopt;  // the rod's reference is exact
   if (name == "energy_growth_limit") return sim.run.energy_growth_limit;
   if (const auto* p = std::get_if<NewmarkParams>(&sim.method)) {
     if (name == "delta" && !p->coefficients) return p->delta;

@@ -81,6 +81,18 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
     r.indicators.push_back({name, info->units, name, info->definition,
                             std::vector<double>(size, kNaN)});
   }
+  // A scene of bodies records its reference at every point: 0 refinements for the exact
+  // solution, k for a converged one at dt/2^k (a damped scene), with the change at the last.
+  if (plan.base.bodies) {
+    r.indicators.push_back({"reference_refinements", "1", "reference_refinements",
+                            "0: the exact solution of the chain (core/chain_exact.hpp); k >= 1: "
+                            "a converged numerical solution at dt/2^k (core/scene_reference.hpp)",
+                            std::vector<double>(size, kNaN)});
+    r.indicators.push_back({"reference_change", "1", "reference_change",
+                            "relative change of the converged reference's primary contact at its "
+                            "last halving of the step; NaN for the exact solution",
+                            std::vector<double>(size, kNaN)});
+  }
   // A scene of several contacts: each contact's indicators beside the primary's, as
   // "<indicator>.<contact>" (the contacts are the same at every point: axes change numbers only).
   if (plan.base.bodies && scene_contacts(*plan.base.bodies).size() > 1) {
@@ -116,6 +128,14 @@ void store_point(StudyResults& results, const PointSet& points, long index,
   for (ResultColumn& column : results.indicators) {
     if (const IndicatorInfo* info = find_indicator(column.name)) {
       column.values[i] = info->value(evaluation);
+      continue;
+    }
+    if (column.name == "reference_refinements") {
+      column.values[i] = evaluation.reference_refinements;
+      continue;
+    }
+    if (column.name == "reference_change") {
+      column.values[i] = evaluation.reference_change;
       continue;
     }
     // "<indicator>.<contact>" of a scene of bodies (empty_results).
