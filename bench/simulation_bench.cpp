@@ -86,7 +86,8 @@ void BM_SceneRun(benchmark::State& state) {
     stepped += s.steps - s.skipped_steps;
     benchmark::DoNotOptimize(s.final_energy);
   }
-  const double dof_steps = static_cast<double>(assembled.system.size()) * static_cast<double>(stepped);
+  const double dof_steps =
+      static_cast<double>(assembled.system.size()) * static_cast<double>(stepped);
   state.counters["ns/dof-step"] = benchmark::Counter(
       dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }

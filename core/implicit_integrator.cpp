@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "core/function_versions.hpp"
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
+#include "core/function_versions.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {

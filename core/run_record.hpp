@@ -43,7 +43,7 @@ struct RunSummary {
   /// (u_n − gap and −far_gap − u_0; <= 0 means none). Tracked only with a far wall (the
   /// single-wall step loop is kept as it was); NaN without one.
   double max_penetration = std::numeric_limits<double>::quiet_NaN();
-  double wall_time_s = 0;     ///< set-up and stepping [s]
+  double wall_time_s = 0;  ///< set-up and stepping [s]
 };
 
 }  // namespace impactid

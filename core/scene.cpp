@@ -1,11 +1,11 @@
 #include "core/scene.hpp"
 
-#include "core/contact_lcp.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
+
+#include "core/contact_lcp.hpp"
 
 namespace impactid {
 
@@ -15,7 +15,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMax = std::numeric_limits<double>::max();
 constexpr double kTiny = std::numeric_limits<double>::min();
 
-double wave_speed(const Segment& s) { return std::sqrt(s.youngs_modulus / s.density); }
+double wave_speed(const Segment& s) {
+  return std::sqrt(s.youngs_modulus / s.density);
+}
 
 // Rigid closing time of a gap that two ends approach at `approach` [mm/s] (+inf if they do not).
 double closing_time(double gap, double approach) {
@@ -81,9 +83,10 @@ std::vector<SceneContact> scene_contacts(const Scene& scene) {
   const auto& bodies = scene.bodies;
   if (bodies.empty()) return contacts;
   if (scene.left_wall) {
-    contacts.push_back({"wall_left", ContactKind::left_wall, -1, 0, scene.left_wall->gap,
-                        bodies.front().segments.empty() ? 1.0 : bodies.front().segments.front().area,
-                        closing_time(scene.left_wall->gap, -bodies.front().velocity)});
+    contacts.push_back(
+        {"wall_left", ContactKind::left_wall, -1, 0, scene.left_wall->gap,
+         bodies.front().segments.empty() ? 1.0 : bodies.front().segments.front().area,
+         closing_time(scene.left_wall->gap, -bodies.front().velocity)});
   }
   for (std::size_t b = 0; b + 1 < bodies.size(); ++b) {
     const Body& left = bodies[b];
@@ -95,8 +98,8 @@ std::vector<SceneContact> scene_contacts(const Scene& scene) {
   }
   if (scene.right_wall) {
     const Body& last = bodies.back();
-    contacts.push_back({"wall_right", ContactKind::right_wall,
-                        static_cast<int>(bodies.size()) - 1, -1, scene.right_wall->gap,
+    contacts.push_back({"wall_right", ContactKind::right_wall, static_cast<int>(bodies.size()) - 1,
+                        -1, scene.right_wall->gap,
                         last.segments.empty() ? 1.0 : last.segments.back().area,
                         closing_time(scene.right_wall->gap, last.velocity)});
   }
@@ -150,8 +153,7 @@ std::optional<ParameterError> validate(const Scene& s) {
                require_in_range("length", seg.length, kTiny, kMax, "must be positive and finite"),
                require_in_range("youngs_modulus", seg.youngs_modulus, kTiny, kMax,
                                 "must be positive and finite"),
-               require_in_range("density", seg.density, kTiny, kMax,
-                                "must be positive and finite"),
+               require_in_range("density", seg.density, kTiny, kMax, "must be positive and finite"),
                require_in_range("area", seg.area, kTiny, kMax, "must be positive and finite"),
            }) {
         if (error) {
@@ -202,7 +204,8 @@ std::optional<ParameterError> validate(const Scene& s) {
     });
     if (!known) {
       std::string names_list;
-      for (const SceneContact& c : contacts) names_list += (names_list.empty() ? "" : ", ") + c.name;
+      for (const SceneContact& c : contacts)
+        names_list += (names_list.empty() ? "" : ", ") + c.name;
       return ParameterError{"primary_contact", "\"" + *s.primary_contact + "\"",
                             "is not a contact of the scene (" +
                                 (names_list.empty() ? std::string("it has none") : names_list) +
@@ -214,15 +217,15 @@ std::optional<ParameterError> validate(const Scene& s) {
   const std::string step_field = s.dt ? "dt" : "courant";
   const std::string step_value = format_value(s.dt ? *s.dt : s.courant);
   if (!(d.end_time / d.time_step < 1e8)) {
-    std::string why = "gives more than 1e8 time steps up to t_end = " + format_value(d.end_time) +
-                      " s";
+    std::string why =
+        "gives more than 1e8 time steps up to t_end = " + format_value(d.end_time) + " s";
     if (!s.t_end) why += " (the default t_end follows the first contact; give t_end)";
     return ParameterError{step_field, step_value, why};
   }
   if (d.time_step > d.end_time) {
     return ParameterError{step_field, step_value,
-                          "gives dt = " + format_value(d.time_step) + " s, longer than t_end = " +
-                              format_value(d.end_time) + " s"};
+                          "gives dt = " + format_value(d.time_step) +
+                              " s, longer than t_end = " + format_value(d.end_time) + " s"};
   }
   const double dt2 = d.time_step * d.time_step;
   if (!std::isnormal(dt2) || !std::isnormal(1.0 / dt2)) {
@@ -231,8 +234,8 @@ std::optional<ParameterError> validate(const Scene& s) {
                               " s, whose square is not a normal double (dt in [1.5e-154, "
                               "1.3e154] s)"};
   }
-  if (d.velocity_scale != 0.0 && !(std::isnormal(d.initial_energy) &&
-                                   std::isnormal(d.velocity_scale * d.velocity_scale))) {
+  if (d.velocity_scale != 0.0 &&
+      !(std::isnormal(d.initial_energy) && std::isnormal(d.velocity_scale * d.velocity_scale))) {
     return ParameterError{"velocity", format_value(d.velocity_scale),
                           "gives an initial energy of " + format_value(d.initial_energy) +
                               " mJ outside the normal range of double"};
@@ -261,8 +264,7 @@ SceneDerived derive(const Scene& s) {
         step_h = h;
         step_c = c;
       }
-      d.initial_energy +=
-          0.5 * seg.density * seg.area * seg.length * body.velocity * body.velocity;
+      d.initial_energy += 0.5 * seg.density * seg.area * seg.length * body.velocity * body.velocity;
     }
   }
   d.time_step = s.dt ? *s.dt : s.courant * step_h / step_c;

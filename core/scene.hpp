@@ -106,15 +106,15 @@ std::optional<ParameterError> validate(const Scene& scene);
 
 /// Quantities derived from a valid scene, computed in one place.
 struct SceneDerived {
-  double time_step;          ///< Δt [s]
-  double min_h_over_c;       ///< smallest h/c over all segments [s]
-  double first_contact_time; ///< earliest rigid closing time (+inf if no contact closes) [s]
-  int primary_contact;       ///< index into scene_contacts()
-  double end_time;           ///< t_end [s]
-  long step_count;           ///< N = ⌈t_end/Δt − 1e-9⌉; samples t_i = i·Δt, i = 1..N
-  double initial_energy;     ///< Σ ½·ρ·A·L·v² [mJ]
-  double velocity_scale;     ///< largest |v| of a body [mm/s]
-  long nodes;                ///< Σ (elements + 1) over the bodies
+  double time_step;           ///< Δt [s]
+  double min_h_over_c;        ///< smallest h/c over all segments [s]
+  double first_contact_time;  ///< earliest rigid closing time (+inf if no contact closes) [s]
+  int primary_contact;        ///< index into scene_contacts()
+  double end_time;            ///< t_end [s]
+  long step_count;            ///< N = ⌈t_end/Δt − 1e-9⌉; samples t_i = i·Δt, i = 1..N
+  double initial_energy;      ///< Σ ½·ρ·A·L·v² [mJ]
+  double velocity_scale;      ///< largest |v| of a body [mm/s]
+  long nodes;                 ///< Σ (elements + 1) over the bodies
 };
 SceneDerived derive(const Scene& scene);
 

@@ -39,8 +39,7 @@ bool refined_samples(const Scene& scene, const SceneDerived& derived, int k,
   const RunSummary summary = simulate(assembled, options.method, RunOptions{}, ws);
   if (summary.status != RunStatus::ok) {
     message = "the reference run at h/" + std::to_string(factor) + ", dt/" +
-              std::to_string(factor) + " is " +
-              to_string(summary.status) + ": " + summary.message;
+              std::to_string(factor) + " is " + to_string(summary.status) + ": " + summary.message;
     return false;
   }
   out.assign(ws.trace.contact_pressure.size(), {});
@@ -67,16 +66,16 @@ bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
   }
   const ImplicitCoefficients x = implicit_coefficients(a.method);
   const ImplicitCoefficients y = implicit_coefficients(b.method);
-  return x.b0 == y.b0 && x.b1 == y.b1 && x.g0 == y.g0 && x.g1 == y.g1 &&
-         x.alpha_m == y.alpha_m && x.alpha_f == y.alpha_f && x.contact_weight == y.contact_weight;
+  return x.b0 == y.b0 && x.b1 == y.b1 && x.g0 == y.g0 && x.g1 == y.g1 && x.alpha_m == y.alpha_m &&
+         x.alpha_f == y.alpha_f && x.contact_weight == y.contact_weight;
 }
 
 std::string SceneReference::description() const {
   if (refinements == 0) return "exact solution of the chain (core/chain_exact.hpp)";
   return std::string(converged ? "converged" : "not converged") + ": " +
          to_string(kind_of(options.method)) + " at h/" + std::to_string(1L << refinements) +
-         " and dt/" + std::to_string(1L << refinements) +
-         ", relative change " + format_value(change) + " at the last halving (tolerance " +
+         " and dt/" + std::to_string(1L << refinements) + ", relative change " +
+         format_value(change) + " at the last halving (tolerance " +
          format_value(options.tolerance) + ")" + (message.empty() ? "" : "; " + message);
 }
 

@@ -49,9 +49,9 @@ struct ContactSamples {
 };
 
 struct SceneReference {
-  Scene scene;               ///< what it is the reference of (a cache key)
-  ReferenceOptions options;  ///< and with which options
-  long samples = 0;          ///< N
+  Scene scene;                           ///< what it is the reference of (a cache key)
+  ReferenceOptions options;              ///< and with which options
+  long samples = 0;                      ///< N
   std::vector<ContactSamples> contacts;  ///< scene_contacts() order
   /// 0: the exact solution; k >= 1: the converged solution at Δt/2^k.
   int refinements = 0;

@@ -129,8 +129,7 @@ double violation(const Constraint& c, const Eigen::VectorXd& u) {
 // contact's also in the trace's main columns, and the largest penetration of any constraint.
 template <class Advance>
 void run_listed_steps(const AssembledScene& scene, const RunOptions& options, long first,
-                      State& state, ContactTrace& trace, RunSummary& summary,
-                      Advance&& advance) {
+                      State& state, ContactTrace& trace, RunSummary& summary, Advance&& advance) {
   const SecondOrderSystem& system = scene.system;
   const auto m = static_cast<Eigen::Index>(scene.probes.size());
   const auto primary = static_cast<std::size_t>(scene.primary);
@@ -141,8 +140,9 @@ void run_listed_steps(const AssembledScene& scene, const RunOptions& options, lo
           const ContactProbe& probe = scene.probes[static_cast<std::size_t>(k)];
           trace.contact_pressure[static_cast<std::size_t>(k)][i] = s.multipliers[k] / probe.area;
           trace.contact_velocity[static_cast<std::size_t>(k)][i] = s.v[probe.velocity_dof];
-          summary.max_penetration = std::max(
-              summary.max_penetration, violation(system.constraints[static_cast<std::size_t>(k)], s.u));
+          summary.max_penetration =
+              std::max(summary.max_penetration,
+                       violation(system.constraints[static_cast<std::size_t>(k)], s.u));
         }
         trace.pressure[i] = trace.contact_pressure[primary][i];
         trace.velocity[i] = trace.contact_velocity[primary][i];
@@ -242,8 +242,7 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
     if (far_wall) {
       run_rod_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
     } else {
-      run_rod_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary,
-                           advance);
+      run_rod_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
     }
   };
   run_method(system, method, dt, ws, state, summary, run);

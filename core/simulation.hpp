@@ -22,7 +22,6 @@
 
 namespace impactid {
 
-
 struct RunOptions {
   /// A run is `unstable` as soon as the energy ½vᵀMv + ½uᵀKu exceeds this multiple of the
   /// initial energy. Without external work the exact energy never grows, and the stable methods

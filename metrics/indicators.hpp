@@ -7,9 +7,9 @@
 #include <span>
 
 #include "core/rod_scene.hpp"
+#include "core/run_record.hpp"
 #include "core/scene.hpp"
 #include "core/scene_reference.hpp"
-#include "core/run_record.hpp"
 
 namespace impactid {
 

@@ -36,18 +36,20 @@ void report(const ParameterError& error, const std::string& command) {
   const bool scene_key = error.field.find('.') != std::string::npos || error.field == "body" ||
                          error.field == "primary_contact";
   std::cerr << "impactid " << command << ": "
-            << (scene_key ? error.field : option_name(error.field)) << " = " << error.value
-            << ": " << error.constraint << '\n';
+            << (scene_key ? error.field : option_name(error.field)) << " = " << error.value << ": "
+            << error.constraint << '\n';
 }
 
 void add_scene_options(CLI::App& command, SceneOptions& options) {
-  command.add_option("--scene", options.file,
-                     "A scene of bodies (or the one-body rod) from a TOML scene file; the other "
-                     "scene options apply on top of it")
+  command
+      .add_option("--scene", options.file,
+                  "A scene of bodies (or the one-body rod) from a TOML scene file; the other "
+                  "scene options apply on top of it")
       ->type_name("FILE.toml");
-  command.add_option("--set", options.set,
-                     "Set a key of the scene of bodies by its dotted path, e.g. "
-                     "body.striker.velocity=2000 or body.bar.segment.1.area=4 (repeatable)")
+  command
+      .add_option("--set", options.set,
+                  "Set a key of the scene of bodies by its dotted path, e.g. "
+                  "body.striker.velocity=2000 or body.bar.segment.1.area=4 (repeatable)")
       ->type_name("KEY=VALUE");
 }
 

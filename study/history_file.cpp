@@ -54,8 +54,8 @@ std::vector<Column> history_columns(const RodScene& scene, const ContactTrace& t
 // A scene of bodies: the primary contact's samples and exact values under the rod's column
 // names (a plot of one contact reads the same file either way), then every contact's, named
 // "<column>.<contact>".
-std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrace& trace,
-                                           double dt, const ReferenceOptions& options) {
+std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrace& trace, double dt,
+                                           const ReferenceOptions& options) {
   const std::vector<SceneContact> contacts = scene_contacts(scene);
   const int primary = derive(scene).primary_contact;
   const auto n = static_cast<std::size_t>(trace.size());
@@ -174,8 +174,7 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
   }
   const std::vector<Column> columns =
       simulation.bodies
-          ? bodies_history_columns(*simulation.bodies, trace,
-                                   derive(*simulation.bodies).time_step,
+          ? bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step,
                                    {.tolerance = simulation.indicators.reference_tolerance})
           : history_columns(simulation.scene, trace);
   if (ext == ".csv") {

@@ -15,9 +15,9 @@
 
 #include "core/amplification.hpp"
 #include "study/indicator_table.hpp"
+#include "study/point_set.hpp"
 #include "study/scene_file.hpp"
 #include "study/scene_path.hpp"
-#include "study/point_set.hpp"
 #include "study/work_precision.hpp"
 
 namespace impactid {
@@ -176,11 +176,10 @@ class PlanReader {
     const toml::table& scene =
         scene_node ? table(*scene_node, "scene", "must be a table ([scene])") : root;
     if (is_scene_of_bodies(scene)) {
-      plan.base.bodies = read_scene_of_bodies(
-          scene, "scene",
-          [this](const toml::node& at, const std::string& key, const std::string& what) {
-            fail(at, key, what);
-          });
+      plan.base.bodies =
+          read_scene_of_bodies(scene, "scene",
+                               [this](const toml::node& at, const std::string& key,
+                                      const std::string& what) { fail(at, key, what); });
     }
     toml::table parameters;  // the whole-scene keys; name and description are the file's
     for (const auto& [key, node] : scene) {
@@ -351,9 +350,10 @@ class PlanReader {
       } else if (e.key == "scene") {
         const toml::table& scene = table(node, e.key, "must be a table ([scene])");
         if (is_scene_of_bodies(scene)) {
-          plan_->base.bodies = read_scene_of_bodies(
-              scene, "scene", [this](const toml::node& at, const std::string& key,
-                                     const std::string& what) { fail(at, key, what); });
+          plan_->base.bodies =
+              read_scene_of_bodies(scene, "scene",
+                                   [this](const toml::node& at, const std::string& key,
+                                          const std::string& what) { fail(at, key, what); });
         }
         read_parameters(scene, ParameterGroup::scene, "scene");
       } else if (e.key == "method") {
@@ -526,11 +526,20 @@ class PlanReader {
   // name a number of the plan's [[scene.body]] scene. Elements are the one integer among them.
   const ParameterInfo& varied_scene_path(const Entry& e, const std::string& key,
                                          const char* what) const {
-    static constexpr ParameterInfo kReal{"(scene key)", ParameterGroup::scene, ParameterKind::real,
-                                         "", "a key of the scene of bodies", "", ""};
-    static constexpr ParameterInfo kInteger{"(scene key)", ParameterGroup::scene,
-                                            ParameterKind::integer, "",
-                                            "a key of the scene of bodies", "", ""};
+    static constexpr ParameterInfo kReal{"(scene key)",
+                                         ParameterGroup::scene,
+                                         ParameterKind::real,
+                                         "",
+                                         "a key of the scene of bodies",
+                                         "",
+                                         ""};
+    static constexpr ParameterInfo kInteger{"(scene key)",
+                                            ParameterGroup::scene,
+                                            ParameterKind::integer,
+                                            "",
+                                            "a key of the scene of bodies",
+                                            "",
+                                            ""};
     if (!plan_->base.bodies) {
       fail(*e.node, key,
            "is a key of a scene of bodies, and [scene] has no [[scene.body]] tables (the "

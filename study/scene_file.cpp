@@ -71,12 +71,18 @@ class Reader {
   // A segment key of a [[...segment]] table or of a one-segment body; false if not one.
   bool segment_key(Segment& seg, const std::string& key, const toml::node& node,
                    const std::string& path) const {
-    if (key == "length") seg.length = number(node, path);
-    else if (key == "elements") seg.elements = integer(node, path);
-    else if (key == "youngs_modulus") seg.youngs_modulus = number(node, path);
-    else if (key == "density") seg.density = number(node, path);
-    else if (key == "area") seg.area = number(node, path);
-    else return false;
+    if (key == "length")
+      seg.length = number(node, path);
+    else if (key == "elements")
+      seg.elements = integer(node, path);
+    else if (key == "youngs_modulus")
+      seg.youngs_modulus = number(node, path);
+    else if (key == "density")
+      seg.density = number(node, path);
+    else if (key == "area")
+      seg.area = number(node, path);
+    else
+      return false;
     return true;
   }
 
@@ -173,8 +179,7 @@ Scene read_scene_of_bodies(const toml::table& table, const std::string& prefix,
     r.fail(*bodies, prefix + ".body", "must be a non-empty array of tables ([[scene.body]])");
   }
   for (std::size_t b = 0; b < array->size(); ++b) {
-    scene.bodies.push_back(
-        r.body(*(*array)[b].as_table(), b, prefix, first_gap, first_gap_node));
+    scene.bodies.push_back(r.body(*(*array)[b].as_table(), b, prefix, first_gap, first_gap_node));
   }
   if (const toml::node* walls = table.get("wall")) {
     const toml::table& w = r.table(*walls, prefix + ".wall",
@@ -214,8 +219,7 @@ Scene read_scene_of_bodies(const toml::table& table, const std::string& prefix,
   if (scene.primary_contact &&
       std::find(names.begin(), names.end(), *scene.primary_contact) == names.end()) {
     r.fail(*table.get("primary_contact"), prefix + ".primary_contact",
-           "is not a contact of the scene (" + (names.empty() ? "it has none" : list(names)) +
-               ")");
+           "is not a contact of the scene (" + (names.empty() ? "it has none" : list(names)) + ")");
   }
   return scene;
 }

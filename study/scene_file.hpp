@@ -28,9 +28,10 @@
 // bodies and segments here and are refused at the [scene] level.
 #pragma once
 
+#include <toml++/toml.h>
+
 #include <functional>
 #include <string>
-#include <toml++/toml.h>
 
 #include "core/scene.hpp"
 

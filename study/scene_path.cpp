@@ -43,13 +43,15 @@ Target find(Scene& scene, std::string_view path, const std::string& value) {
       return bad("is not a wall key (wall.left.gap, wall.right.gap)");
     }
     std::optional<Wall>& wall = parts[1] == "left" ? scene.left_wall : scene.right_wall;
-    if (!wall) return bad("names a wall the scene does not have ([scene.wall." +
-                          std::string(parts[1]) + "])");
+    if (!wall)
+      return bad("names a wall the scene does not have ([scene.wall." + std::string(parts[1]) +
+                 "])");
     return Target{.real = &wall->gap};
   }
   if (parts[0] != "body" || parts.size() < 3) {
-    return bad("is not a scene key (body.<name>.<key>, body.<name>.segment.<k>.<key>, "
-               "wall.<left|right>.gap)");
+    return bad(
+        "is not a scene key (body.<name>.<key>, body.<name>.segment.<k>.<key>, "
+        "wall.<left|right>.gap)");
   }
   Body* body = nullptr;
   for (Body& b : scene.bodies) {
@@ -66,7 +68,8 @@ Target find(Scene& scene, std::string_view path, const std::string& value) {
     if (parts[2] == "velocity") return Target{.real = &body->velocity};
     if (parts[2] == "gap") {
       if (first) {
-        if (!scene.left_wall) return bad("is the gap of the first body: the scene has no left wall");
+        if (!scene.left_wall)
+          return bad("is the gap of the first body: the scene has no left wall");
         return Target{.real = &scene.left_wall->gap};
       }
       return Target{.real = &body->gap};

@@ -93,8 +93,9 @@ void write_bodies(const Scene& scene) {
   if (scene.left_wall) std::printf("scene       wall (left), gap %g mm\n", scene.left_wall->gap);
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
-    std::printf("%s body %-10s v0 = %g mm/s", b == 0 && !scene.left_wall ? "scene      " : "           ",
-                body.name.c_str(), body.velocity);
+    std::printf("%s body %-10s v0 = %g mm/s",
+                b == 0 && !scene.left_wall ? "scene      " : "           ", body.name.c_str(),
+                body.velocity);
     if (b > 0) std::printf(", gap %g mm", body.gap);
     std::printf(":");
     for (const Segment& s : body.segments) {
@@ -105,10 +106,10 @@ void write_bodies(const Scene& scene) {
   }
   if (scene.right_wall) std::printf("            wall (right), gap %g mm\n", scene.right_wall->gap);
   const SceneDerived d = derive(scene);
-  std::printf("time        dt = %.6g s (Courant %.4g of the smallest h/c), %ld steps to t_end = "
-              "%.6g s; %s mass\n",
-              d.time_step, d.time_step / d.min_h_over_c, d.step_count, d.end_time,
-              to_string(scene.mass));
+  std::printf(
+      "time        dt = %.6g s (Courant %.4g of the smallest h/c), %ld steps to t_end = "
+      "%.6g s; %s mass\n",
+      d.time_step, d.time_step / d.min_h_over_c, d.step_count, d.end_time, to_string(scene.mass));
 }
 
 // Every contact's indicators, the primary one marked.
@@ -144,10 +145,11 @@ void write_text(const Simulation& sim, const Evaluation& e) {
   if (sim.bodies) {
     write_bodies(*sim.bodies);
   } else {
-    std::printf("scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
-                "v0 = %g mm/s, gap = %g mm, %s mass\n",
-                sim.scene.length, sim.scene.elements, sim.scene.youngs_modulus, sim.scene.density,
-                sim.scene.area, sim.scene.velocity, sim.scene.gap, to_string(sim.scene.mass));
+    std::printf(
+        "scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
+        "v0 = %g mm/s, gap = %g mm, %s mass\n",
+        sim.scene.length, sim.scene.elements, sim.scene.youngs_modulus, sim.scene.density,
+        sim.scene.area, sim.scene.velocity, sim.scene.gap, to_string(sim.scene.mass));
     std::printf("time        dt = %.6g s (Courant %.4g), %ld steps to t_end = %.6g s\n",
                 d.time_step, d.time_step * d.wave_speed / d.element_length, d.step_count,
                 d.end_time);
@@ -163,14 +165,13 @@ void write_text(const Simulation& sim, const Evaluation& e) {
   }
   if (sim.bodies) {
     write_contacts(*sim.bodies, e);
-    std::printf("reference   %s\n", e.reference_refinements == 0
-                                        ? "the exact solution of the chain"
-                                        : ("a converged numerical solution at h/2^k, dt/" +
-                                           std::to_string(1L << static_cast<int>(
-                                                                e.reference_refinements)) +
-                                           " (change " + format_value(e.reference_change) +
-                                           " at the last halving)")
-                                              .c_str());
+    std::printf("reference   %s\n",
+                e.reference_refinements == 0
+                    ? "the exact solution of the chain"
+                    : ("a converged numerical solution at h/2^k, dt/" +
+                       std::to_string(1L << static_cast<int>(e.reference_refinements)) +
+                       " (change " + format_value(e.reference_change) + " at the last halving)")
+                          .c_str());
     std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g mm\n",
                 e.indicators.energy_ratio, e.indicators.max_penetration);
     std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);

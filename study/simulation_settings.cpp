@@ -1,12 +1,12 @@
 #include "study/simulation_settings.hpp"
 
-#include "study/scene_path.hpp"
-
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <string>
 #include <type_traits>
+
+#include "study/scene_path.hpp"
 
 namespace impactid {
 namespace {
@@ -31,8 +31,8 @@ constexpr std::array<ParameterInfo, 25> kParameters{{
     {"mass", G::scene, K::choice, "", "mass matrix (default lumped)", "lumped|consistent", ""},
     {"rayleigh_mass", G::scene, K::real, "1/s", "Rayleigh a0 in C = a0*M + a1*K (default 0)", "",
      ""},
-    {"rayleigh_stiffness", G::scene, K::real, "s", "Rayleigh a1 in C = a0*M + a1*K (default 0)",
-     "", ""},
+    {"rayleigh_stiffness", G::scene, K::real, "s", "Rayleigh a1 in C = a0*M + a1*K (default 0)", "",
+     ""},
     {"courant", G::scene, K::real, "", "Courant number c*dt/h (default 0.5, > 0); not with dt", "",
      ""},
     {"dt", G::scene, K::real, "s", "time step (default from courant); not with courant", "", ""},
@@ -125,8 +125,8 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
       return ParameterError{info.name, format_value(v), "must be an integer below 2e9"};
     }
   }
-  for (const char* key : {"length", "elements", "youngs_modulus", "density", "area", "velocity",
-                          "gap", "far_gap"}) {
+  for (const char* key :
+       {"length", "elements", "youngs_modulus", "density", "area", "velocity", "gap", "far_gap"}) {
     if (name == key) s.rod_keys.push_back(name);
   }
   if (name == "length") s.scene.length = v;
@@ -155,7 +155,8 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   else if (name == "gamma") s.method.gamma = v;
   else if (name == "rho_inf") s.method.rho_inf = v;
   else if (name == "peak_prominence") s.indicators.peak_prominence = v;
-  else if (name == "reference_tolerance") s.indicators.reference_tolerance = v;
+  else if (name == "reference_tolerance")
+    s.indicators.reference_tolerance = v;
   else if (name == "energy_growth_limit") s.run.energy_growth_limit = v;
   return std::nullopt;
 }

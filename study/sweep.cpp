@@ -100,11 +100,10 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
       for (const std::string& name : plan.output.indicators) {
         const IndicatorInfo* info = find_indicator(name);
         if (!contact_indicator(name)) continue;
-        r.indicators.push_back({name + "." + contact.name, info->units,
-                                name + " at contact " + contact.name,
-                                std::string(info->definition) + " (at contact " + contact.name +
-                                    ")",
-                                std::vector<double>(size, kNaN)});
+        r.indicators.push_back(
+            {name + "." + contact.name, info->units, name + " at contact " + contact.name,
+             std::string(info->definition) + " (at contact " + contact.name + ")",
+             std::vector<double>(size, kNaN)});
       }
     }
   }
@@ -144,8 +143,7 @@ void store_point(StudyResults& results, const PointSet& points, long index,
     const std::vector<SceneContact> contacts = scene_contacts(*simulation.bodies);
     for (std::size_t k = 0; k < contacts.size(); ++k) {
       if (contacts[k].name == contact && k < evaluation.contacts.size()) {
-        column.values[i] =
-            *contact_indicator(column.name.substr(0, dot), evaluation.contacts[k]);
+        column.values[i] = *contact_indicator(column.name.substr(0, dot), evaluation.contacts[k]);
       }
     }
   }

@@ -301,10 +301,11 @@ TEST(PlanErrors, UnknownKeys) {
   // A scene parameter is not a method key.
   EXPECT_STARTS_WITH(error_of("[method]\nelements = 3\n"),
                      "bad.toml:2:12: method.elements = 3: unknown key (method keys: name,");
-  EXPECT_STARTS_WITH(error_of("[output]\nfiel = \"a.h5\"\n"),
-                     "bad.toml:2:8: output.fiel = \"a.h5\": unknown key (output keys: file, "
-                     "indicators, checkpoint_seconds, histories, peak_prominence, reference_tolerance, "
-                          "energy_growth_limit)");
+  EXPECT_STARTS_WITH(
+      error_of("[output]\nfiel = \"a.h5\"\n"),
+      "bad.toml:2:8: output.fiel = \"a.h5\": unknown key (output keys: file, "
+      "indicators, checkpoint_seconds, histories, peak_prominence, reference_tolerance, "
+      "energy_growth_limit)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\nbogus = 2\n"),
             "bad.toml:3:9: study.bogus = 2: unknown key (grid keys: kind, axes, practical)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\n"

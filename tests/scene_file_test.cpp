@@ -77,7 +77,7 @@ TEST(SceneFile, ABodiesTableParsesToItsScene) {
   EXPECT_EQ(s.bodies[0].segments[1].area, 2.0);
   EXPECT_EQ(s.bodies[0].segments[1].elements, 25);
   EXPECT_EQ(s.bodies[1].gap, 0.01);
-  EXPECT_EQ(s.bodies[1].segments[0].length, 30.0);  // a one-segment body's own keys
+  EXPECT_EQ(s.bodies[1].segments[0].length, 30.0);          // a one-segment body's own keys
   EXPECT_EQ(s.bodies[1].segments[0].youngs_modulus, 90.0);  // the default
   ASSERT_TRUE(s.right_wall.has_value());
   EXPECT_EQ(s.right_wall->gap, 0.02);
@@ -115,8 +115,9 @@ TEST(SceneFile, AxisKeysMustNameANumberOfTheScene) {
             "bad.toml:30:33: study.axes.body.striker.segment.3.area = { values = [500.0, 1000.0] "
             "}: names no segment of body striker (it has 2, counted from 1)");
   // Without bodies a scene key is refused at the axis.
-  const std::string rod = "name = \"r\"\n[study]\nkind = \"grid\"\n[study.axes]\n"
-                          "\"body.a.velocity\" = { values = [1.0] }\n";
+  const std::string rod =
+      "name = \"r\"\n[study]\nkind = \"grid\"\n[study.axes]\n"
+      "\"body.a.velocity\" = { values = [1.0] }\n";
   EXPECT_EQ(error_of(rod).substr(0, 76),
             "bad.toml:5:21: study.axes.body.a.velocity = { values = [1.0] }: is a key of ");
 }
@@ -200,8 +201,9 @@ TEST(SceneFile, ASceneFileGivesTheSettingsOfItsScene) {
     ADD_FAILURE() << "a scene without a contact was accepted";
   } catch (const PlanError& e) {
     EXPECT_EQ(std::string(e.what()),
-              file.string() + ":1:1: scene.body = a: a scene needs at least one contact (a wall "
-                              "or a second body)");
+              file.string() +
+                  ":1:1: scene.body = a: a scene needs at least one contact (a wall "
+                  "or a second body)");
   }
 }
 

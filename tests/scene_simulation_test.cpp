@@ -116,7 +116,9 @@ Scene two_rods(int elements, double courant = 0.5) {
 
 TEST(SceneSimulation, SignoriniAndMomentumHoldAtEverySampleOnSeveralBodies) {
   Scene s = two_rods(80);
-  s.bodies.push_back(Body{.name = "third", .velocity = -500.0, .gap = 0.02,
+  s.bodies.push_back(Body{.name = "third",
+                          .velocity = -500.0,
+                          .gap = 0.02,
                           .segments = {Segment{.length = 10.0, .elements = 40, .area = 2.0}}});
   s.right_wall = Wall{.gap = 0.05};
   s.t_end = 2e-4;

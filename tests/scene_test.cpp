@@ -66,14 +66,16 @@ TEST(Scene, DefaultEndTimeFollowsTheFirstContactAndItsLongestBody) {
   const SceneDerived d = derive(s);
   const double c = std::sqrt(90.0 / 7.85e-9);
   EXPECT_DOUBLE_EQ(d.first_contact_time, 1e-5);
-  EXPECT_DOUBLE_EQ(d.end_time, 1e-5 + 1.5 * 2.0 * 30.0 / c);  // the bar's transit, not the striker's
+  EXPECT_DOUBLE_EQ(d.end_time,
+                   1e-5 + 1.5 * 2.0 * 30.0 / c);  // the bar's transit, not the striker's
   EXPECT_DOUBLE_EQ(d.time_step, 0.5 * 0.1 / c);
   EXPECT_EQ(d.nodes, 101 + 301);
 }
 
 TEST(Scene, TheStepComesFromTheSegmentWithTheSmallestHOverC) {
   Scene s = hopkinson();
-  s.bodies[1].segments = {steel(30, 300), Segment{.length = 1, .elements = 40, .youngs_modulus = 360}};
+  s.bodies[1].segments = {steel(30, 300),
+                          Segment{.length = 1, .elements = 40, .youngs_modulus = 360}};
   const double c_stiff = std::sqrt(360.0 / 7.85e-9);
   EXPECT_DOUBLE_EQ(derive(s).time_step, 0.5 * (1.0 / 40) / c_stiff);
 }
@@ -86,15 +88,15 @@ TEST(Scene, BadScenesNameTheKeyAndTheValue) {
   EXPECT_EQ(error_of(Scene{}), "body = none: a scene needs at least one body");
   Scene s = hopkinson();
   s.bodies[1].name = "striker";
-  EXPECT_EQ(error_of(s),
-            "body.striker.name = \"striker\": is the name of an earlier body: names must be unique");
+  EXPECT_EQ(
+      error_of(s),
+      "body.striker.name = \"striker\": is the name of an earlier body: names must be unique");
   s = hopkinson();
   s.bodies[1].segments[0].elements = 0;
   EXPECT_EQ(error_of(s), "body.bar.segment.1.elements = 0: must be an integer in [1, 1e7]");
   s = hopkinson();
   s.bodies[1].gap = -0.1;
-  EXPECT_EQ(error_of(s),
-            "body.bar.gap = -0.1: must be >= 0 and finite (bodies may not overlap)");
+  EXPECT_EQ(error_of(s), "body.bar.gap = -0.1: must be >= 0 and finite (bodies may not overlap)");
   s = hopkinson();
   s.bodies[0].segments.push_back(Segment{.area = 0.0});
   EXPECT_EQ(error_of(s), "body.striker.segment.2.area = 0: must be positive and finite");
