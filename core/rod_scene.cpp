@@ -16,6 +16,38 @@ std::optional<MassMatrix> mass_matrix_from_string(const std::string& name) {
   return std::nullopt;
 }
 
+std::optional<ParameterError> validate_time_grid(const std::string& step_field, double step_value,
+                                                 double time_step, double end_time,
+                                                 const std::string& default_end_note) {
+  const std::string value = format_value(step_value);
+  // Runs beyond 1e8 steps are mistakes in the inputs, not simulations to attempt: the trace
+  // holds 2 doubles per step per contact (4 with histories), and a default-scene run of 1e8
+  // steps takes ~20 min.
+  if (!(end_time / time_step < 1e8)) {
+    std::string why =
+        "gives more than 1e8 time steps up to t_end = " + format_value(end_time) + " s";
+    if (!default_end_note.empty()) why += " (" + default_end_note + "; give t_end)";
+    return ParameterError{step_field, value, why};
+  }
+  // Every sample lies in (0, t_end + dt): with dt > t_end the only one would lie past t_end.
+  if (time_step > end_time) {
+    return ParameterError{step_field, value,
+                          "gives dt = " + format_value(time_step) +
+                              " s, longer than t_end = " + format_value(end_time) + " s"};
+  }
+  // The integrators compute dt^2 and 1/dt^2. Outside the normal range of double they underflow
+  // or overflow, and a run would end `unstable` or `failed` for reasons that are not the
+  // method's.
+  const double dt2 = time_step * time_step;
+  if (!std::isnormal(dt2) || !std::isnormal(1.0 / dt2)) {
+    return ParameterError{step_field, value,
+                          "gives dt = " + format_value(time_step) +
+                              " s, whose square is not a normal double (dt in [1.5e-154, "
+                              "1.3e154] s)"};
+  }
+  return std::nullopt;
+}
+
 std::optional<ParameterError> validate(const RodScene& s) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   constexpr double tiny = std::numeric_limits<double>::min();
@@ -62,36 +94,18 @@ std::optional<ParameterError> validate(const RodScene& s) {
       return ParameterError{"t_end", format_value(*s.t_end), "must be positive and finite"};
     }
   }
-  // Runs beyond these are mistakes in the inputs, not simulations to attempt: the trace holds
-  // 2 doubles per step (4 with histories) and the workspace ~20 per node, so the bounds keep a
-  // run within a few GB of memory (and a default-scene run of 1e8 steps takes ~20 min).
+  // More elements are a mistake in the input, not a simulation to attempt: the workspace holds
+  // ~20 doubles per node, so the bound keeps a run within a few GB of memory (and the time
+  // grid's bounds are validate_time_grid's).
   constexpr long max_elements = 10'000'000;
-  constexpr double max_steps = 1e8;
   if (s.elements > max_elements) {
     return ParameterError{"elements", std::to_string(s.elements), "must be at most 1e7"};
   }
   const RodSceneDerived d = derive(s);
-  if (!(d.end_time / d.time_step < max_steps)) {
-    std::string why = "gives more than 1e8 time steps up to t_end = " + format_value(d.end_time) +
-                      " s";
-    if (!s.t_end) why += " (the default t_end follows the impact at gap/v0; give t_end)";
-    return ParameterError{s.dt ? "dt" : "courant", format_value(s.dt ? *s.dt : s.courant), why};
-  }
-  // Every sample lies in (0, t_end + dt): with dt > t_end the only one would lie past t_end.
-  if (d.time_step > d.end_time) {
-    return ParameterError{s.dt ? "dt" : "courant", format_value(s.dt ? *s.dt : s.courant),
-                          "gives dt = " + format_value(d.time_step) + " s, longer than t_end = " +
-                              format_value(d.end_time) + " s"};
-  }
-  // The integrators compute dt^2 and 1/dt^2, and the energy bound 1/2*rho*A*L*v0^2. Outside the
-  // normal range of double they underflow or overflow, and a run would end `unstable` or
-  // `failed`, or never be checked against the bound, for reasons that are not the method's.
-  const double dt2 = d.time_step * d.time_step;
-  if (!std::isnormal(dt2) || !std::isnormal(1.0 / dt2)) {
-    return ParameterError{s.dt ? "dt" : "courant", format_value(s.dt ? *s.dt : s.courant),
-                          "gives dt = " + format_value(d.time_step) +
-                              " s, whose square is not a normal double (dt in [1.5e-154, "
-                              "1.3e154] s)"};
+  if (auto e = validate_time_grid(
+          s.dt ? "dt" : "courant", s.dt ? *s.dt : s.courant, d.time_step, d.end_time,
+          s.t_end ? "" : "the default t_end follows the impact at gap/v0")) {
+    return e;
   }
   if (s.velocity != 0.0 &&
       !(std::isnormal(d.initial_energy) && std::isnormal(s.velocity * s.velocity))) {

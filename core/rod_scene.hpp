@@ -13,6 +13,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 
 #include "core/parameter_error.hpp"
 
@@ -56,6 +57,13 @@ struct RodScene {
 
 /// First invalid field, or nothing.
 std::optional<ParameterError> validate(const RodScene& scene);
+
+/// The bounds every scene's time grid must meet (at most 1e8 steps, Δt <= t_end, Δt² a normal
+/// double), reported at `step_field` (dt or courant) with its value; `default_end_note` explains
+/// a default t_end in the message ("" when t_end was given).
+std::optional<ParameterError> validate_time_grid(const std::string& step_field, double step_value,
+                                                 double time_step, double end_time,
+                                                 const std::string& default_end_note);
 
 /// Quantities derived from a valid scene, computed in one place.
 struct RodSceneDerived {

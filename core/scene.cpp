@@ -212,27 +212,11 @@ std::optional<ParameterError> validate(const Scene& s) {
                                 ")"};
     }
   }
-  // The same bounds as RodScene's (core/rod_scene.cpp says why).
   const SceneDerived d = derive(s);
-  const std::string step_field = s.dt ? "dt" : "courant";
-  const std::string step_value = format_value(s.dt ? *s.dt : s.courant);
-  if (!(d.end_time / d.time_step < 1e8)) {
-    std::string why =
-        "gives more than 1e8 time steps up to t_end = " + format_value(d.end_time) + " s";
-    if (!s.t_end) why += " (the default t_end follows the first contact; give t_end)";
-    return ParameterError{step_field, step_value, why};
-  }
-  if (d.time_step > d.end_time) {
-    return ParameterError{step_field, step_value,
-                          "gives dt = " + format_value(d.time_step) +
-                              " s, longer than t_end = " + format_value(d.end_time) + " s"};
-  }
-  const double dt2 = d.time_step * d.time_step;
-  if (!std::isnormal(dt2) || !std::isnormal(1.0 / dt2)) {
-    return ParameterError{step_field, step_value,
-                          "gives dt = " + format_value(d.time_step) +
-                              " s, whose square is not a normal double (dt in [1.5e-154, "
-                              "1.3e154] s)"};
+  if (auto e = validate_time_grid(s.dt ? "dt" : "courant", s.dt ? *s.dt : s.courant, d.time_step,
+                                  d.end_time,
+                                  s.t_end ? "" : "the default t_end follows the first contact")) {
+    return e;
   }
   if (d.velocity_scale != 0.0 &&
       !(std::isnormal(d.initial_energy) && std::isnormal(d.velocity_scale * d.velocity_scale))) {

@@ -2,33 +2,6 @@
 
 namespace impactid {
 
-namespace {
-
-// Adds the elements of one segment whose first node is `first`, as assemble_rod adds the rod's.
-void add_segment(const Segment& seg, MassMatrix mass, Eigen::Index first, SecondOrderSystem& sys) {
-  const double h = seg.length / seg.elements;
-  const double element_mass = seg.density * seg.area * h;
-  const double element_stiffness = seg.youngs_modulus * seg.area / h;
-  for (Eigen::Index e = 0; e < seg.elements; ++e) {
-    const Eigen::Index i = first + e, j = first + e + 1;
-    sys.stiffness.diag[i] += element_stiffness;
-    sys.stiffness.diag[j] += element_stiffness;
-    sys.stiffness.upper[i] -= element_stiffness;
-    sys.stiffness.lower[j] -= element_stiffness;
-    if (mass == MassMatrix::lumped) {
-      sys.mass.diag[i] += 0.5 * element_mass;
-      sys.mass.diag[j] += 0.5 * element_mass;
-    } else {
-      sys.mass.diag[i] += element_mass / 3.0;
-      sys.mass.diag[j] += element_mass / 3.0;
-      sys.mass.upper[i] += element_mass / 6.0;
-      sys.mass.lower[j] += element_mass / 6.0;
-    }
-  }
-}
-
-}  // namespace
-
 AssembledScene assemble(const Scene& scene) {
   const SceneDerived derived = derive(scene);
   const std::vector<long> first = body_first_nodes(scene);
@@ -43,7 +16,8 @@ AssembledScene assemble(const Scene& scene) {
     const Body& body = scene.bodies[b];
     Eigen::Index node = first[b];
     for (const Segment& seg : body.segments) {
-      add_segment(seg, scene.mass, node, sys);
+      add_truss_elements(sys, node, seg.elements, seg.length, seg.youngs_modulus, seg.density,
+                         seg.area, scene.mass);
       node += seg.elements;
     }
     out.initial_velocity.segment(first[b], first[b + 1] - first[b]).setConstant(body.velocity);

@@ -62,6 +62,13 @@ struct SecondOrderSystem {
   }
 };
 
+/// Adds `elements` 2-node truss elements of length/elements each (E, ρ, A) to the system's mass
+/// and stiffness, from node `first_node` on: the rod's assembly, and each segment's in a scene of
+/// bodies (core/scene_assembly.hpp).
+void add_truss_elements(SecondOrderSystem& system, Eigen::Index first_node, int elements,
+                        double length, double youngs_modulus, double density, double area,
+                        MassMatrix mass);
+
 /// The rod of the scene: n elements, n+1 nodes, contact at node n, Rayleigh damping
 /// C = a0·M + a1·K, and the far wall at node 0 when the scene has one. The scene must be valid.
 SecondOrderSystem assemble_rod(const RodScene& scene);

@@ -712,7 +712,9 @@ class PlanReader {
       ListPoint values;
       for (const Entry& e : in_file_order(point)) {
         const std::string key = point_key + "." + e.key;
-        const ParameterInfo* info = find_parameter(e.key);
+        const ParameterInfo* info = is_scene_path(e.key)
+                                        ? &varied_scene_path(e, key, "set at a point")
+                                        : find_parameter(e.key);
         if (!info) fail_unknown(*e.node, key, "point keys are parameters", all_parameter_names());
         const ParameterValue value = parameter_value(*e.node, *info, key);
         if (auto error = assign(scratch, e.key, value)) fail(*e.node, key, error->constraint);
@@ -1474,16 +1476,34 @@ const char* to_string(StudyKind kind) {
   return "unknown";
 }
 
-Plan parse_plan(const std::string& text, const std::filesystem::path& source) {
-  const std::string file = source.string();
-  toml::table root;
+namespace {
+
+// The TOML of `text`, read from `file`; a syntax error throws PlanError "file:line:column: what".
+toml::table parse_toml(const std::string& text, const std::string& file) {
   try {
-    root = toml::parse(std::string_view(text), std::string_view(file));
+    return toml::parse(std::string_view(text), std::string_view(file));
   } catch (const toml::parse_error& e) {
     const toml::source_position p = e.source().begin;
     throw PlanError(file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " +
                     std::string(e.description()));
   }
+}
+
+// The whole of a file, or PlanError naming it and what it is (`what`: "plan", "scene").
+std::string read_text(const std::filesystem::path& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw PlanError(path.string() + ": cannot open the " + what + " file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw PlanError(path.string() + ": cannot read the " + what + " file");
+  return text.str();
+}
+
+}  // namespace
+
+Plan parse_plan(const std::string& text, const std::filesystem::path& source) {
+  const std::string file = source.string();
+  const toml::table root = parse_toml(text, file);
   Plan plan;
   plan.path = source;
   plan.name = source.stem().empty() ? "plan" : source.stem().string();
@@ -1493,30 +1513,12 @@ Plan parse_plan(const std::string& text, const std::filesystem::path& source) {
 }
 
 SimulationSettings load_scene_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw PlanError(path.string() + ": cannot open the scene file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  const std::string file = path.string();
-  toml::table root;
-  try {
-    root = toml::parse(std::string_view(text), std::string_view(file));
-  } catch (const toml::parse_error& e) {
-    const toml::source_position p = e.source().begin;
-    throw PlanError(file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " +
-                    std::string(e.description()));
-  }
-  return PlanReader(text, file).read_scene_file(root);
+  const std::string text = read_text(path, "scene");
+  return PlanReader(text, path.string()).read_scene_file(parse_toml(text, path.string()));
 }
 
 Plan load_plan(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw PlanError(path.string() + ": cannot open the plan file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw PlanError(path.string() + ": cannot read the plan file");
-  return parse_plan(text.str(), path);
+  return parse_plan(read_text(path, "plan"), path);
 }
 
 }  // namespace impactid

@@ -5,12 +5,15 @@
 #include <limits>
 #include <variant>
 
+#include "study/scene_path.hpp"
+
 namespace impactid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool is_numeric(const std::string& name) {
+  if (is_scene_path(name)) return name != "primary_contact";  // a scene of bodies' numbers
   const ParameterInfo* info = find_parameter(name);
   return info && info->kind != ParameterKind::choice;
 }

@@ -124,6 +124,16 @@ std::optional<ParameterError> assign_scene_path(Scene& scene, std::string_view p
   return std::nullopt;
 }
 
+const char* scene_path_units(std::string_view path) {
+  const std::string_view key = path.substr(path.rfind('.') + 1);
+  if (key == "velocity") return "mm/s";
+  if (key == "gap" || key == "length") return "mm";
+  if (key == "youngs_modulus") return "MPa";
+  if (key == "density") return "t/mm^3";
+  if (key == "area") return "mm^2";
+  return "1";
+}
+
 std::optional<double> scene_path_value(const Scene& scene, std::string_view path) {
   Scene copy = scene;  // find() hands out pointers into a scene it may change
   const Target target = find(copy, path, "");

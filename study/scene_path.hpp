@@ -26,6 +26,9 @@ bool is_scene_path(std::string_view name);
 std::optional<ParameterError> assign_scene_path(Scene& scene, std::string_view path,
                                                 const ParameterValue& value);
 
+/// The unit of the number at `path` in the results files' spelling ("mm", "mm/s", "1", …).
+const char* scene_path_units(std::string_view path);
+
 /// The numeric value at `path`, or nothing if the path names nothing numeric in the scene.
 std::optional<double> scene_path_value(const Scene& scene, std::string_view path);
 

@@ -13,6 +13,7 @@
 #include <variant>
 
 #include "study/indicator_table.hpp"
+#include "study/scene_path.hpp"
 
 namespace impactid {
 namespace {
@@ -40,9 +41,16 @@ bool is_dimension(const PointSet& points, const std::string& name) {
   return std::find(dims.begin(), dims.end(), name) != dims.end();
 }
 
+// The unit of a parameter or of a scene of bodies' dotted key.
+const char* parameter_units(const std::string& name) {
+  if (is_scene_path(name)) return scene_path_units(name);
+  const ParameterInfo* info = find_parameter(name);
+  return info && *info->unit ? info->unit : "1";
+}
+
 ResultColumn parameter_column(const std::string& name, std::size_t size) {
   const ParameterInfo* info = find_parameter(name);
-  return {name, info && *info->unit ? info->unit : "1", info ? info->description : name, "",
+  return {name, parameter_units(name), info ? info->description : name, "",
           std::vector<double>(size, kNaN)};
 }
 
@@ -57,9 +65,7 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
   const auto size = static_cast<std::size_t>(points.size());
   for (std::size_t d = 0; d < points.dimension_names().size(); ++d) {
     const std::string& name = points.dimension_names()[d];
-    const ParameterInfo* info = find_parameter(name);
-    r.dimensions.push_back({name, info && *info->unit ? info->unit : "1",
-                            points.dimension_values()[d]});
+    r.dimensions.push_back({name, parameter_units(name), points.dimension_values()[d]});
   }
   r.status.assign(size, kStatusNotDone);
   for (const std::string& name : points.parameter_names()) {

@@ -185,6 +185,32 @@ TEST(SceneSweep, EveryContactIsStoredBesideThePrimaryOnAnyThreadCount) {
   EXPECT_GT(p[2], 1.5 * p[0]);
 }
 
+TEST(SceneSweep, AListPointSetsDottedKeysAndTheirColumnsKeepTheirUnits) {
+  const std::string text = replaced(
+      replaced(kHopkinson, "[method]\nname = \"hht\"\n", ""),
+      "kind = \"grid\"\n[study.axes]\n\"body.striker.velocity\" = { values = [500.0, 1000.0] }\n"
+      "alpha = { values = [-0.3, -0.2] }\n",
+      "kind = \"list\"\npoints = [{ method = \"cdm\", \"body.bar.segment.1.area\" = 2.0 },\n"
+      "          { method = \"hht\", \"body.striker.velocity\" = 500.0 }]\n");
+  const Plan plan = parse_plan(text, "plans/l.toml");
+  const StudyResults r = run_all(plan, 2);
+  const ResultColumn* area = nullptr;
+  const ResultColumn* velocity = nullptr;
+  for (const ResultColumn& c : r.parameters) {
+    if (c.name == "body.bar.segment.1.area") area = &c;
+    if (c.name == "body.striker.velocity") velocity = &c;
+  }
+  ASSERT_TRUE(area && velocity);
+  EXPECT_EQ(area->values, (std::vector<double>{2.0, 1.0}));  // the base scene's where not set
+  EXPECT_EQ(velocity->values, (std::vector<double>{1000.0, 500.0}));
+  EXPECT_EQ(area->units, "mm^2");
+  EXPECT_EQ(velocity->units, "mm/s");
+  EXPECT_EQ(error_of(replaced(text, "\"body.striker.velocity\" = 500.0",
+                              "\"body.striker.colour\" = 500.0")),
+            "bad.toml:28:53: study.points[1].body.striker.colour = 500.0: is not a body key "
+            "(velocity, gap, segment.<k>.<key>)");
+}
+
 TEST(SceneFile, ASceneFileGivesTheSettingsOfItsScene) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "impactid_scene_file";
   std::filesystem::create_directories(dir);
