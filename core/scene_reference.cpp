@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 
 #include "core/chain_exact.hpp"
 #include "core/scene_assembly.hpp"
@@ -87,7 +89,15 @@ SceneReference scene_reference(const Scene& scene, const ReferenceOptions& optio
   r.samples = derived.step_count;
   const double dt = derived.time_step;
   if (scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0) {
-    const ChainExact exact(scene, static_cast<double>(derived.step_count) * dt);
+    std::optional<ChainExact> solved;
+    try {
+      solved.emplace(scene, static_cast<double>(derived.step_count) * dt);
+    } catch (const std::runtime_error& e) {  // more events than the solver allows
+      r.converged = false;
+      r.message = e.what();
+      return r;
+    }
+    const ChainExact& exact = *solved;
     r.contacts.resize(static_cast<std::size_t>(exact.contact_count()));
     for (int c = 0; c < exact.contact_count(); ++c) {
       ContactSamples& s = r.contacts[static_cast<std::size_t>(c)];

@@ -62,11 +62,17 @@ struct SceneReference {
   bool converged = true;
   std::string message;
 
+  /// Whether there are samples to compare with: false when even the first refined run was not
+  /// ok, or the exact solution could not be computed (more events than ChainExact allows).
+  bool usable() const { return !contacts.empty(); }
+
   /// "exact solution of the chain" or "converged: hht at dt/2^k, change …".
   std::string description() const;
 };
 
-/// The reference of a valid scene. Exact when the scene is undamped; otherwise converged.
+/// The reference of a valid scene. Exact when the scene is undamped; otherwise converged. Never
+/// throws for a valid scene: a reference that cannot be had is !usable(), with the reason in
+/// `message`.
 SceneReference scene_reference(const Scene& scene, const ReferenceOptions& options);
 
 }  // namespace impactid

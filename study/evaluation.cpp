@@ -17,6 +17,11 @@ Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
       workspace.reference = scene_reference(*sim.bodies, options);
     }
     out.contacts.resize(scene.probes.size());
+    if (!workspace.reference->usable() && out.summary.status == RunStatus::ok) {
+      // Nothing to measure the run against: its indicators are not results.
+      out.summary.status = RunStatus::failed;
+      out.summary.message = "no reference for the scene: " + workspace.reference->message;
+    }
     out.indicators = evaluate_indicators(*sim.bodies, *workspace.reference, workspace.trace,
                                          out.summary, sim.indicators, out.contacts);
     out.reference_refinements = workspace.reference->refinements;

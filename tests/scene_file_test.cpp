@@ -211,6 +211,28 @@ TEST(SceneSweep, AListPointSetsDottedKeysAndTheirColumnsKeepTheirUnits) {
             "(velocity, gap, segment.<k>.<key>)");
 }
 
+// A reference that cannot be had (ChainExact's event cap, a refined run that is not ok) leaves
+// the point failed with the reason, never indicators against nothing: planted in the
+// workspace's cache, which evaluate() trusts for the same scene and options.
+TEST(SceneEvaluation, WithoutAReferenceThePointFailsWithTheReason) {
+  const auto built = build(parse_plan(kHopkinson, "plans/h.toml").base);
+  const Simulation& sim = std::get<Simulation>(built);
+  SimulationWorkspace workspace;
+  workspace.reference =
+      SceneReference{.scene = *sim.bodies,
+                     .options = ReferenceOptions{.tolerance = sim.indicators.reference_tolerance},
+                     .converged = false,
+                     .message = "ChainExact: more than 10000000 events"};
+  const Evaluation e = evaluate(sim, workspace);
+  EXPECT_EQ(e.summary.status, RunStatus::failed);
+  EXPECT_EQ(e.summary.message, "no reference for the scene: ChainExact: more than 10000000 events");
+  EXPECT_TRUE(std::isnan(e.indicators.eps_p));
+  EXPECT_TRUE(std::isnan(e.contacts[0].eps_p));
+  // The same workspace with its reference computed gives results.
+  workspace.reference.reset();
+  EXPECT_EQ(evaluate(sim, workspace).summary.status, RunStatus::ok);
+}
+
 TEST(SceneFile, ASceneFileGivesTheSettingsOfItsScene) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "impactid_scene_file";
   std::filesystem::create_directories(dir);
