@@ -1241,11 +1241,6 @@ class PlanReader {
       fail(*node, "method", "a work-precision study gives each method in study.methods");
     }
     if (const toml::node* scene = root_->get("scene"); scene && scene->is_table()) {
-      if (const toml::node* bodies = scene->as_table()->get("body")) {
-        fail(*bodies, "scene.body",
-             "a work-precision study refines the one-body rod's mesh (study.elements); it does "
-             "not run a scene of bodies yet");
-      }
       for (const char* key : {"elements", "courant", "dt"}) {
         if (const toml::node* node = scene->as_table()->get(key)) {
           fail(*node, "scene."s + key,

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "core/scene_assembly.hpp"
 #include "study/evaluation.hpp"
 #include "study/indicator_table.hpp"
 
@@ -43,7 +44,24 @@ std::optional<ParameterError> assign_work_precision_point(const Plan& plan, long
                                                           SimulationSettings& settings) {
   settings = plan.base;
   settings.method = plan.work_precision.methods[static_cast<std::size_t>(method)].settings;
-  std::optional<ParameterError> error = assign(settings, "elements", static_cast<double>(elements));
+  std::optional<ParameterError> error;
+  if (settings.bodies) {
+    // A scene of bodies: `elements` is the whole scene's, and each segment keeps its share of
+    // the [scene] mesh (rounded, at least one element).
+    long total = 0;
+    for (const Body& body : settings.bodies->bodies) {
+      for (const Segment& segment : body.segments) total += segment.elements;
+    }
+    for (Body& body : settings.bodies->bodies) {
+      for (Segment& segment : body.segments) {
+        const double share = static_cast<double>(segment.elements) * static_cast<double>(elements) /
+                             static_cast<double>(total);
+        segment.elements = static_cast<int>(std::max(1.0, std::min(std::round(share), 2e9)));
+      }
+    }
+  } else {
+    error = assign(settings, "elements", static_cast<double>(elements));
+  }
   if (!error) error = assign(settings, "courant", courant);
   return error;
 }
@@ -171,9 +189,12 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
 
     const Evaluation evaluation = evaluate(simulation, workspace);
     double fastest = evaluation.summary.wall_time_s, slowest = fastest;
+    const std::optional<AssembledScene> bodies =
+        simulation.bodies ? std::optional(assemble(*simulation.bodies)) : std::nullopt;
     for (int repeat = 1; repeat < wp.repeats; ++repeat) {
       const RunSummary again =
-          simulate(simulation.scene, simulation.method, simulation.run, workspace);
+          bodies ? simulate(*bodies, simulation.method, simulation.run, workspace)
+                 : simulate(simulation.scene, simulation.method, simulation.run, workspace);
       assert(again.status == evaluation.summary.status && again.steps == evaluation.summary.steps);
       fastest = std::min(fastest, again.wall_time_s);
       slowest = std::max(slowest, again.wall_time_s);
@@ -189,7 +210,8 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
     steps->values[i] = static_cast<double>(evaluation.summary.steps);
     dof_steps->values[i] =
         static_cast<double>(evaluation.summary.steps - evaluation.summary.skipped_steps) *
-        static_cast<double>(simulation.scene.elements + 1);
+        static_cast<double>(simulation.bodies ? derive(*simulation.bodies).nodes
+                                              : simulation.scene.elements + 1);
 
     ++done;
     if (evaluation.summary.status != RunStatus::ok) ++unstable;

@@ -13,6 +13,7 @@
 #include "study/point_set.hpp"
 #include "study/scene_path.hpp"
 #include "study/sweep.hpp"
+#include "study/work_precision.hpp"
 
 namespace impactid {
 namespace {
@@ -231,6 +232,36 @@ TEST(SceneEvaluation, WithoutAReferenceThePointFailsWithTheReason) {
   // The same workspace with its reference computed gives results.
   workspace.reference.reset();
   EXPECT_EQ(evaluate(sim, workspace).summary.status, RunStatus::ok);
+}
+
+// A work-precision study on a scene of bodies: `elements` is the scene's total, shared among the
+// segments in the [scene] mesh's proportions, and the runs do the work they report.
+TEST(SceneWorkPrecision, ElementsAreTheScenesTotalSharedAmongItsSegments) {
+  std::string text = kHopkinson;
+  text = text.substr(0, text.find("[method]")) +
+         "[study]\nkind = \"work-precision\"\nmethods = [{ method = \"hht\" }]\n"
+         "elements = [200, 400]\ncourant = [0.5]\nrepeats = 1\n";
+  text = replaced(text, "courant = 0.5\n", "");  // the study sets it
+  const Plan plan = parse_plan(text, "plans/w.toml");
+  SimulationSettings settings;
+  ASSERT_FALSE(assign_work_precision_point(plan, 0, 400, 0.5, settings).has_value());
+  // [scene]: striker 25 + 25, bar 150 of 200 elements in all; twice as many here.
+  EXPECT_EQ(settings.bodies->bodies[0].segments[0].elements, 50);
+  EXPECT_EQ(settings.bodies->bodies[0].segments[1].elements, 50);
+  EXPECT_EQ(settings.bodies->bodies[1].segments[0].elements, 300);
+  StudyResults results = empty_work_precision_results(plan);
+  run_work_precision(plan, results, {});
+  bool found = false;
+  for (const ResultColumn& c : results.indicators) {
+    if (c.name == "dof_steps") {
+      found = true;
+      ASSERT_EQ(results.status[0], 0);
+      // The assembled system's 202 nodes at 200 elements (51 + 151) and 402 at 400, with twice
+      // the steps at the same Courant number: 3.98 times the work.
+      EXPECT_GT(c.values[1], 3.9 * c.values[0]);
+    }
+  }
+  EXPECT_TRUE(found);
 }
 
 TEST(SceneFile, ASceneFileGivesTheSettingsOfItsScene) {
