@@ -48,4 +48,19 @@ AssembledScene assemble(const Scene& scene) {
   return out;
 }
 
+AssembledScene assemble(const RodScene& rod) {
+  const RodSceneDerived derived = derive(rod);
+  AssembledScene out;
+  out.system = assemble_rod(rod);
+  out.initial_velocity.setConstant(out.system.size(), rod.velocity);
+  out.dt = derived.time_step;
+  out.step_count = derived.step_count;
+  out.first_contact_time = derived.impact_time;
+  out.rigid_flight = rod.rayleigh_mass == 0.0;
+  out.probes = {{rod.area, out.system.contact_dof}};
+  out.primary = 0;
+  out.contact_columns = false;
+  return out;
+}
+
 }  // namespace impactid

@@ -7,10 +7,12 @@
 // (welded), and bodies are coupled only through the constraints, so every matrix stays
 // tridiagonal with zeros between bodies.
 //
-// The paper's form (one body of one segment and a right wall, nothing else) is assembled with the
-// system's named contact (SecondOrderSystem::contact_dof, gap), through which the paper's scene
-// has always run: the same matrices, the same step, the same bits as simulate(RodScene). Every
-// other scene lists its constraints (SecondOrderSystem::constraints), in scene_contacts() order.
+// The rod's scene (RodScene) is assembled with the named contacts too, by assemble(RodScene),
+// with its own time grid. The paper's form of a Scene (one body of one segment and a right wall,
+// nothing else) is assembled with the system's named contact (SecondOrderSystem::contact_dof, gap),
+// through which the paper's scene has always run: the same matrices, the same step, the same bits
+// as simulate(RodScene). Every other scene lists its constraints (SecondOrderSystem::constraints),
+// in scene_contacts() order.
 //
 // Thread safety: values.
 #pragma once
@@ -41,9 +43,19 @@ struct AssembledScene {
   bool rigid_flight = true;
   std::vector<ContactProbe> probes;  ///< one per contact, scene_contacts() order
   int primary = 0;                   ///< index of the primary contact
+  /// Whether a run fills ContactTrace::contact_pressure and contact_velocity. The rod's
+  /// shorthand does not: its contact is the trace's pressure and velocity, its far wall's
+  /// pressure far_pressure, as they always were.
+  bool contact_columns = true;
 };
 
 /// The scene must be valid (validate()).
 AssembledScene assemble(const Scene& scene);
+
+/// The rod's scene, valid: assemble_rod's system (the wall and the far wall as the named
+/// contacts), the rod's time grid (RodSceneDerived) and its free flight, which ends at the main
+/// wall's impact (a rod flying toward the far wall is stepped from the start). One probe, the
+/// main wall's.
+AssembledScene assemble(const RodScene& rod);
 
 }  // namespace impactid

@@ -34,18 +34,6 @@ void reset_trace(ContactTrace& trace, long samples, bool history, bool far_wall)
   trace.contact_velocity.clear();
 }
 
-// Samples before which the rod is certainly still in rigid free flight: every method computes
-// u = v0·t, v = v0, a = 0 there exactly, so they can be filled in. Central difference's λ at t_i
-// looks ahead to t_{i+1}, hence one step of margin beyond the last sample before the impact.
-long free_flight_samples(const RodScene& scene, const RodSceneDerived& d,
-                         const RunOptions& options) {
-  if (!options.skip_free_flight || scene.rayleigh_mass != 0.0 || !std::isfinite(d.impact_time)) {
-    return 0;
-  }
-  const double before_impact = std::floor(d.impact_time / d.time_step) - 2.0;
-  return std::clamp(static_cast<long>(before_impact), 0L, d.step_count);
-}
-
 // The step loop shared by every method and scene, from sample `first` on. `advance` produces the
 // state at the next sample time, `record` stores sample i of the state's contacts, `finite` says
 // whether those contact values are finite; they are lambdas, so the calls are inlined: no virtual
@@ -188,64 +176,8 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
 RunSummary simulate(const RodScene& scene, const MethodParams& method, const RunOptions& options,
                     SimulationWorkspace& ws) {
   const auto start = std::chrono::steady_clock::now();
-  const RodSceneDerived derived = derive(scene);
-  const SecondOrderSystem system = assemble_rod(scene);
-  const Eigen::Index n = system.size();
-  const double dt = derived.time_step;
-
-  RunSummary summary;
-  summary.planned_steps = derived.step_count;
-  summary.dt = dt;
-  const bool far_wall = system.has_far_contact();
-  reset_trace(ws.trace, derived.step_count, options.record_history, far_wall);
-  if (options.energy_check_interval < 1 || !(options.energy_growth_limit > 1.0)) {
-    summary.status = RunStatus::failed;
-    summary.message = "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
-    return summary;
-  }
-
-  State& state = ws.state;
-  state.u.setZero(n);
-  state.v.setConstant(n, scene.velocity);
-  state.lambda = 0.0;
-  state.far_lambda = 0.0;
-  state.t = 0.0;
-  state.a = consistent_acceleration(system, state);  // zero without damping
-  summary.initial_energy = system.energy(state.u, state.v);
-  summary.final_energy = summary.initial_energy;
-
-  // Rigid free flight, filled in: the state at t_k = k·Δt and the samples 1..k.
-  const long skipped = free_flight_samples(scene, derived, options);
-  if (far_wall) summary.max_penetration = -kInf;
-  for (long i = 0; i < skipped; ++i) {
-    if (far_wall) {
-      const double u = scene.velocity * ((i + 1) * dt);
-      ws.trace.far_pressure[i] = 0.0;
-      summary.max_penetration =
-          std::max({summary.max_penetration, u - scene.gap, -*scene.far_gap - u});
-    }
-    ws.trace.pressure[i] = 0.0;
-    ws.trace.velocity[i] = scene.velocity;
-    if (options.record_history) {
-      ws.trace.displacement[i] = scene.velocity * ((i + 1) * dt);
-      ws.trace.energy[i] = summary.initial_energy;
-    }
-  }
-  if (skipped > 0) {
-    state.t = skipped * dt;
-    state.u.setConstant(n, scene.velocity * state.t);
-  }
-  summary.steps = summary.skipped_steps = skipped;
-
-  // The step loop, with the far wall's bookkeeping only when the scene has one.
-  const auto run = [&](const auto& advance) {
-    if (far_wall) {
-      run_rod_steps<true>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
-    } else {
-      run_rod_steps<false>(system, scene.area, options, skipped, state, ws.trace, summary, advance);
-    }
-  };
-  run_method(system, method, dt, ws, state, summary, run);
+  RunSummary summary = simulate(assemble(scene), method, options, ws);
+  // Set-up includes the assembly, as it always did for the rod.
   summary.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
@@ -260,15 +192,19 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   const std::size_t contacts = scene.probes.size();
   const bool listed = system.has_constraint_list();
 
+  const bool far_wall = system.has_far_contact();  // the rod's named far wall
+
   RunSummary summary;
   summary.planned_steps = scene.step_count;
   summary.dt = dt;
-  reset_trace(ws.trace, scene.step_count, options.record_history, false);
-  ws.trace.contact_pressure.resize(contacts);
-  ws.trace.contact_velocity.resize(contacts);
-  for (std::size_t k = 0; k < contacts; ++k) {
-    ws.trace.contact_pressure[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
-    ws.trace.contact_velocity[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
+  reset_trace(ws.trace, scene.step_count, options.record_history, far_wall);
+  if (scene.contact_columns) {
+    ws.trace.contact_pressure.resize(contacts);
+    ws.trace.contact_velocity.resize(contacts);
+    for (std::size_t k = 0; k < contacts; ++k) {
+      ws.trace.contact_pressure[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
+      ws.trace.contact_velocity[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
+    }
   }
   if (options.energy_check_interval < 1 || !(options.energy_growth_limit > 1.0)) {
     summary.status = RunStatus::failed;
@@ -292,18 +228,27 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   summary.initial_energy = system.energy(state.u, state.v);
   summary.final_energy = summary.initial_energy;
 
-  // Rigid free flight of every body, filled in as for the rod: samples strictly before the first
-  // contact can close, with one step of margin for central difference's look-ahead.
+  // Rigid free flight of every body, filled in: before the first contact every method computes
+  // u = v0·t, v = v0, a = 0 exactly (K·1 = 0 in each body), so the samples up to shortly before
+  // it are filled in. Central difference's λ at t_i looks ahead to t_{i+1}, hence one step of
+  // margin beyond the last sample before the contact.
   long skipped = 0;
   if (options.skip_free_flight && scene.rigid_flight && std::isfinite(scene.first_contact_time)) {
     const double before = std::floor(scene.first_contact_time / dt) - 2.0;
     skipped = std::clamp(static_cast<long>(before), 0L, scene.step_count);
   }
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
-  if (listed) summary.max_penetration = -kInf;
+  if (listed || far_wall) summary.max_penetration = -kInf;
   for (long i = 0; i < skipped; ++i) {
     const double t = (i + 1) * dt;
-    for (std::size_t k = 0; k < contacts; ++k) {
+    if (far_wall) {
+      const double u = scene.initial_velocity[system.contact_dof] * t;
+      const double u_far = scene.initial_velocity[system.far_contact_dof] * t;
+      ws.trace.far_pressure[i] = 0.0;
+      summary.max_penetration =
+          std::max({summary.max_penetration, u - system.gap, -system.far_gap - u_far});
+    }
+    for (std::size_t k = 0; k < contacts && scene.contact_columns; ++k) {
       ws.trace.contact_pressure[k][i] = 0.0;
       ws.trace.contact_velocity[k][i] = scene.initial_velocity[scene.probes[k].velocity_dof];
       if (listed) {
@@ -327,15 +272,19 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   }
   summary.steps = summary.skipped_steps = skipped;
 
+  // The step loop; the far wall's bookkeeping only when the system has the named one.
   run_method(system, method, dt, ws, state, summary, [&](const auto& advance) {
     if (listed) {
       run_listed_steps(scene, options, skipped, state, ws.trace, summary, advance);
+    } else if (far_wall) {
+      run_rod_steps<true>(system, primary.area, options, skipped, state, ws.trace, summary,
+                          advance);
     } else {
       run_rod_steps<false>(system, primary.area, options, skipped, state, ws.trace, summary,
                            advance);
     }
   });
-  if (!listed) {  // the one contact's samples are the main columns
+  if (!listed && scene.contact_columns) {  // the one contact's samples are the main columns
     ws.trace.contact_pressure[0] = ws.trace.pressure;
     ws.trace.contact_velocity[0] = ws.trace.velocity;
   }

@@ -57,14 +57,16 @@ struct SimulationWorkspace {
   std::optional<SceneReference> reference;
 };
 
-/// Runs scene and method (both must be valid: see validate()). The trace is left in
-/// workspace.trace.
+/// Runs scene and method (both must be valid: see validate()): simulate(assemble(scene), …), the
+/// set-up time including the assembly. The trace is left in workspace.trace.
 RunSummary simulate(const RodScene& scene, const MethodParams& method, const RunOptions& options,
                     SimulationWorkspace& workspace);
 
-/// Runs an assembled scene of bodies (core/scene_assembly.hpp) with a valid method. The trace,
-/// with every contact's samples, is left in workspace.trace. For the paper's form (one body, one
-/// segment, a right wall) the same numbers as simulate(RodScene) of that rod, bit for bit.
+/// Runs an assembled scene (core/scene_assembly.hpp: the rod's, or a scene of bodies') with a
+/// valid method: the one run of every scene. The trace is left in workspace.trace, with every
+/// contact's samples when the scene asks for them (AssembledScene::contact_columns). A scene of
+/// bodies in the paper's form (one body, one segment, a right wall) gives the same numbers as
+/// simulate(RodScene) of that rod, bit for bit.
 RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
                     const RunOptions& options, SimulationWorkspace& workspace);
 
