@@ -1124,7 +1124,7 @@ def history_figure(results_dir, out_dir, quantity, study="identical-dissipation"
     else:
         ax.set_title("(a) the whole run, in contact to its end; boxes: the zoomed windows")
     if still:  # say why the pressure jumps have no velocity zoom
-        ax.text(0.5, 0.5, "in contact, the contact node stays at v = 0 (to round-off) through the jumps of the "
+        ax.text(0.5, 0.72, "in contact, the contact node stays at v = 0 (to round-off) through the jumps of the "
                 "exact pressure at t = " + ", ".join(f"{w:.1f}" for w, _, _ in still) + " µs: no zoom there",
                 transform=ax.transAxes, ha="center", va="bottom", fontsize=8.5, color="0.2",
                 bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor="0.6", alpha=0.92))
