@@ -127,7 +127,7 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   }
   for (const char* key :
        {"length", "elements", "youngs_modulus", "density", "area", "velocity", "gap", "far_gap"}) {
-    if (name == key) s.rod_keys.push_back(name);
+    if (name == key) s.rod_keys.emplace_back(name, v);
   }
   if (name == "length") s.scene.length = v;
   else if (name == "elements") s.scene.elements = static_cast<int>(v);
@@ -288,7 +288,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
   }
   if (s.bodies) {
     if (!s.rod_keys.empty()) {
-      return ParameterError{s.rod_keys.front(), "(given)",
+      return ParameterError{s.rod_keys.front().first, format_value(s.rod_keys.front().second),
                             "is a key of the one-body rod: a scene of bodies gives it on a body "
                             "or a segment (body.<name>.velocity, body.<name>.segment.<k>.length, "
                             "wall.right.gap, ...)"};

@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <utility>
 #include <vector>
 
 #include "core/method.hpp"
@@ -38,8 +39,9 @@ struct SimulationSettings {
   /// whole-scene keys of `scene` (mass, rayleigh_*, courant, dt, t_end) apply to it, and the
   /// one-body keys (length, elements, …, gap, far_gap) may not be given (rod_keys).
   std::optional<Scene> bodies;
-  /// One-body keys given (by assign()), to refuse them beside a scene of bodies.
-  std::vector<std::string> rod_keys;
+  /// One-body keys given (by assign()) with their values, to refuse them beside a scene of
+  /// bodies.
+  std::vector<std::pair<std::string, double>> rod_keys;
   MethodSettings method;
   IndicatorOptions indicators;
   RunOptions run;
