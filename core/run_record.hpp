@@ -11,7 +11,8 @@ namespace impactid {
 enum class RunStatus {
   ok,        ///< every sample finite, energy within the bound
   unstable,  ///< a value became non-finite or the energy exceeded the bound; the run stopped
-  failed,    ///< the method could not start (singular effective matrix)
+  failed,    ///< the method could not start (singular effective matrix), or a scene of bodies has
+             ///< no reference to measure the run against (study/evaluation.cpp)
 };
 const char* to_string(RunStatus status);
 
@@ -40,8 +41,9 @@ struct RunSummary {
   double initial_energy = 0;  ///< [mJ]
   double final_energy = 0;    ///< [mJ], at the last completed sample
   /// Largest penetration of a wall by its contact node over the completed samples [mm]
-  /// (u_n − gap and −far_gap − u_0; <= 0 means none). Tracked only with a far wall (the
-  /// single-wall step loop is kept as it was); NaN without one.
+  /// (u_n − gap and −far_gap − u_0; <= 0 means none), or with a list of constraints (a scene of
+  /// bodies) the largest violation of any of them. Tracked only with a far wall or a list (the
+  /// single-wall step loop is kept as it was); NaN otherwise.
   double max_penetration = std::numeric_limits<double>::quiet_NaN();
   double wall_time_s = 0;  ///< set-up and stepping [s]
 };
