@@ -130,6 +130,8 @@ void store_point(StudyResults& results, const PointSet& points, long index,
       column.values[i] = numeric_value(simulation, column.name).value_or(kNaN);
     }
   }
+  const std::vector<SceneContact> contacts =
+      simulation.bodies ? scene_contacts(*simulation.bodies) : std::vector<SceneContact>{};
   for (ResultColumn& column : results.indicators) {
     if (const IndicatorInfo* info = find_indicator(column.name)) {
       column.values[i] = info->value(evaluation);
@@ -146,7 +148,6 @@ void store_point(StudyResults& results, const PointSet& points, long index,
     // "<indicator>.<contact>" of a scene of bodies (empty_results).
     const std::size_t dot = column.name.find('.');
     const std::string contact = column.name.substr(dot + 1);
-    const std::vector<SceneContact> contacts = scene_contacts(*simulation.bodies);
     for (std::size_t k = 0; k < contacts.size(); ++k) {
       if (contacts[k].name == contact && k < evaluation.contacts.size()) {
         column.values[i] = *contact_indicator(column.name.substr(0, dot), evaluation.contacts[k]);
