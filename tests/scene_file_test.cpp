@@ -264,6 +264,27 @@ TEST(SceneWorkPrecision, ElementsAreTheScenesTotalSharedAmongItsSegments) {
   EXPECT_TRUE(found);
 }
 
+// A damped scene's points are measured against the converged reference, and say so.
+TEST(SceneSweep, ADampedSceneRecordsItsConvergedReference) {
+  const std::string text =
+      replaced(replaced(kHopkinson, "courant = 0.5", "courant = 0.5\nrayleigh_stiffness = 1e-8"),
+               "alpha = { values = [-0.3, -0.2] }", "alpha = { values = [-0.3] }");
+  const Plan plan = parse_plan(text, "plans/d.toml");
+  const StudyResults r = run_all(plan, 2);
+  const ResultColumn* refinements = column(r, "reference_refinements");
+  const ResultColumn* change = column(r, "reference_change");
+  ASSERT_TRUE(refinements && change);
+  for (std::size_t i = 0; i < refinements->values.size(); ++i) {
+    ASSERT_EQ(r.status[i], 0);
+    EXPECT_GE(refinements->values[i], 2.0);
+    EXPECT_LT(change->values[i], 1e-2);  // the default reference_tolerance
+  }
+  // The undamped plan's points use the exact solution.
+  const StudyResults exact = run_all(parse_plan(kHopkinson, "plans/h.toml"), 2);
+  EXPECT_EQ(column(exact, "reference_refinements")->values[0], 0.0);
+  EXPECT_TRUE(std::isnan(column(exact, "reference_change")->values[0]));
+}
+
 TEST(SceneFile, ASceneFileGivesTheSettingsOfItsScene) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "impactid_scene_file";
   std::filesystem::create_directories(dir);
