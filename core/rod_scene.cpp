@@ -16,6 +16,15 @@ std::optional<MassMatrix> mass_matrix_from_string(const std::string& name) {
   return std::nullopt;
 }
 
+long step_count(double end_time, double time_step) {
+  // Converted with care: validate() derives a scene before it rejects absurd inputs, and casting
+  // an out-of-range (or NaN) double to long is undefined behaviour.
+  const double steps = std::ceil(end_time / time_step - 1e-9);
+  if (!(steps >= 1.0)) return 1;
+  if (steps < 9.0e18) return static_cast<long>(steps);
+  return std::numeric_limits<long>::max();
+}
+
 std::optional<ParameterError> validate_time_grid(const std::string& step_field, double step_value,
                                                  double time_step, double end_time,
                                                  const std::string& default_end_note) {
@@ -131,16 +140,7 @@ RodSceneDerived derive(const RodScene& s) {
     const double start = std::isfinite(d.impact_time) ? d.impact_time : 0.0;
     d.end_time = start + 1.5 * d.contact_duration;
   }
-  // Converted with care: validate() calls this before it rejects absurd inputs, and casting an
-  // out-of-range (or NaN) double to long is undefined behaviour.
-  const double steps = std::ceil(d.end_time / d.time_step - 1e-9);
-  if (!(steps >= 1.0)) {
-    d.step_count = 1;
-  } else if (steps < 9.0e18) {
-    d.step_count = static_cast<long>(steps);
-  } else {
-    d.step_count = std::numeric_limits<long>::max();
-  }
+  d.step_count = step_count(d.end_time, d.time_step);
   d.pressure_scale = s.density * d.wave_speed * std::abs(s.velocity);
   d.initial_energy = 0.5 * s.density * s.area * s.length * s.velocity * s.velocity;
   return d;

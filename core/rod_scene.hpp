@@ -58,6 +58,10 @@ struct RodScene {
 /// First invalid field, or nothing.
 std::optional<ParameterError> validate(const RodScene& scene);
 
+/// N = ⌈t_end/Δt − 1e-9⌉ samples t_i = i·Δt, i = 1..N (at least 1; saturated rather than
+/// undefined for absurd inputs, which validate() then rejects).
+long step_count(double end_time, double time_step);
+
 /// The bounds every scene's time grid must meet (at most 1e8 steps, Δt <= t_end, Δt² a normal
 /// double), reported at `step_field` (dt or courant) with its value; `default_end_note` explains
 /// a default t_end in the message ("" when t_end was given).

@@ -282,14 +282,7 @@ SceneDerived derive(const Scene& s) {
     const double start = std::isfinite(d.first_contact_time) ? d.first_contact_time : 0.0;
     d.end_time = start + 1.5 * transit;
   }
-  const double steps = std::ceil(d.end_time / d.time_step - 1e-9);
-  if (!(steps >= 1.0)) {
-    d.step_count = 1;
-  } else if (steps < 9.0e18) {
-    d.step_count = static_cast<long>(steps);
-  } else {
-    d.step_count = std::numeric_limits<long>::max();
-  }
+  d.step_count = step_count(d.end_time, d.time_step);
   return d;
 }
 

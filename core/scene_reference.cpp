@@ -86,7 +86,6 @@ SceneReference scene_reference(const Scene& scene, const ReferenceOptions& optio
   SceneReference r;
   r.scene = scene;
   r.options = options;
-  r.samples = derived.step_count;
   const double dt = derived.time_step;
   if (scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0) {
     std::optional<ChainExact> solved;

@@ -51,9 +51,8 @@ struct ContactSamples {
 struct SceneReference {
   Scene scene;                           ///< what it is the reference of (a cache key)
   ReferenceOptions options;              ///< and with which options
-  long samples = 0;                      ///< N
   std::vector<ContactSamples> contacts;  ///< scene_contacts() order
-  /// 0: the exact solution; k >= 1: the converged solution at Δt/2^k.
+  /// 0: the exact solution; k >= 1: the converged solution at h/2^k and Δt/2^k.
   int refinements = 0;
   /// The relative change at the last refinement (NaN for the exact solution).
   double change = std::numeric_limits<double>::quiet_NaN();
@@ -66,7 +65,7 @@ struct SceneReference {
   /// ok, or the exact solution could not be computed (more events than ChainExact allows).
   bool usable() const { return !contacts.empty(); }
 
-  /// "exact solution of the chain" or "converged: hht at dt/2^k, change …".
+  /// "exact solution of the chain" or "converged: hht at h/2^k and dt/2^k, relative change …".
   std::string description() const;
 };
 

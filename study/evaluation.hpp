@@ -20,8 +20,8 @@ struct Evaluation {
   /// A scene of bodies: every contact's indicators, in scene_contacts() order; empty for the rod.
   std::vector<ContactIndicators> contacts;
   /// A scene of bodies: its reference (core/scene_reference.hpp), 0 for the exact solution or
-  /// k for a converged one at Δt/2^k, and the relative change at its last halving (NaN for the
-  /// exact one). NaN for the rod.
+  /// k for a converged one at h/2^k and Δt/2^k, and the relative change at its last halving (NaN
+  /// for the exact one). NaN for the rod.
   double reference_refinements = std::numeric_limits<double>::quiet_NaN();
   double reference_change = std::numeric_limits<double>::quiet_NaN();
 };

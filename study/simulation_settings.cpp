@@ -203,24 +203,17 @@ std::optional<ParameterError> assign(SimulationSettings& settings, std::string_v
 std::optional<ParameterError> assign_text(SimulationSettings& settings, std::string_view name,
                                           std::string_view text) {
   if (name == "primary_contact") return assign(settings, name, std::string(text));
-  if (is_scene_path(name)) {
-    double v = 0.0;
-    const std::string t(text);
-    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (ec != std::errc() || end != t.data() + t.size() || t.empty()) {
-      return ParameterError{std::string(name), t, "must be a number"};
-    }
-    return assign(settings, name, v);
+  if (!is_scene_path(name)) {  // a scene of bodies' other keys are numbers
+    const ParameterInfo* info = find_parameter(name);
+    if (!info) return ParameterError{std::string(name), std::string(text), "is not a parameter"};
+    if (info->kind == ParameterKind::choice) return assign(settings, name, std::string(text));
   }
-  const ParameterInfo* info = find_parameter(name);
-  if (!info) return ParameterError{std::string(name), std::string(text), "is not a parameter"};
-  if (info->kind == ParameterKind::choice) return assign(settings, name, std::string(text));
   double v = 0.0;
   const std::string t(text);
   // from_chars accepts "nan" and "inf": they are then rejected by the range checks, by name.
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
   if (ec != std::errc() || end != t.data() + t.size() || t.empty()) {
-    return ParameterError{info->name, t, "must be a number"};
+    return ParameterError{std::string(name), t, "must be a number"};
   }
   return assign(settings, name, v);
 }

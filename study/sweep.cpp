@@ -88,15 +88,17 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
                             std::vector<double>(size, kNaN)});
   }
   // A scene of bodies records its reference at every point: 0 refinements for the exact
-  // solution, k for a converged one at dt/2^k (a damped scene), with the change at the last.
+  // solution, k for a converged one at h/2^k and dt/2^k (a damped scene), with the change at
+  // the last.
   if (plan.base.bodies) {
-    r.indicators.push_back({"reference_refinements", "1", "reference_refinements",
-                            "0: the exact solution of the chain (core/chain_exact.hpp); k >= 1: "
-                            "a converged numerical solution at dt/2^k (core/scene_reference.hpp)",
-                            std::vector<double>(size, kNaN)});
+    r.indicators.push_back(
+        {"reference_refinements", "1", "reference_refinements",
+         "0: the exact solution of the chain (core/chain_exact.hpp); k >= 1: "
+         "a converged numerical solution at h/2^k and dt/2^k (core/scene_reference.hpp)",
+         std::vector<double>(size, kNaN)});
     r.indicators.push_back({"reference_change", "1", "reference_change",
                             "relative change of the converged reference's primary contact at its "
-                            "last halving of the step; NaN for the exact solution",
+                            "last halving of the mesh and the step; NaN for the exact solution",
                             std::vector<double>(size, kNaN)});
   }
   // A scene of several contacts: each contact's indicators beside the primary's, as
