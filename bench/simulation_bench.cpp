@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "core/batched_chain.hpp"
 #include "core/batched_simulation.hpp"
 #include "core/function_versions.hpp"
 #include "core/scene.hpp"
@@ -92,6 +93,43 @@ void BM_SceneRun(benchmark::State& state) {
       dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_SceneRun)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+
+// The same scenes through the batched kernels, kBatchLanes HHT runs with α = −0.5·(l + 1)/
+// kBatchLanes in lane l (δ = −α): the paper's scene through the rod's kernel
+// (core/batched_simulation.hpp), the others through the chain kernel (core/batched_chain.hpp).
+// Counter ns/dof-step: per lane, over the samples each lane stepped.
+void BM_SceneBatchedRun(benchmark::State& state) {
+  const int index = static_cast<int>(state.range(0));
+  const Scene scene = benchmark_scene(index);
+  const AssembledScene assembled = assemble(scene);
+  state.SetLabel(index == 0 ? "paper" : index == 1 ? "two-rods" : "stepped-5");
+  std::vector<MethodParams> methods;
+  for (int l = 0; l < kBatchLanes; ++l) {
+    methods.push_back(HhtParams{.alpha = -0.5 * (l + 1) / kBatchLanes});
+  }
+  const std::vector<RodScene> rods(kBatchLanes);
+  const std::vector<const AssembledScene*> scenes(kBatchLanes, &assembled);
+  BatchWorkspace rod_workspace;
+  ChainBatchWorkspace chain_workspace;
+  std::vector<RunSummary> summaries(kBatchLanes);
+  double dof_steps = 0.0;
+  for (auto _ : state) {
+    if (index == 0) {
+      simulate_batch(rods, methods, RunOptions{}, rod_workspace, summaries);
+    } else {
+      simulate_chain_batch(scenes, methods, RunOptions{}, chain_workspace, summaries);
+    }
+    for (const RunSummary& s : summaries) {
+      dof_steps += static_cast<double>(assembled.system.size()) *
+                   static_cast<double>(s.steps - s.skipped_steps);
+    }
+    benchmark::DoNotOptimize(summaries[0].final_energy);
+  }
+  state.counters["lanes"] = kBatchLanes;
+  state.counters["ns/dof-step"] = benchmark::Counter(
+      dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_SceneBatchedRun)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
 // What each skip saves: HHT on a scene with a long free flight (gap 0.2 mm: 428 of 1650 steps
 // before the impact). 0: every skip on (the defaults); 1: free flight stepped; 2: energy checked
@@ -248,7 +286,7 @@ void BM_BatchedSweep(benchmark::State& state) {
   // One workspace per thread for all iterations, as run_sweep keeps one per thread for the whole
   // sweep. (Made afresh at every iteration, they made each iteration pay for allocating them,
   // which a real sweep does once.)
-  std::vector<BatchWorkspace> workspaces(static_cast<std::size_t>(threads));
+  std::vector<BatchEvaluationWorkspace> workspaces(static_cast<std::size_t>(threads));
   std::vector<std::vector<Evaluation>> outs(static_cast<std::size_t>(threads),
                                             std::vector<Evaluation>(kBatchLanes));
   for (auto _ : state) {

@@ -10,127 +10,16 @@
 
 #include "core/function_versions.hpp"
 #include "core/second_order_system.hpp"
+#include "core/simd_lanes.hpp"
 #include "core/tridiagonal.hpp"
-
-// Lanes travel by value only into helpers inlined into one function (always_inline), so GCC's
-// note that returning wide vectors differs between targets does not concern this file.
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace impactid {
 namespace {
 
+using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// One register of 8 doubles (GCC vector extensions: one AVX-512 register, two AVX2 ones);
-// may_alias: registers are read from LaneBlock storage.
-constexpr int kRegisterLanes = 8;
-constexpr int kRegisters = kBatchLanes / kRegisterLanes;
-static_assert(kBatchLanes % kRegisterLanes == 0);
-using Register = double __attribute__((vector_size(sizeof(double) * kRegisterLanes), may_alias));
-using MaskRegister = std::int64_t __attribute__((vector_size(sizeof(double) * kRegisterLanes)));
-
-// kBatchLanes doubles as two independent registers. Why not one vector of kBatchLanes: the
-// serial recurrences of the tridiagonal sweeps bound a step by their latency (a multiply, a
-// subtract and a multiply per unknown); two registers per unknown are two independent chains
-// that the processor overlaps, which nearly halves the time per lane. A single GCC vector of 16
-// doubles is lowered through the stack instead, and so is an array of two registers (GCC's
-// scalar replacement does not take arrays indexed in loops): named members stay in registers.
-static_assert(kRegisters == 2, "Lanes holds two registers, lo and hi");
-struct __attribute__((may_alias)) Lanes {
-  Register lo, hi;
-
-  double operator[](int l) const { return l < kRegisterLanes ? lo[l] : hi[l - kRegisterLanes]; }
-  void set(int l, double x) {
-    if (l < kRegisterLanes) {
-      lo[l] = x;
-    } else {
-      hi[l - kRegisterLanes] = x;
-    }
-  }
-};
-struct LaneMask {
-  MaskRegister lo, hi;
-
-  bool operator[](int l) const {
-    return (l < kRegisterLanes ? lo[l] : hi[l - kRegisterLanes]) != 0;
-  }
-  void set(int l, bool on) {
-    if (l < kRegisterLanes) {
-      lo[l] = on ? -1 : 0;
-    } else {
-      hi[l - kRegisterLanes] = on ? -1 : 0;
-    }
-  }
-};
-
-// Lane-by-lane arithmetic, register by register: the same IEEE operation on every lane.
-[[gnu::always_inline]] inline Lanes operator+(const Lanes& a, const Lanes& b) {
-  return {a.lo + b.lo, a.hi + b.hi};
-}
-[[gnu::always_inline]] inline Lanes operator-(const Lanes& a, const Lanes& b) {
-  return {a.lo - b.lo, a.hi - b.hi};
-}
-[[gnu::always_inline]] inline Lanes operator*(const Lanes& a, const Lanes& b) {
-  return {a.lo * b.lo, a.hi * b.hi};
-}
-[[gnu::always_inline]] inline Lanes operator/(const Lanes& a, const Lanes& b) {
-  return {a.lo / b.lo, a.hi / b.hi};
-}
-[[gnu::always_inline]] inline Lanes operator-(const Lanes& a) { return {-a.lo, -a.hi}; }
-
-// a·b + c rounded once, lane by lane: the scalar path's std::fma. GCC's vector extensions have
-// no fused multiply-add, but in the x86-64-v3 and v4 versions of the kernel (run_batch_any)
-// GCC turns these per-lane fused multiply-adds into one vfmadd per register; the baseline
-// version calls the C library's fma per lane (correct, much slower: machines without FMA are
-// from before 2013).
-[[gnu::always_inline]] inline Register fma(const Register& a, const Register& b,
-                                           const Register& c) {
-  Register r;
-  for (int l = 0; l < kRegisterLanes; ++l) r[l] = __builtin_fma(a[l], b[l], c[l]);
-  return r;
-}
-[[gnu::always_inline]] inline Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
-  return {fma(a.lo, b.lo, c.lo), fma(a.hi, b.hi, c.hi)};
-}
-
-// *to = x register by register. An assignment of the whole struct made GCC 12 copy it through
-// the stack in the step loop (a store, a load and a store again), which the stores, the scarcest
-// resource of the step, paid for.
-[[gnu::always_inline]] inline void store(Lanes* to, const Lanes& x) {
-  to->lo = x.lo;
-  to->hi = x.hi;
-}
-
-// A shuffle of lane 0 into every lane of a register: GCC 12 turns both the per-lane loop
-// `out[l] = x` and the initialiser {x, x, …} into one masked broadcast per lane, which made the
-// step loop three times as long; this is one broadcast.
-[[gnu::always_inline]] inline Lanes splat(double x) {
-  const Register first{x};
-  const Register all = __builtin_shufflevector(first, first, 0, 0, 0, 0, 0, 0, 0, 0);
-  static_assert(kRegisterLanes == 8, "splat() names one index per lane of a register");
-  return {all, all};
-}
-[[gnu::always_inline]] inline Lanes operator*(double a, const Lanes& b) { return splat(a) * b; }
-
-// a > b lane by lane. Written per lane: GCC 12 fails (internal compiler error in
-// do_store_flag) on the vector comparison a > b when it lowers it for AVX2 or SSE2.
-[[gnu::always_inline]] inline LaneMask greater(const Lanes& a, const Lanes& b) {
-  LaneMask out;
-  for (int l = 0; l < kBatchLanes; ++l) out.set(l, a[l] > b[l]);
-  return out;
-}
-
-[[gnu::always_inline]] inline bool any_lane(const LaneMask& mask) {
-  bool any = false;
-  for (int l = 0; l < kRegisterLanes; ++l) any |= (mask.lo[l] | mask.hi[l]) != 0;
-  return any;
-}
-
-// `mask ? a : b` lane by lane (a blend: no arithmetic on the lanes it does not pick).
-[[gnu::always_inline]] inline Lanes select(const LaneMask& mask, const Lanes& a, const Lanes& b) {
-  return {mask.lo ? a.lo : b.lo, mask.hi ? a.hi : b.hi};
-}
 
 // Each lane's copy of the scalar step's constants, computed by the same expressions
 // (ImplicitIntegrator: dt2 * c_.b0 is (Δt·Δt)·b0, c_.b1 * dt2 is b1·(Δt·Δt), …).
@@ -169,26 +58,6 @@ struct LaneArrays {
   Lanes *u, *v, *a;                 // the state
   Lanes* inverse_pivot;  // each lane's factorisation (rows [tail_begin, n − 1) are tail_pivot)
 };
-
-// A tridiagonal matrix's three diagonals as plain pointers: held in registers across the step
-// loop (the Lanes stores may alias anything, so members reached through a reference would be
-// reloaded after every store).
-struct Diagonals {
-  const double *lower, *diag, *upper;
-  explicit Diagonals(const Tridiagonal& m)
-      : lower(m.lower.data()), diag(m.diag.data()), upper(m.upper.data()) {}
-};
-
-// Row i of a tridiagonal product with the neighbours `prev`, `cur`, `next` of x, summed in
-// Tridiagonal::multiply_add's order: (l·x₋ + d·x) + u·x₊, the end rows without the missing term.
-// (For C and M; K's rows are Tridiagonal::multiply's, fused: stiffness_row.)
-template <bool kFirst, bool kLast>
-[[gnu::always_inline]] inline Lanes row(const Diagonals& m, Eigen::Index i, const Lanes& prev,
-                                        const Lanes& cur, const Lanes& next) {
-  if constexpr (kFirst) return splat(m.diag[i]) * cur + splat(m.upper[i]) * next;
-  if constexpr (kLast) return splat(m.lower[i]) * prev + splat(m.diag[i]) * cur;
-  return (splat(m.lower[i]) * prev + splat(m.diag[i]) * cur) + splat(m.upper[i]) * next;
-}
 
 // The end rows of K·x as Tridiagonal::multiply forms them: d·x fused onto the neighbour's
 // product. (Interior rows: step_lanes, with the neighbours' products shared.)
@@ -248,21 +117,12 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   };
   const auto predict = [&]<bool kLastRow>(Eigen::Index i) __attribute__((always_inline)) {
     const Lanes a = x.a[i];
-    Lanes u = x.u[i], v = x.v[i];
-    if constexpr (!kLastRow) {  // the update the previous step's back substitution deferred
-      const Lanes u_updated = fma(c.b1_dt2, a, u), v_updated = fma(c.g1_dt, a, v);
-      u = kStartingLanes ? select(c.plain_state, u, u_updated) : u_updated;
-      v = kStartingLanes ? select(c.plain_state, v, v_updated) : v_updated;
-    }
-    const Lanes du = fma(dt, v, c.dt2_b0 * a);
-    const Lanes up = u + du;
-    const Lanes vp = fma(c.dt_g0, a, v);
-    store(&x.u[i], up);
-    store(&x.v[i], vp);
+    const WeightedRow weighted =
+        predict_row<!kLastRow, kStartingLanes, kDamping>(c, dt, minus_af, &x.u[i], &x.v[i], a);
     Weighted w;
-    w.u = fma(minus_af, du, up);
+    w.u = weighted.u;
     w.p = k_lower * w.u;
-    if constexpr (kDamping) w.v = fma(minus_af, c.dt_g0 * a, vp);
+    if constexpr (kDamping) w.v = weighted.v;
     if constexpr (kMassTerm) w.a = a;
     return w;
   };
@@ -439,20 +299,6 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   return 0.5 * kinetic + 0.5 * strain;
 }
 
-// What run_steps in core/simulation.cpp keeps for one run, per lane.
-struct LaneRun {
-  RunSummary* summary = nullptr;
-  ContactTrace* trace = nullptr;
-  long first = 0;  // the first sample it computes (after its free flight)
-  long last = -1;  // its last sample
-  // The next sample at which it checks the energy: run_steps checks at every sample i with
-  // (i − first + 1) a multiple of the interval, and at the last. A countdown rather than a
-  // modulo: 2·kBatchLanes integer divisions per step were a tenth of the batch's time.
-  long next_check = 0;
-  bool stepping = false;
-  double energy_bound = 0.0;
-};
-
 struct Batch {
   LaneArrays arrays;
   LaneCoefficients coefficients;
@@ -465,27 +311,7 @@ struct Batch {
 };
 
 void set_lane(const LaneArrays& x, int lane, const State* state) {
-  for (Eigen::Index i = 0; i < x.n; ++i) {
-    x.u[i].set(lane, state ? state->u[i] : 0.0);
-    x.v[i].set(lane, state ? state->v[i] : 0.0);
-    x.a[i].set(lane, state ? state->a[i] : 0.0);
-  }
-}
-
-void stop_unstable(LaneRun& run, std::string message) {
-  run.summary->status = RunStatus::unstable;
-  run.summary->message = std::move(message);
-  run.stepping = false;
-}
-
-// Zero in every lane whose λ and contact velocity are finite; NaN as soon as one lane's is not
-// (x − x is NaN for ±∞ and NaN). Lanes that are not stepping hold a zero state, so they pass.
-[[gnu::always_inline]] inline bool all_finite(const Lanes& lambda, const Lanes& velocity) {
-  const Register probe = ((lambda.lo - lambda.lo) + (velocity.lo - velocity.lo)) +
-                         ((lambda.hi - lambda.hi) + (velocity.hi - velocity.hi));
-  double sum = 0.0;
-  for (int l = 0; l < kRegisterLanes; ++l) sum += probe[l];
-  return sum == 0.0;
+  set_lane_state(x.u, x.v, x.a, x.n, lane, state);
 }
 
 // The samples of the contact pressure and velocity of every lane, [sample][lane] as the step
@@ -534,28 +360,11 @@ template <bool kDamping, bool kMassTerm>
   LaneCoefficients c = b.coefficients;
   std::array<LaneRun, kBatchLanes>& lanes = b.lanes;
   const Eigen::Index contact = x.n - 1;
-  long begin = std::numeric_limits<long>::max(), end = -1;
-  for (const LaneRun& run : lanes) {
-    if (run.first > run.last) continue;
-    begin = std::min(begin, run.first);
-    end = std::max(end, run.last);
-  }
-  // The first sample at or after `i` at which some lane starts, checks its energy or ends.
-  const auto next_event = [&lanes](long i) {
-    long next = std::numeric_limits<long>::max();
-    for (const LaneRun& run : lanes) {
-      if (run.stepping) {
-        next = std::min({next, run.next_check, run.last});
-      } else if (run.first >= i && run.first <= run.last) {
-        next = std::min(next, run.first);
-      }
-    }
-    return next;
-  };
+  const auto [begin, end] = lane_samples(lanes);
   TraceChunk chunk;
   chunk.begin = begin;
   Lanes lambda{}, t{};
-  long event = next_event(begin);
+  long event = next_lane_event(lanes, begin);
   for (long i = begin; i <= end; ++i) {
     const bool at_event = i == event;
     bool starting = false;
@@ -594,28 +403,12 @@ template <bool kDamping, bool kMassTerm>
 
     // run_steps' checks, lane by lane; the energy (two O(n) products) only when a lane checks
     // it at this sample, for every lane at once.
-    bool energy_due = false;
-    for (const LaneRun& run : lanes) {
-      energy_due |= run.stepping && (i == run.last || i == run.next_check);
-    }
     Lanes energy{};
-    if (energy_due) energy = lane_energy(x, c);
+    if (energy_due(lanes, i)) energy = lane_energy(x, c);
     for (int l = 0; l < kBatchLanes; ++l) {
       LaneRun& run = lanes[static_cast<std::size_t>(l)];
       if (!run.stepping) continue;
-      RunSummary& summary = *run.summary;
-      const bool check = i == run.last || i == run.next_check;
-      if (i == run.next_check) run.next_check += b.energy_check_interval;
-      if (check) {
-        summary.final_energy = energy[l];
-        if (!std::isfinite(energy[l])) {
-          stop_unstable(run, "non-finite values at t = " + format_value(t[l]) + " s");
-        } else if (summary.initial_energy > 0.0 && energy[l] > run.energy_bound) {
-          stop_unstable(run, "energy grew to " + format_value(energy[l] / summary.initial_energy) +
-                                 " times the initial energy at t = " + format_value(t[l]) +
-                                 " s (bound " + format_value(b.energy_growth_limit) + ")");
-        }
-      }
+      check_lane_energy(run, i, energy[l], t[l], b.energy_check_interval, b.energy_growth_limit);
       if (run.stepping && (!std::isfinite(lambda[l]) || !std::isfinite(velocity[l]))) {
         stop_unstable(run, "non-finite values at t = " + format_value(t[l]) + " s");
       }
@@ -625,7 +418,7 @@ template <bool kDamping, bool kMassTerm>
         lambda.set(l, 0.0);
       }
     }
-    event = next_event(i + 1);
+    event = next_lane_event(lanes, i + 1);
     // No lane steps or starts any more (all ended, unstable or failed): the rest would step
     // zeros. In bench/hht-sweep.toml, a batch of unstable points then ends at its last lane's
     // instability, and the unstable points' mean time per point fell from 77 to 42 µs.
@@ -636,17 +429,10 @@ template <bool kDamping, bool kMassTerm>
 // The batch loop for the machine at hand: GCC compiles it for each target and picks one when
 // the program starts. Everything it calls in the step loop is inlined into each version.
 IMPACTID_SIMD_VERSIONS void run_batch_any(Batch& b) {
-  const bool damping = b.arrays.damping != nullptr;
-  const bool mass_term = any_lane(b.coefficients.mass_term);
-  if (damping && mass_term) {
-    run_batch<true, true>(b);
-  } else if (damping) {
-    run_batch<true, false>(b);
-  } else if (mass_term) {
-    run_batch<false, true>(b);
-  } else {
-    run_batch<false, false>(b);
-  }
+  with_kernel_flags(
+      b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
+      [&b]<bool kDamping, bool kMassTerm>()
+          __attribute__((always_inline)) { run_batch<kDamping, kMassTerm>(b); });
 }
 
 // As in core/simulation.cpp: the samples of rigid free flight before the impact, filled in.

@@ -52,6 +52,17 @@ class ImplicitIntegrator {
   /// return value still tells the main wall's contact only).
   bool step(const SecondOrderSystem& system, State& state);
 
+  /// What initialize() set up, for the batched chain kernel (core/batched_chain.cpp), which
+  /// repeats step_constraints() lane by lane with these numbers: the factorisation of the
+  /// effective matrix, the constraint columns A⁻¹·G_kᵀ with the rows where each is non-zero,
+  /// and the Delassus matrix b1·Δt²·G·A⁻¹·Gᵀ.
+  const TridiagonalFactorization& factorization() const { return factorization_; }
+  const Eigen::MatrixXd& constraint_influence() const { return constraint_influence_; }
+  const std::vector<std::pair<Eigen::Index, Eigen::Index>>& constraint_rows() const {
+    return constraint_rows_;
+  }
+  const Eigen::MatrixXd& delassus() const { return delassus_; }
+
  private:
   /// Predictors and the contact-free right-hand side, forward-swept (left in rhs_: its last
   /// entry is the last unknown of the contact-free acceleration; backward_in_place completes it).

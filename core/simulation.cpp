@@ -183,41 +183,38 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   return summary;
 }
 
-RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
-                    const RunOptions& options, SimulationWorkspace& ws) {
-  const auto start = std::chrono::steady_clock::now();
+bool prepare_run(const AssembledScene& scene, const RunOptions& options, ContactTrace& trace,
+                 State& state, RunSummary& summary) {
   const SecondOrderSystem& system = scene.system;
   const Eigen::Index n = system.size();
   const double dt = scene.dt;
   const std::size_t contacts = scene.probes.size();
   const bool listed = system.has_constraint_list();
-
   const bool far_wall = system.has_far_contact();  // the rod's named far wall
 
-  RunSummary summary;
+  summary = RunSummary{};
   summary.planned_steps = scene.step_count;
   summary.dt = dt;
-  reset_trace(ws.trace, scene.step_count, options.record_history, far_wall);
+  reset_trace(trace, scene.step_count, options.record_history, far_wall);
   if (scene.contact_columns) {
-    ws.trace.contact_pressure.resize(contacts);
-    ws.trace.contact_velocity.resize(contacts);
+    trace.contact_pressure.resize(contacts);
+    trace.contact_velocity.resize(contacts);
     for (std::size_t k = 0; k < contacts; ++k) {
-      ws.trace.contact_pressure[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
-      ws.trace.contact_velocity[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
+      trace.contact_pressure[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
+      trace.contact_velocity[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
     }
   }
   if (options.energy_check_interval < 1 || !(options.energy_growth_limit > 1.0)) {
     summary.status = RunStatus::failed;
     summary.message = "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
-    return summary;
+    return false;
   }
   if (contacts == 0) {
     summary.status = RunStatus::failed;
     summary.message = "the scene has no contact: add a wall or a second body";
-    return summary;
+    return false;
   }
 
-  State& state = ws.state;
   state.u.setZero(n);
   state.v = scene.initial_velocity;
   state.lambda = 0.0;
@@ -244,13 +241,13 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
     if (far_wall) {
       const double u = scene.initial_velocity[system.contact_dof] * t;
       const double u_far = scene.initial_velocity[system.far_contact_dof] * t;
-      ws.trace.far_pressure[i] = 0.0;
+      trace.far_pressure[i] = 0.0;
       summary.max_penetration =
           std::max({summary.max_penetration, u - system.gap, -system.far_gap - u_far});
     }
     for (std::size_t k = 0; k < contacts && scene.contact_columns; ++k) {
-      ws.trace.contact_pressure[k][i] = 0.0;
-      ws.trace.contact_velocity[k][i] = scene.initial_velocity[scene.probes[k].velocity_dof];
+      trace.contact_pressure[k][i] = 0.0;
+      trace.contact_velocity[k][i] = scene.initial_velocity[scene.probes[k].velocity_dof];
       if (listed) {
         const Constraint& c = system.constraints[k];
         double g = -c.gap;
@@ -259,11 +256,11 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
         summary.max_penetration = std::max(summary.max_penetration, g);
       }
     }
-    ws.trace.pressure[i] = 0.0;
-    ws.trace.velocity[i] = scene.initial_velocity[primary.velocity_dof];
+    trace.pressure[i] = 0.0;
+    trace.velocity[i] = scene.initial_velocity[primary.velocity_dof];
     if (options.record_history) {
-      ws.trace.displacement[i] = scene.initial_velocity[primary.velocity_dof] * t;
-      ws.trace.energy[i] = summary.initial_energy;
+      trace.displacement[i] = scene.initial_velocity[primary.velocity_dof] * t;
+      trace.energy[i] = summary.initial_energy;
     }
   }
   if (skipped > 0) {
@@ -272,8 +269,23 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   }
   summary.steps = summary.skipped_steps = skipped;
 
+  return true;
+}
+
+RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
+                    const RunOptions& options, SimulationWorkspace& ws) {
+  const auto start = std::chrono::steady_clock::now();
+  const SecondOrderSystem& system = scene.system;
+  const bool listed = system.has_constraint_list();
+  const bool far_wall = system.has_far_contact();  // the rod's named far wall
+  RunSummary summary;
+  State& state = ws.state;
+  if (!prepare_run(scene, options, ws.trace, state, summary)) return summary;
+  const long skipped = summary.skipped_steps;
+  const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
+
   // The step loop; the far wall's bookkeeping only when the system has the named one.
-  run_method(system, method, dt, ws, state, summary, [&](const auto& advance) {
+  run_method(system, method, scene.dt, ws, state, summary, [&](const auto& advance) {
     if (listed) {
       run_listed_steps(scene, options, skipped, state, ws.trace, summary, advance);
     } else if (far_wall) {

@@ -70,4 +70,12 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
 RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
                     const RunOptions& options, SimulationWorkspace& workspace);
 
+/// The part of simulate(AssembledScene) before its step loop: the summary and the trace set up
+/// (every sample NaN), the state at t = 0 with its consistent acceleration, and the free flight
+/// filled in (the state then at its end, summary.skipped_steps samples written). Returns false
+/// with the summary `failed` for run options or a scene that cannot run. Shared with the batched
+/// chain kernel (core/batched_chain.hpp), which steps each lane from there.
+bool prepare_run(const AssembledScene& scene, const RunOptions& options, ContactTrace& trace,
+                 State& state, RunSummary& summary);
+
 }  // namespace impactid

@@ -57,6 +57,12 @@ class TridiagonalFactorization {
   /// Column j of A⁻¹ (the solution of A·x = e_j): the response to a unit point force, which the
   /// contact solvers scale. Allocates; for set-up, not for a step.
   Eigen::VectorXd inverse_column(Eigen::Index j) const;
+  /// The stored factors, for the batched chain kernel (core/batched_chain.cpp), which sweeps
+  /// with these very numbers lane by lane: 1/pivot_i, lower_i/pivot_i and c'_i = upper_i/pivot_i
+  /// (it forms the products c'_i·c'_{i+1} again).
+  const Eigen::VectorXd& inverse_pivots() const { return inverse_pivot_; }
+  const Eigen::VectorXd& lower_ratios() const { return lower_ratio_; }
+  const Eigen::VectorXd& upper_ratios() const { return upper_ratio_; }
 
  private:
   Eigen::VectorXd lower_ratio_;    // lower_i / pivot_i (row 0 unused)

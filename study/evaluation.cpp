@@ -1,48 +1,93 @@
 #include "study/evaluation.hpp"
 
 #include <array>
+#include <optional>
+#include <vector>
 
 #include "core/scene_assembly.hpp"
 
 namespace impactid {
 
-Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
+namespace {
+
+// The indicators of a run of a scene of bodies against the scene's reference, which `reference`
+// caches from run to run.
+Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
+                           const RunSummary& summary, const ContactTrace& trace,
+                           std::optional<SceneReference>& reference) {
   Evaluation out;
+  out.summary = summary;
+  const ReferenceOptions options{.tolerance = sim.indicators.reference_tolerance};
+  if (!reference || reference->scene != *sim.bodies || reference->options != options) {
+    reference = scene_reference(*sim.bodies, options);
+  }
+  out.contacts.resize(scene.probes.size());
+  if (!reference->usable() && out.summary.status == RunStatus::ok) {
+    // Nothing to measure the run against: its indicators are not results.
+    out.summary.status = RunStatus::failed;
+    out.summary.message = "no reference for the scene: " + reference->message;
+  }
+  out.indicators = evaluate_indicators(*sim.bodies, *reference, trace, out.summary, sim.indicators,
+                                       out.contacts);
+  out.reference_refinements = reference->refinements;
+  out.reference_change = reference->change;
+  return out;
+}
+
+// evaluate_batch of scenes of bodies: one run of the chain kernel, then each lane's indicators.
+void evaluate_bodies_batch(std::span<const Simulation> simulations,
+                           BatchEvaluationWorkspace& workspace, std::span<Evaluation> out) {
+  const std::size_t count = simulations.size();
+  std::vector<AssembledScene> scenes;
+  scenes.reserve(count);
+  std::array<const AssembledScene*, kBatchLanes> pointers;
+  std::array<MethodParams, kBatchLanes> methods;
+  std::array<RunSummary, kBatchLanes> summaries;
+  for (std::size_t k = 0; k < count; ++k) {
+    scenes.push_back(assemble(*simulations[k].bodies));
+    pointers[k] = &scenes.back();
+    methods[k] = simulations[k].method;
+  }
+  simulate_chain_batch(std::span(pointers).first(count), std::span(methods).first(count),
+                       simulations[0].run, workspace.chain, std::span(summaries).first(count));
+  for (std::size_t k = 0; k < count; ++k) {
+    out[k] = evaluate_bodies(simulations[k], scenes[k], summaries[k], workspace.chain.traces[k],
+                             workspace.reference);
+  }
+}
+
+}  // namespace
+
+Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
   if (sim.bodies) {
     const AssembledScene scene = assemble(*sim.bodies);
-    out.summary = simulate(scene, sim.method, sim.run, workspace);
-    const ReferenceOptions options{.tolerance = sim.indicators.reference_tolerance};
-    if (!workspace.reference || workspace.reference->scene != *sim.bodies ||
-        workspace.reference->options != options) {
-      workspace.reference = scene_reference(*sim.bodies, options);
-    }
-    out.contacts.resize(scene.probes.size());
-    if (!workspace.reference->usable() && out.summary.status == RunStatus::ok) {
-      // Nothing to measure the run against: its indicators are not results.
-      out.summary.status = RunStatus::failed;
-      out.summary.message = "no reference for the scene: " + workspace.reference->message;
-    }
-    out.indicators = evaluate_indicators(*sim.bodies, *workspace.reference, workspace.trace,
-                                         out.summary, sim.indicators, out.contacts);
-    out.reference_refinements = workspace.reference->refinements;
-    out.reference_change = workspace.reference->change;
-    return out;
+    const RunSummary summary = simulate(scene, sim.method, sim.run, workspace);
+    return evaluate_bodies(sim, scene, summary, workspace.trace, workspace.reference);
   }
+  Evaluation out;
   out.summary = simulate(sim.scene, sim.method, sim.run, workspace);
   out.indicators = evaluate_indicators(sim.scene, workspace.trace, out.summary, sim.indicators);
   return out;
 }
 
 bool batchable_together(const Simulation& first, const Simulation& next) {
-  // The batched kernel knows the rod's scene only; scenes of bodies run one by one.
-  if (first.bodies || next.bodies) return false;
+  if (first.bodies || next.bodies) {
+    if (!first.bodies || !next.bodies) return false;
+    const AssembledScene a = assemble(*first.bodies), b = assemble(*next.bodies);
+    return chain_batchable(a, first.method, first.run) &&
+           chain_batchable(b, next.method, next.run) && same_chain_batch(a, first.run, b, next.run);
+  }
   return batchable(first.scene, first.method, first.run) &&
          batchable(next.scene, next.method, next.run) &&
          same_batch(first.scene, first.run, next.scene, next.run);
 }
 
-void evaluate_batch(std::span<const Simulation> simulations, BatchWorkspace& workspace,
+void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWorkspace& workspace,
                     std::span<Evaluation> out) {
+  if (simulations[0].bodies) {
+    evaluate_bodies_batch(simulations, workspace, out);
+    return;
+  }
   std::array<RodScene, kBatchLanes> scenes;
   std::array<MethodParams, kBatchLanes> methods;
   std::array<RunSummary, kBatchLanes> summaries;
@@ -52,7 +97,7 @@ void evaluate_batch(std::span<const Simulation> simulations, BatchWorkspace& wor
     methods[k] = simulations[k].method;
   }
   simulate_batch(std::span(scenes).first(count), std::span(methods).first(count),
-                 simulations[0].run, workspace, std::span(summaries).first(count));
+                 simulations[0].run, workspace.rod, std::span(summaries).first(count));
   // Consecutive lanes of one scene (in a sweep over method parameters, all of them) share the
   // exact solution: their indicators are evaluated together.
   std::array<const ContactTrace*, kBatchLanes> traces;
@@ -60,7 +105,7 @@ void evaluate_batch(std::span<const Simulation> simulations, BatchWorkspace& wor
   std::array<Indicators, kBatchLanes> indicators;
   for (std::size_t k = 0; k < count; ++k) {
     out[k].summary = summaries[k];
-    traces[k] = &workspace.traces[k];
+    traces[k] = &workspace.rod.traces[k];
     options[k] = simulations[k].indicators;
   }
   for (std::size_t begin = 0, end = 0; begin < count; begin = end) {

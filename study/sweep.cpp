@@ -198,7 +198,7 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices,
 #pragma omp parallel num_threads(std::max(1, options.threads))
   {
     SimulationWorkspace workspace;  // reused for every point this thread runs
-    BatchWorkspace batch_workspace;
+    BatchEvaluationWorkspace batch_workspace;
     std::array<Simulation, kBatchLanes> simulations;
     std::array<Evaluation, kBatchLanes> evaluations;
 #pragma omp for schedule(dynamic, 1)

@@ -11,29 +11,18 @@
 #include <string>
 #include <vector>
 
+#include "same_run.hpp"
+
 namespace impactid {
 namespace {
+
+using testing::expect_same_run;
 
 struct LaneRun {
   std::string name;
   RodScene scene;
   MethodParams method;
 };
-
-// Equal bits, or both NaN (a NaN's sign and payload are not results).
-bool same(double a, double b) {
-  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b) ||
-         (std::isnan(a) && std::isnan(b));
-}
-
-void expect_same_samples(const std::vector<double>& batched, const std::vector<double>& scalar,
-                         const std::string& what) {
-  ASSERT_EQ(batched.size(), scalar.size()) << what;
-  for (std::size_t i = 0; i < scalar.size(); ++i) {
-    ASSERT_TRUE(same(batched[i], scalar[i]))
-        << what << " sample " << i + 1 << ": " << batched[i] << " vs " << scalar[i];
-  }
-}
 
 // Runs `runs` as one batch and each alone through simulate(), and compares everything.
 // Returns the scalar summaries, so that callers can check the batch covers what it claims.
@@ -56,21 +45,7 @@ std::vector<RunSummary> expect_batch_equals_scalar(const std::vector<LaneRun>& r
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const std::string& name = runs[k].name;
     const RunSummary s = simulate(runs[k].scene, runs[k].method, options, ws);
-    const RunSummary& b = batched[k];
-    EXPECT_EQ(b.status, s.status) << name;
-    EXPECT_EQ(b.message, s.message) << name;
-    EXPECT_EQ(b.planned_steps, s.planned_steps) << name;
-    EXPECT_EQ(b.steps, s.steps) << name;
-    EXPECT_EQ(b.skipped_steps, s.skipped_steps) << name;
-    EXPECT_TRUE(same(b.dt, s.dt)) << name;
-    EXPECT_TRUE(same(b.initial_energy, s.initial_energy)) << name;
-    EXPECT_TRUE(same(b.final_energy, s.final_energy))
-        << name << ": " << b.final_energy << " vs " << s.final_energy;
-    EXPECT_TRUE(same(b.max_penetration, s.max_penetration)) << name;
-    expect_same_samples(batch.traces[k].pressure, ws.trace.pressure, name + " pressure");
-    expect_same_samples(batch.traces[k].velocity, ws.trace.velocity, name + " velocity");
-    EXPECT_EQ(batch.traces[k].displacement.size(), ws.trace.displacement.size()) << name;
-    EXPECT_EQ(batch.traces[k].far_pressure.size(), ws.trace.far_pressure.size()) << name;
+    expect_same_run(batched[k], batch.traces[k], s, ws.trace, name);
     scalars.push_back(s);
   }
   return scalars;

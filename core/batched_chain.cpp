@@ -1,0 +1,630 @@
+#include "core/batched_chain.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/contact_lcp.hpp"
+#include "core/function_versions.hpp"
+#include "core/simd_lanes.hpp"
+
+namespace impactid {
+namespace {
+
+using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// a ≠ 0 lane by lane: the scalar step skips a contact force that is zero.
+[[gnu::always_inline]] inline LaneMask nonzero(const Lanes& a) {
+  LaneMask out;
+  for (int l = 0; l < kBatchLanes; ++l) out.set(l, a[l] != 0.0);
+  return out;
+}
+
+// One contact of the chain: its nodes and probe (the same in every lane), each lane's gap and
+// column A⁻¹·G_kᵀ. A lane's column is exactly zero outside its rows [lane_begin, lane_end)
+// (ImplicitIntegrator::constraint_rows), where the scalar step does not touch the unknowns; the
+// rows differ between lanes only where a column decays to an underflow, so the correction runs
+// vectorised over the rows every lane shares and lane by lane over the others.
+//
+// Every struct holding Lanes in memory is aligned as LaneBlock: the vector type's own alignment is
+// that of the baseline target (16 bytes) where it is declared, while the AVX-512 version of the
+// kernel loads it with instructions that need 64.
+struct alignas(LaneBlock) LaneContact {
+  Eigen::Index plus = -1, minus = -1;
+  Lanes gap;
+  Lanes area;  // the probe's, in every lane: pressure = λ/area
+  Eigen::Index velocity_dof = 0;
+  Lanes* influence = nullptr;                     // rows [begin, end): influence[i − begin]
+  Eigen::Index begin = 0, end = 0;                // the union of the lanes' rows
+  Eigen::Index common_begin = 0, common_end = 0;  // their intersection (possibly empty)
+  std::array<Eigen::Index, kBatchLanes> lane_begin{}, lane_end{};
+};
+
+// A contact force entering the right-hand side of a row: rhs[row] −= force (the contact's plus
+// node) or += force (its minus node). Sorted by row, then contact: the scalar order.
+struct ForceRow {
+  Eigen::Index row;
+  int contact;
+  bool plus;
+};
+
+// Each lane's copy of the scalar step's constants, computed by the same expressions
+// (ImplicitIntegrator: dt2 * c_.b0 is (Δt·Δt)·b0, c_.b1 * dt2 is b1·(Δt·Δt), and the violation's
+// c_.b1 * dt * dt is (b1·Δt)·Δt).
+struct alignas(LaneBlock) ChainCoefficients {
+  double dt;
+  Lanes dt2_b0, dt_g0, af, b1_dt2, g1_dt, b1_dt_dt, minus_am, one_minus_w, w;
+  LaneMask mass_term;    // α_m ≠ 0: the scalar step adds −α_m·M·a only then
+  LaneMask plain_state;  // lanes that start at this sample: every row holds u, v, a as they are
+};
+
+struct ChainArrays {
+  Eigen::Index n;
+  const Tridiagonal* stiffness;
+  const Tridiagonal* damping;
+  const Tridiagonal* mass;
+  // The state: rows 0 and n − 1 hold u, v, a; the others u*, v* and a (the deferred update).
+  Lanes *u, *v, *a;
+  // Each lane's factorisation: TridiagonalFactorization's arrays, negated as the sweeps use them
+  // (a negation is exact: the same bits as negating at every step).
+  Lanes *minus_inverse_pivot, *minus_lower_ratio, *minus_upper_ratio;
+  int m;
+  LaneContact* contacts;
+  const ForceRow* force_rows;  // 2·m at most
+  int force_row_count;
+  std::array<const double*, kBatchLanes> delassus;  // each lane's m×m, column-major
+};
+
+// One implicit step of every lane: ImplicitIntegrator::predict and ::step_constraints, lane by
+// lane the same operations. multipliers[k] holds contact k's λ of every lane, on entry at t and
+// on return at t + Δt.
+template <bool kDamping, bool kMassTerm, bool kStartingLanes>
+[[gnu::always_inline]] inline void step_chain(const ChainArrays& arrays, const ChainCoefficients& c,
+                                              Lanes* multipliers) {
+  // Local copies, kept in registers (Lanes stores may alias anything): see the rod's kernel.
+  const ChainArrays x = arrays;
+  const Eigen::Index n = x.n, last = n - 1;
+  const Diagonals K(*x.stiffness);
+  const Diagonals C(kDamping ? *x.damping : *x.stiffness);
+  const Diagonals M(*x.mass);
+  const Lanes dt = splat(c.dt);
+  const Lanes minus_af = -c.af;
+
+  // Predictors u*, v* (stored over u, v) and the α_f-weighted u, v of row i.
+  struct Weighted {
+    Lanes u, v, a;
+  };
+  const auto predict = [&]<bool kPlainRow>(Eigen::Index i) __attribute__((always_inline)) {
+    const Lanes a = x.a[i];
+    const WeightedRow weighted =
+        predict_row<!kPlainRow, kStartingLanes, kDamping>(c, dt, minus_af, &x.u[i], &x.v[i], a);
+    Weighted w;
+    w.u = weighted.u;
+    if constexpr (kDamping) w.v = weighted.v;
+    if constexpr (kMassTerm) w.a = a;
+    return w;
+  };
+
+  // rhs = −K·u_w − C·v_w − α_m·M·a − (1−w)·Gᵀ·λ, then the forward sweep of the solve.
+  Weighted prev{}, cur = predict.template operator()<true>(0), next{};
+  Lanes eliminated{};
+  int force = 0;
+  // Row i; kForces: the row may take a contact force (the first and the last row, and the rows
+  // of force_rows: the loop below runs the others without the test).
+  const auto forward = [&]<bool kFirst, bool kLast, bool kNextIsLast, bool kForces>(Eigen::Index i)
+      __attribute__((always_inline)) {
+    if constexpr (!kLast) next = predict.template operator()<kNextIsLast>(i + 1);
+    Lanes stiffness;  // K·u_w's row, as Tridiagonal::multiply forms it
+    if constexpr (kFirst) {
+      stiffness = fma(splat(K.diag[i]), cur.u, splat(K.upper[i]) * next.u);
+    } else if constexpr (kLast) {
+      stiffness = fma(splat(K.diag[i]), cur.u, splat(K.lower[i]) * prev.u);
+    } else {
+      stiffness =
+          fma(splat(K.diag[i]), cur.u, splat(K.lower[i]) * prev.u) + splat(K.upper[i]) * next.u;
+    }
+    // The array holds −1/pivot. With K's term alone in the right-hand side, −K·u's sign goes onto
+    // it: (−s)·p = s·(−p) exactly, one instruction fewer in the common row.
+    Lanes scaled;
+    if constexpr (!kDamping && !kMassTerm && !kForces) {
+      scaled = stiffness * x.minus_inverse_pivot[i];
+    } else {
+      Lanes r = -stiffness;
+      if constexpr (kDamping) r = r + -1.0 * row<kFirst, kLast>(C, i, prev.v, cur.v, next.v);
+      if constexpr (kMassTerm) {
+        r = select(c.mass_term, r + c.minus_am * row<kFirst, kLast>(M, i, prev.a, cur.a, next.a),
+                   r);
+      }
+      if constexpr (kForces) {
+        for (; force < x.force_row_count && x.force_rows[force].row == i; ++force) {
+          const ForceRow& f = x.force_rows[force];
+          const Lanes weighted = c.one_minus_w * multipliers[f.contact];
+          r = select(nonzero(weighted), f.plus ? r - weighted : r + weighted, r);
+        }
+      }
+      scaled = r * -x.minus_inverse_pivot[i];
+    }
+    Lanes y = scaled;
+    if constexpr (!kFirst) y = fma(x.minus_lower_ratio[i], eliminated, scaled);
+    store(&x.a[i], y);
+    eliminated = y;
+    prev = cur;
+    cur = next;
+  };
+  forward.template operator()<true, false, false, true>(0);
+  Eigen::Index i = 1;
+  for (int f = 0; f < x.force_row_count; ++f) {
+    const Eigen::Index force_row = x.force_rows[f].row;
+    if (force_row < i || force_row >= last - 1) continue;
+    for (; i < force_row; ++i) forward.template operator()<false, false, false, false>(i);
+    forward.template operator()<false, false, false, true>(i++);
+  }
+  for (; i < last - 1; ++i) forward.template operator()<false, false, false, false>(i);
+  forward.template operator()<false, false, true, true>(last - 1);
+  forward.template operator()<false, true, false, true>(last);
+
+  // Back substitution, two rows at a time as TridiagonalFactorization::backward_in_place, with
+  // its products c'_i·c'_{i+1} formed again from the negated ratios ((−a)·(−b) = a·b exactly):
+  // one array fewer to stream through the cache.
+  Lanes x1 = x.a[last];  // x_{i+1}
+  Lanes y_next = x.a[last - 1];
+  Lanes x2 = x1;  // x_{i+2}
+  Lanes ratio_next = x.minus_upper_ratio[last - 1];
+  x1 = fma(ratio_next, x1, y_next);
+  store(&x.a[last - 1], x1);
+  for (Eigen::Index i = last - 2; i >= 0; --i) {
+    const Lanes y = x.a[i];
+    const Lanes ratio = x.minus_upper_ratio[i];
+    const Lanes solved = fma(ratio * ratio_next, x2, fma(ratio, y_next, y));
+    store(&x.a[i], solved);
+    y_next = y;
+    x2 = x1;
+    x1 = solved;
+    ratio_next = ratio;
+  }
+
+  // The violations of the contact-free prediction, u_free formed as the scalar step forms it.
+  const int m = x.m;
+  std::array<Lanes, kMaxConstraints> violation, weighted;
+  LaneMask penetrating{};
+  for (int j = 0; j < m; ++j) {
+    const LaneContact& k = x.contacts[j];
+    Lanes g = -k.gap;
+    if (k.plus >= 0) g = g + fma(c.b1_dt_dt, x.a[k.plus], x.u[k.plus]);
+    if (k.minus >= 0) g = g - fma(c.b1_dt_dt, x.a[k.minus], x.u[k.minus]);
+    violation[j] = g;
+    weighted[j] = Lanes{};
+    const LaneMask closes = greater(g, Lanes{});
+    penetrating = {penetrating.lo | closes.lo, penetrating.hi | closes.hi};
+  }
+  // The contact problem, in the lanes where a contact would penetrate: solve_contact_lcp's
+  // answer is zero in the others (its start, the penetrating set, is empty and stays so).
+  if (any_lane(penetrating)) {
+    for (int l = 0; l < kBatchLanes; ++l) {
+      if (!penetrating[l]) continue;
+      std::array<double, kMaxConstraints> p, mu;
+      for (int j = 0; j < m; ++j) p[j] = violation[j][l];
+      solve_contact_lcp(x.delassus[l], p.data(), m, mu.data());
+      for (int j = 0; j < m; ++j) weighted[j].set(l, mu[j]);
+    }
+    // a −= Σ_k w·λ_k·A⁻¹·G_kᵀ in contact order (apply_constraint_forces).
+    for (int j = 0; j < m; ++j) {
+      const Lanes f = weighted[j];
+      const LaneMask on = nonzero(f);
+      if (!any_lane(on)) continue;
+      const LaneContact& k = x.contacts[j];
+      for (Eigen::Index i = k.common_begin; i < k.common_end; ++i) {
+        store(&x.a[i], select(on, x.a[i] - f * k.influence[i - k.begin], x.a[i]));
+      }
+      const auto lane_by_lane = [&](Eigen::Index from, Eigen::Index to) {
+        for (Eigen::Index i = from; i < to; ++i) {
+          for (int l = 0; l < kBatchLanes; ++l) {
+            if (on[l] && i >= k.lane_begin[l] && i < k.lane_end[l]) {
+              x.a[i].set(l, x.a[i][l] - f[l] * k.influence[i - k.begin][l]);
+            }
+          }
+        }
+      };
+      lane_by_lane(k.begin, k.common_begin);
+      lane_by_lane(k.common_end, k.end);
+    }
+  }
+  // The update of the first and the last row (the others' is deferred), the multipliers, and
+  // a wall's node put exactly on its wall where the wall pushes (snap_walls).
+  for (const Eigen::Index i : {Eigen::Index{0}, last}) {
+    store(&x.u[i], fma(c.b1_dt2, x.a[i], x.u[i]));
+    store(&x.v[i], fma(c.g1_dt, x.a[i], x.v[i]));
+  }
+  for (int j = 0; j < m; ++j) {
+    const LaneContact& k = x.contacts[j];
+    multipliers[j] = weighted[j] / c.w;
+    const LaneMask pushes = greater(weighted[j], Lanes{});
+    if (k.minus < 0) store(&x.u[k.plus], select(pushes, k.gap, x.u[k.plus]));
+    if (k.plus < 0) store(&x.u[k.minus], select(pushes, -k.gap, x.u[k.minus]));
+  }
+}
+
+// Row i's u and v at the end of a step (the first and the last row hold them; the others u*,
+// v* and a, whose update the next step would do with these operations).
+[[gnu::always_inline]] inline Lanes displacement(const ChainArrays& x, const ChainCoefficients& c,
+                                                 Eigen::Index i) {
+  if (i == 0 || i == x.n - 1) return x.u[i];
+  return fma(c.b1_dt2, x.a[i], x.u[i]);
+}
+[[gnu::always_inline]] inline Lanes velocity(const ChainArrays& x, const ChainCoefficients& c,
+                                             Eigen::Index i) {
+  if (i == 0 || i == x.n - 1) return x.v[i];
+  return fma(c.g1_dt, x.a[i], x.v[i]);
+}
+
+// ½·vᵀMv + ½·uᵀKu of every lane after step_chain, each form summed in
+// Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy).
+[[gnu::always_inline]] inline Lanes chain_energy(const ChainArrays& x, const ChainCoefficients& c) {
+  const Eigen::Index n = x.n;
+  const auto product = [n](const Tridiagonal& a, Eigen::Index i, const Lanes& prev,
+                           const Lanes& cur, const Lanes& next) __attribute__((always_inline)) {
+    Lanes r = splat(a.diag[i]) * cur;
+    if (i > 0) r = r + splat(a.lower[i]) * prev;
+    if (i + 1 < n) r = r + splat(a.upper[i]) * next;
+    return r;
+  };
+  Lanes kinetic{}, strain{};
+  Lanes u_prev{}, v_prev{}, u = displacement(x, c, 0), v = velocity(x, c, 0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Lanes u_next{}, v_next{};
+    if (i + 1 < n) u_next = displacement(x, c, i + 1), v_next = velocity(x, c, i + 1);
+    kinetic = kinetic + v * product(*x.mass, i, v_prev, v, v_next);
+    strain = strain + u * product(*x.stiffness, i, u_prev, u, u_next);
+    u_prev = u, v_prev = v, u = u_next, v = v_next;
+  }
+  return 0.5 * kinetic + 0.5 * strain;
+}
+
+constexpr long kTraceChunk = 32;
+
+struct alignas(LaneBlock) ChainBatch {
+  ChainArrays arrays;
+  ChainCoefficients coefficients;
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;
+  Lanes* chunk;                          // kTraceChunk samples × (m pressures, m velocities)
+  std::array<int, kBatchLanes> primary;  // each lane's primary contact (its trace's main columns)
+  int energy_check_interval;
+  double energy_growth_limit;
+  Lanes penetration;  // each lane's largest violation so far (RunSummary::max_penetration)
+};
+
+// Writes the buffered samples [begin, through] into the traces of the lanes stepping now
+// (which stepped at every one of them: a lane starts or stops only at an event, and events
+// flush first).
+void flush_chunk(ChainBatch& b, long begin, long through) {
+  const int m = b.arrays.m;
+  for (int l = 0; l < kBatchLanes; ++l) {
+    LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
+    if (!run.stepping || through < begin) continue;
+    const auto primary = static_cast<std::size_t>(b.primary[static_cast<std::size_t>(l)]);
+    ContactTrace& trace = *run.trace;
+    for (long i = begin; i <= through; ++i) {
+      const Lanes* sample = b.chunk + 2 * m * (i - begin);
+      for (int k = 0; k < m; ++k) {
+        trace.contact_pressure[static_cast<std::size_t>(k)][i] = sample[k][l];
+        trace.contact_velocity[static_cast<std::size_t>(k)][i] = sample[m + k][l];
+      }
+      trace.pressure[i] = trace.contact_pressure[primary][i];
+      trace.velocity[i] = trace.contact_velocity[primary][i];
+    }
+    run.summary->steps = through + 1;
+  }
+}
+
+// The samples from the first lane's start to the last lane's end, with run_steps' bookkeeping
+// (core/simulation.cpp) lane by lane at events only, as in the rod's kernel (run_batch).
+template <bool kDamping, bool kMassTerm>
+[[gnu::always_inline]] inline void run_chain(ChainBatch& b) {
+  const ChainArrays& x = b.arrays;
+  ChainCoefficients c = b.coefficients;
+  std::array<LaneRun, kBatchLanes>& lanes = b.lanes;
+  const int m = x.m;
+  const auto [begin, end] = lane_samples(lanes);
+  std::array<Lanes, kMaxConstraints> multipliers{};
+  LaneMask stepping{};
+  Lanes penetration = b.penetration, t{};
+  long chunk_begin = begin;
+  long event = next_lane_event(lanes, begin);
+  for (long i = begin; i <= end; ++i) {
+    const bool at_event = i == event;
+    bool starting = false;
+    if (at_event) {
+      flush_chunk(b, chunk_begin, i - 1);
+      chunk_begin = i;
+      for (int l = 0; l < kBatchLanes; ++l) {
+        LaneRun& run = lanes[static_cast<std::size_t>(l)];
+        if (run.first != i || run.first > run.last) continue;
+        const State& start = (*b.start)[static_cast<std::size_t>(l)];
+        set_lane_state(x.u, x.v, x.a, x.n, l, &start);
+        c.plain_state.set(l, true);
+        starting = true;
+        for (int k = 0; k < m; ++k) multipliers[k].set(l, start.multipliers[k]);
+        t.set(l, start.t);
+        run.next_check = run.first - 1 + b.energy_check_interval;
+        run.stepping = true;
+        stepping.set(l, true);
+      }
+    }
+    if (starting) {
+      step_chain<kDamping, kMassTerm, true>(x, c, multipliers.data());
+      c.plain_state = LaneMask{};
+    } else {
+      step_chain<kDamping, kMassTerm, false>(x, c, multipliers.data());
+    }
+    t = t + splat(c.dt);
+
+    // The samples of every contact, and the largest violation (run_listed_steps' record).
+    Lanes* sample = b.chunk + 2 * m * (i - chunk_begin);
+    bool finite = true;
+    for (int k = 0; k < m; ++k) {
+      const LaneContact& contact = x.contacts[k];
+      const Lanes v = velocity(x, c, contact.velocity_dof);
+      store(&sample[k], multipliers[k] / contact.area);
+      store(&sample[m + k], v);
+      finite = finite && all_finite(multipliers[k], v);
+      Lanes g = -contact.gap;
+      if (contact.plus >= 0) g = g + displacement(x, c, contact.plus);
+      if (contact.minus >= 0) g = g - displacement(x, c, contact.minus);
+      const LaneMask larger = greater(g, penetration);  // std::max(penetration, g)
+      penetration = select({larger.lo & stepping.lo, larger.hi & stepping.hi}, g, penetration);
+    }
+    if (!at_event && finite) {
+      if (i + 1 - chunk_begin == kTraceChunk) {
+        flush_chunk(b, chunk_begin, i);
+        chunk_begin = i + 1;
+      }
+      continue;
+    }
+    flush_chunk(b, chunk_begin, i);
+    chunk_begin = i + 1;
+
+    Lanes energy{};
+    if (energy_due(lanes, i)) energy = chain_energy(x, c);
+    for (int l = 0; l < kBatchLanes; ++l) {
+      LaneRun& run = lanes[static_cast<std::size_t>(l)];
+      if (!run.stepping) continue;
+      check_lane_energy(run, i, energy[l], t[l], b.energy_check_interval, b.energy_growth_limit);
+      if (run.stepping) {
+        for (int k = 0; k < m; ++k) {
+          if (!std::isfinite(multipliers[k][l]) ||
+              !std::isfinite(velocity(x, c, x.contacts[k].velocity_dof)[l])) {
+            stop_unstable(run, "non-finite values at t = " + format_value(t[l]) + " s");
+            break;
+          }
+        }
+      }
+      if (run.stepping && i == run.last) run.stepping = false;
+      if (!run.stepping) {
+        set_lane_state(x.u, x.v, x.a, x.n, l, nullptr);
+        for (int k = 0; k < m; ++k) multipliers[k].set(l, 0.0);
+        stepping.set(l, false);
+      }
+    }
+    event = next_lane_event(lanes, i + 1);
+    if (event == std::numeric_limits<long>::max()) break;
+  }
+  b.penetration = penetration;
+}
+
+IMPACTID_SIMD_VERSIONS void run_chain_any(ChainBatch& b) {
+  with_kernel_flags(
+      b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
+      [&b]<bool kDamping, bool kMassTerm>()
+          __attribute__((always_inline)) { run_chain<kDamping, kMassTerm>(b); });
+}
+
+bool same_tridiagonal(const Tridiagonal& a, const Tridiagonal& b) {
+  return a.lower == b.lower && a.diag == b.diag && a.upper == b.upper;
+}
+
+}  // namespace
+
+bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
+                     const RunOptions& options) {
+  const SecondOrderSystem& system = scene.system;
+  if (std::holds_alternative<CentralDifferenceParams>(method) || options.record_history ||
+      !system.has_constraint_list() || system.has_contact() || system.has_far_contact() ||
+      !scene.contact_columns || system.size() < 3 ||
+      scene.probes.size() != system.constraints.size() ||
+      system.constraints.size() > static_cast<std::size_t>(kMaxConstraints)) {
+    return false;
+  }
+  // A wall's node is put on the wall at the end of a step: the kernel keeps the first and the
+  // last row's state plain for that (the others are deferred).
+  const Eigen::Index last = system.size() - 1;
+  for (const Constraint& c : system.constraints) {
+    if (c.plus < 0 && c.minus != 0) return false;
+    if (c.minus < 0 && c.plus != last) return false;
+  }
+  return true;
+}
+
+bool same_chain_batch(const AssembledScene& a, const RunOptions& options_a, const AssembledScene& b,
+                      const RunOptions& options_b) {
+  const SecondOrderSystem& s = a.system;
+  const SecondOrderSystem& t = b.system;
+  if (s.size() != t.size() || s.constraints.size() != t.constraints.size() ||
+      a.probes.size() != b.probes.size()) {
+    return false;
+  }
+  for (std::size_t k = 0; k < s.constraints.size(); ++k) {
+    if (s.constraints[k].plus != t.constraints[k].plus ||
+        s.constraints[k].minus != t.constraints[k].minus || a.probes[k].area != b.probes[k].area ||
+        a.probes[k].velocity_dof != b.probes[k].velocity_dof) {
+      return false;
+    }
+  }
+  const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
+                            options_a.energy_check_interval == options_b.energy_check_interval &&
+                            options_a.record_history == options_b.record_history &&
+                            options_a.skip_free_flight == options_b.skip_free_flight;
+  return same_options && a.dt == b.dt && a.rigid_flight == b.rigid_flight &&
+         same_tridiagonal(s.mass, t.mass) && same_tridiagonal(s.stiffness, t.stiffness) &&
+         same_tridiagonal(s.damping, t.damping);
+}
+
+void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
+                          std::span<const MethodParams> methods, const RunOptions& options,
+                          ChainBatchWorkspace& ws, std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  const SecondOrderSystem& system = scenes[0]->system;  // every lane's, gaps aside
+  const Eigen::Index n = system.size();
+  const int m = static_cast<int>(system.constraints.size());
+  const double dt = scenes[0]->dt;
+
+  // Each lane's start (simulate()'s set-up) and its integrator's set-up.
+  ChainBatch b{};
+  LaneMask running{};
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    const AssembledScene& scene = *scenes[lane];
+    RunSummary& summary = summaries[lane];
+    if (!prepare_run(scene, options, ws.traces[lane], ws.start_[lane], summary)) continue;
+    if (!ws.integrators_[lane].initialize(system, implicit_coefficients(methods[lane]), dt)) {
+      summary.status = RunStatus::failed;
+      summary.message =
+          std::string(to_string(kind_of(methods[lane]))) + ": singular effective matrix";
+      continue;
+    }
+    running.set(l, true);
+  }
+
+  // The contacts' rows: the union and the intersection over the running lanes.
+  std::vector<LaneContact> contacts(static_cast<std::size_t>(m));
+  Eigen::Index column_rows = 0;
+  for (int j = 0; j < m; ++j) {
+    LaneContact& k = contacts[static_cast<std::size_t>(j)];
+    const Constraint& constraint = system.constraints[static_cast<std::size_t>(j)];
+    const ContactProbe& probe = scenes[0]->probes[static_cast<std::size_t>(j)];
+    k.plus = constraint.plus;
+    k.minus = constraint.minus;
+    k.area = splat(probe.area);
+    k.velocity_dof = probe.velocity_dof;
+    k.gap = splat(kInf);  // idle lanes never touch a contact
+    k.begin = k.common_begin = n;
+    k.end = k.common_end = 0;
+    for (int l = 0; l < count; ++l) {
+      if (!running[l]) continue;
+      const auto [first, end] = ws.integrators_[static_cast<std::size_t>(l)]
+                                    .constraint_rows()[static_cast<std::size_t>(j)];
+      k.lane_begin[static_cast<std::size_t>(l)] = first;
+      k.lane_end[static_cast<std::size_t>(l)] = end;
+      k.begin = std::min(k.begin, first);
+      k.end = std::max(k.end, end);
+      k.gap.set(
+          l,
+          scenes[static_cast<std::size_t>(l)]->system.constraints[static_cast<std::size_t>(j)].gap);
+    }
+    Eigen::Index common_begin = 0, common_end = n;
+    for (int l = 0; l < count; ++l) {
+      if (!running[l]) continue;
+      common_begin = std::max(common_begin, k.lane_begin[static_cast<std::size_t>(l)]);
+      common_end = std::min(common_end, k.lane_end[static_cast<std::size_t>(l)]);
+    }
+    if (k.begin >= k.end) k.begin = k.end = 0;  // no running lane
+    k.common_begin = std::clamp(common_begin, k.begin, k.end);
+    k.common_end = std::clamp(common_end, k.common_begin, k.end);
+    column_rows += k.end - k.begin;
+  }
+
+  // The interleaved arrays: state, factorisation, columns, trace buffer.
+  ws.storage_.assign(static_cast<std::size_t>(6 * n + column_rows + 2 * m * kTraceChunk),
+                     LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
+  const auto take = [&](Eigen::Index rows) {
+    Lanes* p = block;
+    block += rows;
+    return p;
+  };
+  ChainArrays& x = b.arrays;
+  x.n = n;
+  x.stiffness = &system.stiffness;
+  x.damping = system.has_damping() ? &system.damping : nullptr;
+  x.mass = &system.mass;
+  x.u = take(n), x.v = take(n), x.a = take(n);
+  x.minus_inverse_pivot = take(n), x.minus_lower_ratio = take(n), x.minus_upper_ratio = take(n);
+  for (LaneContact& k : contacts) k.influence = take(k.end - k.begin);
+  b.chunk = take(2 * m * kTraceChunk);
+  x.m = m;
+  x.contacts = contacts.data();
+  std::vector<ForceRow> force_rows;
+  for (int j = 0; j < m; ++j) {
+    const Constraint& constraint = system.constraints[static_cast<std::size_t>(j)];
+    if (constraint.plus >= 0) force_rows.push_back({constraint.plus, j, true});
+    if (constraint.minus >= 0) force_rows.push_back({constraint.minus, j, false});
+  }
+  std::stable_sort(force_rows.begin(), force_rows.end(),
+                   [](const ForceRow& p, const ForceRow& q) { return p.row < q.row; });
+  x.force_rows = force_rows.data();
+  x.force_row_count = static_cast<int>(force_rows.size());
+
+  ChainCoefficients& k = b.coefficients;
+  k.dt = dt;
+  k.w = splat(1.0);  // idle lanes: λ = 0/1
+  b.start = &ws.start_;
+  b.energy_check_interval = options.energy_check_interval;
+  b.energy_growth_limit = options.energy_growth_limit;
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    b.penetration.set(l, summaries[lane].max_penetration);
+    if (!running[l]) continue;
+    const ImplicitIntegrator& integrator = ws.integrators_[lane];
+    const TridiagonalFactorization& f = integrator.factorization();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      x.minus_inverse_pivot[i].set(l, -f.inverse_pivots()[i]);
+      x.minus_lower_ratio[i].set(l, -f.lower_ratios()[i]);
+      x.minus_upper_ratio[i].set(l, -f.upper_ratios()[i]);
+    }
+    for (int j = 0; j < m; ++j) {
+      LaneContact& contact = contacts[static_cast<std::size_t>(j)];
+      for (Eigen::Index i = contact.lane_begin[lane]; i < contact.lane_end[lane]; ++i) {
+        contact.influence[i - contact.begin].set(l, integrator.constraint_influence()(i, j));
+      }
+    }
+    x.delassus[lane] = integrator.delassus().data();
+
+    const ImplicitCoefficients co = implicit_coefficients(methods[lane]);
+    const double dt2 = dt * dt;
+    k.dt2_b0.set(l, dt2 * co.b0);
+    k.dt_g0.set(l, dt * co.g0);
+    k.af.set(l, co.alpha_f);
+    k.b1_dt2.set(l, co.b1 * dt2);
+    k.g1_dt.set(l, co.g1 * dt);
+    k.b1_dt_dt.set(l, co.b1 * dt * dt);
+    k.minus_am.set(l, -co.alpha_m);
+    k.mass_term.set(l, co.alpha_m != 0.0);
+    k.one_minus_w.set(l, 1.0 - co.contact_weight);
+    k.w.set(l, co.contact_weight);
+
+    b.primary[lane] = scenes[lane]->primary;
+    RunSummary& summary = summaries[lane];
+    LaneRun& run = b.lanes[lane];
+    run.summary = &summary;
+    run.trace = &ws.traces[lane];
+    run.first = summary.skipped_steps;
+    run.last = scenes[lane]->step_count - 1;
+    run.energy_bound = options.energy_growth_limit * summary.initial_energy;
+  }
+  run_chain_any(b);
+  for (int l = 0; l < count; ++l) {
+    if (running[l]) summaries[static_cast<std::size_t>(l)].max_penetration = b.penetration[l];
+  }
+
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (int l = 0; l < count; ++l)
+    summaries[static_cast<std::size_t>(l)].wall_time_s = seconds / count;
+}
+
+}  // namespace impactid
