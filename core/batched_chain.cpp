@@ -217,8 +217,11 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
       const LaneMask on = nonzero(f);
       if (!any_lane(on)) continue;
       const LaneContact& k = x.contacts[j];
-      for (Eigen::Index i = k.common_begin; i < k.common_end; ++i) {
-        store(&x.a[i], select(on, x.a[i] - f * k.influence[i - k.begin], x.a[i]));
+      // Locals: a store through Lanes* may alias k, whose fields would be reloaded at every row.
+      const Lanes* column = k.influence - k.begin;
+      Lanes* a = x.a;
+      for (Eigen::Index i = k.common_begin, end = k.common_end; i < end; ++i) {
+        store(&a[i], select(on, a[i] - f * column[i], a[i]));
       }
       const auto lane_by_lane = [&](Eigen::Index from, Eigen::Index to) {
         for (Eigen::Index i = from; i < to; ++i) {

@@ -30,7 +30,8 @@
 // What batches (batchable / same_batch): implicit methods on the single-wall rod scene (no
 // far wall), with no histories requested; lanes of one batch share the rod (elements, length,
 // material, area, mass matrix, damping) and the time step, and may differ in the method and its
-// parameters, the gap, the velocity and the end time. Everything else runs through simulate().
+// parameters, the gap, the velocity and the end time. Scenes of bodies have their own kernel
+// (core/batched_chain.hpp); everything else runs through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once
