@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -62,6 +63,19 @@ struct alignas(LaneBlock) ChainCoefficients {
   LaneMask plain_state;  // lanes that start at this sample: every row holds u, v, a as they are
 };
 
+// A run of the rows 1 .. n − 3 (those between the first row and the last two), as the sweeps'
+// loops take them; the runs tile those rows in order. `forces`: one row that takes a contact
+// force. `uniform`: every row of the run has the same row of K and, in every lane, the same
+// factors, bit for bit, as its first: in a uniform segment the pivots converge to a fixed point
+// after some rows, and from there the loops hold K's row and the factors in registers instead
+// of reading them at every row (the rod's kernel does the same with its converged tail).
+struct alignas(LaneBlock) RowBlock {
+  Eigen::Index begin = 0, end = 0;
+  bool forces = false, uniform = false;
+  double k_lower = 0.0, k_diag = 0.0, k_upper = 0.0;
+  Lanes minus_inverse_pivot, minus_lower_ratio, minus_upper_ratio;
+};
+
 struct ChainArrays {
   Eigen::Index n;
   const Tridiagonal* stiffness;
@@ -76,15 +90,43 @@ struct ChainArrays {
   LaneContact* contacts;
   const ForceRow* force_rows;  // 2·m at most
   int force_row_count;
+  const RowBlock* blocks;
+  int block_count;
   std::array<const double*, kBatchLanes> delassus;  // each lane's m×m, column-major
 };
 
+// The contact corrections a −= w·λ_k·A⁻¹·G_kᵀ of the last step that the rows 1 .. n − 2 still
+// await, in contact order. Like the update, the correction is deferred to the next forward
+// sweep, which reads a anyway: the same operations on the same numbers, but the correction pass
+// then neither loads nor stores a. Deferred only when every lane's column has the same rows
+// (the usual case: LaneContact::common_begin/end); otherwise applied at once.
+struct alignas(LaneBlock) PendingCorrections {
+  int count = 0;
+  std::array<int, kMaxConstraints> contact{};
+  std::array<Lanes, kMaxConstraints> force;
+  std::array<LaneMask, kMaxConstraints> on;
+};
+
+// Row i's acceleration `a` with the pending corrections applied (apply_constraint_forces'
+// operations, in its order).
+[[gnu::always_inline]] inline Lanes corrected(const ChainArrays& x, const PendingCorrections& p,
+                                              Eigen::Index i, Lanes a) {
+  for (int q = 0; q < p.count; ++q) {
+    const LaneContact& k = x.contacts[p.contact[q]];
+    if (i >= k.common_begin && i < k.common_end) {
+      a = select(p.on[q], a - p.force[q] * k.influence[i - k.begin], a);
+    }
+  }
+  return a;
+}
+
 // One implicit step of every lane: ImplicitIntegrator::predict and ::step_constraints, lane by
 // lane the same operations. multipliers[k] holds contact k's λ of every lane, on entry at t and
-// on return at t + Δt.
-template <bool kDamping, bool kMassTerm, bool kStartingLanes>
+// on return at t + Δt; `pending` the corrections the previous step deferred (kCorrect: some),
+// on return this step's.
+template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kCorrect>
 [[gnu::always_inline]] inline void step_chain(const ChainArrays& arrays, const ChainCoefficients& c,
-                                              Lanes* multipliers) {
+                                              Lanes* multipliers, PendingCorrections& pending) {
   // Local copies, kept in registers (Lanes stores may alias anything): see the rod's kernel.
   const ChainArrays x = arrays;
   const Eigen::Index n = x.n, last = n - 1;
@@ -99,7 +141,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     Lanes u, v, a;
   };
   const auto predict = [&]<bool kPlainRow>(Eigen::Index i) __attribute__((always_inline)) {
-    const Lanes a = x.a[i];
+    const Lanes a = kCorrect && !kPlainRow ? corrected(x, pending, i, x.a[i]) : x.a[i];
     const WeightedRow weighted =
         predict_row<!kPlainRow, kStartingLanes, kDamping>(c, dt, minus_af, &x.u[i], &x.v[i], a);
     Weighted w;
@@ -113,25 +155,31 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   Weighted prev{}, cur = predict.template operator()<true>(0), next{};
   Lanes eliminated{};
   int force = 0;
-  // Row i; kForces: the row may take a contact force (the first and the last row, and the rows
-  // of force_rows: the loop below runs the others without the test).
-  const auto forward = [&]<bool kFirst, bool kLast, bool kNextIsLast, bool kForces>(Eigen::Index i)
-      __attribute__((always_inline)) {
+  // Row i; kForces: the row may take a contact force (the first and the last row, and the blocks
+  // of one forced row); kUniform: K's row and the factors are the block's (RowBlock), not read.
+  const auto
+      forward = [&]<bool kFirst, bool kLast, bool kNextIsLast, bool kForces, bool kUniform = false>(
+          Eigen::Index i, const RowBlock* block = nullptr) __attribute__((always_inline)) {
     if constexpr (!kLast) next = predict.template operator()<kNextIsLast>(i + 1);
     Lanes stiffness;  // K·u_w's row, as Tridiagonal::multiply forms it
     if constexpr (kFirst) {
       stiffness = fma(splat(K.diag[i]), cur.u, splat(K.upper[i]) * next.u);
     } else if constexpr (kLast) {
       stiffness = fma(splat(K.diag[i]), cur.u, splat(K.lower[i]) * prev.u);
+    } else if constexpr (kUniform) {
+      stiffness = fma(splat(block->k_diag), cur.u, splat(block->k_lower) * prev.u) +
+                  splat(block->k_upper) * next.u;
     } else {
       stiffness =
           fma(splat(K.diag[i]), cur.u, splat(K.lower[i]) * prev.u) + splat(K.upper[i]) * next.u;
     }
+    const Lanes minus_inverse_pivot =
+        kUniform ? block->minus_inverse_pivot : x.minus_inverse_pivot[i];
     // The array holds −1/pivot. With K's term alone in the right-hand side, −K·u's sign goes onto
     // it: (−s)·p = s·(−p) exactly, one instruction fewer in the common row.
     Lanes scaled;
     if constexpr (!kDamping && !kMassTerm && !kForces) {
-      scaled = stiffness * x.minus_inverse_pivot[i];
+      scaled = stiffness * minus_inverse_pivot;
     } else {
       Lanes r = -stiffness;
       if constexpr (kDamping) r = r + -1.0 * row<kFirst, kLast>(C, i, prev.v, cur.v, next.v);
@@ -146,45 +194,74 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
           r = select(nonzero(weighted), f.plus ? r - weighted : r + weighted, r);
         }
       }
-      scaled = r * -x.minus_inverse_pivot[i];
+      scaled = r * -minus_inverse_pivot;
     }
     Lanes y = scaled;
-    if constexpr (!kFirst) y = fma(x.minus_lower_ratio[i], eliminated, scaled);
+    if constexpr (!kFirst) {
+      y = fma(kUniform ? block->minus_lower_ratio : x.minus_lower_ratio[i], eliminated, scaled);
+    }
     store(&x.a[i], y);
     eliminated = y;
     prev = cur;
     cur = next;
   };
   forward.template operator()<true, false, false, true>(0);
-  Eigen::Index i = 1;
-  for (int f = 0; f < x.force_row_count; ++f) {
-    const Eigen::Index force_row = x.force_rows[f].row;
-    if (force_row < i || force_row >= last - 1) continue;
-    for (; i < force_row; ++i) forward.template operator()<false, false, false, false>(i);
-    forward.template operator()<false, false, false, true>(i++);
+  for (int b = 0; b < x.block_count; ++b) {
+    // A copy, so that its values stay in registers across the block's rows.
+    const RowBlock block = x.blocks[b];
+    if (block.forces) {
+      forward.template operator()<false, false, false, true>(block.begin);
+    } else if (block.uniform) {
+      for (Eigen::Index i = block.begin; i < block.end; ++i) {
+        forward.template operator()<false, false, false, false, true>(i, &block);
+      }
+    } else {
+      for (Eigen::Index i = block.begin; i < block.end; ++i) {
+        forward.template operator()<false, false, false, false>(i);
+      }
+    }
   }
-  for (; i < last - 1; ++i) forward.template operator()<false, false, false, false>(i);
   forward.template operator()<false, false, true, true>(last - 1);
   forward.template operator()<false, true, false, true>(last);
 
   // Back substitution, two rows at a time as TridiagonalFactorization::backward_in_place, with
   // its products c'_i·c'_{i+1} formed again from the negated ratios ((−a)·(−b) = a·b exactly):
-  // one array fewer to stream through the cache.
+  // one array fewer to stream through the cache. In a uniform block both ratios are the block's
+  // but in its last row (whose c'_{i+1} is the next block's).
   Lanes x1 = x.a[last];  // x_{i+1}
   Lanes y_next = x.a[last - 1];
   Lanes x2 = x1;  // x_{i+2}
   Lanes ratio_next = x.minus_upper_ratio[last - 1];
   x1 = fma(ratio_next, x1, y_next);
   store(&x.a[last - 1], x1);
-  for (Eigen::Index i = last - 2; i >= 0; --i) {
+  const auto backward = [&](Eigen::Index i, const Lanes& ratio, const Lanes& ratio2)
+      __attribute__((always_inline)) {
     const Lanes y = x.a[i];
-    const Lanes ratio = x.minus_upper_ratio[i];
-    const Lanes solved = fma(ratio * ratio_next, x2, fma(ratio, y_next, y));
+    const Lanes solved = fma(ratio2, x2, fma(ratio, y_next, y));
     store(&x.a[i], solved);
     y_next = y;
     x2 = x1;
     x1 = solved;
     ratio_next = ratio;
+  };
+  for (int b = x.block_count - 1; b >= 0; --b) {
+    const RowBlock& block = x.blocks[b];
+    Eigen::Index i = block.end - 1;
+    if (block.uniform) {
+      const Lanes ratio = block.minus_upper_ratio;
+      backward(i, ratio, ratio * ratio_next);
+      const Lanes ratio2 = ratio * ratio;
+      for (--i; i >= block.begin; --i) backward(i, ratio, ratio2);
+    } else {
+      for (; i >= block.begin; --i) {
+        const Lanes ratio = x.minus_upper_ratio[i];
+        backward(i, ratio, ratio * ratio_next);
+      }
+    }
+  }
+  {
+    const Lanes ratio = x.minus_upper_ratio[0];
+    backward(0, ratio, ratio * ratio_next);
   }
 
   // The violations of the contact-free prediction, u_free formed as the scalar step forms it.
@@ -211,12 +288,30 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
       solve_contact_lcp(x.delassus[l], p.data(), m, mu.data());
       for (int j = 0; j < m; ++j) weighted[j].set(l, mu[j]);
     }
-    // a −= Σ_k w·λ_k·A⁻¹·G_kᵀ in contact order (apply_constraint_forces).
-    for (int j = 0; j < m; ++j) {
-      const Lanes f = weighted[j];
-      const LaneMask on = nonzero(f);
-      if (!any_lane(on)) continue;
-      const LaneContact& k = x.contacts[j];
+  }
+  // a −= Σ_k w·λ_k·A⁻¹·G_kᵀ in contact order (apply_constraint_forces): deferred for the rows
+  // 1 .. n − 2 when every lane's columns have the same rows, at once otherwise.
+  pending.count = 0;
+  bool defer = true;
+  for (int j = 0; j < m; ++j) {
+    const LaneContact& k = x.contacts[j];
+    const LaneMask on = nonzero(weighted[j]);
+    if (!any_lane(on)) continue;
+    defer = defer && k.begin == k.common_begin && k.end == k.common_end;
+    pending.contact[pending.count] = j;
+    pending.force[pending.count] = weighted[j];
+    pending.on[pending.count] = on;
+    ++pending.count;
+  }
+  if (defer) {
+    for (const Eigen::Index i : {Eigen::Index{0}, last}) {
+      store(&x.a[i], corrected(x, pending, i, x.a[i]));
+    }
+  } else {
+    for (int q = 0; q < pending.count; ++q) {
+      const Lanes f = pending.force[q];
+      const LaneMask on = pending.on[q];
+      const LaneContact& k = x.contacts[pending.contact[q]];
       // Locals: a store through Lanes* may alias k, whose fields would be reloaded at every row.
       const Lanes* column = k.influence - k.begin;
       Lanes* a = x.a;
@@ -235,6 +330,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
       lane_by_lane(k.begin, k.common_begin);
       lane_by_lane(k.common_end, k.end);
     }
+    pending.count = 0;
   }
   // The update of the first and the last row (the others' is deferred), the multipliers, and
   // a wall's node put exactly on its wall where the wall pushes (snap_walls).
@@ -252,21 +348,39 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
 }
 
 // Row i's u and v at the end of a step (the first and the last row hold them; the others u*,
-// v* and a, whose update the next step would do with these operations).
+// v* and a, whose correction and update the next step would do with these operations).
 [[gnu::always_inline]] inline Lanes displacement(const ChainArrays& x, const ChainCoefficients& c,
-                                                 Eigen::Index i) {
+                                                 const PendingCorrections& p, Eigen::Index i) {
   if (i == 0 || i == x.n - 1) return x.u[i];
-  return fma(c.b1_dt2, x.a[i], x.u[i]);
+  return fma(c.b1_dt2, corrected(x, p, i, x.a[i]), x.u[i]);
 }
 [[gnu::always_inline]] inline Lanes velocity(const ChainArrays& x, const ChainCoefficients& c,
-                                             Eigen::Index i) {
+                                             const PendingCorrections& p, Eigen::Index i) {
   if (i == 0 || i == x.n - 1) return x.v[i];
-  return fma(c.g1_dt, x.a[i], x.v[i]);
+  return fma(c.g1_dt, corrected(x, p, i, x.a[i]), x.v[i]);
+}
+
+// Applies the pending corrections to the rows 1 .. n − 2 now (before the energy reads every
+// row), contact by contact: in each row in contact order, as the deferred path.
+[[gnu::always_inline]] inline void apply_pending(const ChainArrays& x, PendingCorrections& p) {
+  for (int q = 0; q < p.count; ++q) {
+    const LaneContact& k = x.contacts[p.contact[q]];
+    const Lanes* column = k.influence - k.begin;
+    const Lanes f = p.force[q];
+    const LaneMask on = p.on[q];
+    Lanes* a = x.a;
+    const Eigen::Index end = std::min(k.common_end, x.n - 1);
+    for (Eigen::Index i = std::max(k.common_begin, Eigen::Index{1}); i < end; ++i) {
+      store(&a[i], select(on, a[i] - f * column[i], a[i]));
+    }
+  }
+  p.count = 0;
 }
 
 // ½·vᵀMv + ½·uᵀKu of every lane after step_chain, each form summed in
 // Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy).
 [[gnu::always_inline]] inline Lanes chain_energy(const ChainArrays& x, const ChainCoefficients& c) {
+  const PendingCorrections none{};  // applied before: apply_pending
   const Eigen::Index n = x.n;
   const auto product = [n](const Tridiagonal& a, Eigen::Index i, const Lanes& prev,
                            const Lanes& cur, const Lanes& next) __attribute__((always_inline)) {
@@ -276,10 +390,10 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     return r;
   };
   Lanes kinetic{}, strain{};
-  Lanes u_prev{}, v_prev{}, u = displacement(x, c, 0), v = velocity(x, c, 0);
+  Lanes u_prev{}, v_prev{}, u = displacement(x, c, none, 0), v = velocity(x, c, none, 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     Lanes u_next{}, v_next{};
-    if (i + 1 < n) u_next = displacement(x, c, i + 1), v_next = velocity(x, c, i + 1);
+    if (i + 1 < n) u_next = displacement(x, c, none, i + 1), v_next = velocity(x, c, none, i + 1);
     kinetic = kinetic + v * product(*x.mass, i, v_prev, v, v_next);
     strain = strain + u * product(*x.stiffness, i, u_prev, u, u_next);
     u_prev = u, v_prev = v, u = u_next, v = v_next;
@@ -334,6 +448,7 @@ template <bool kDamping, bool kMassTerm>
   const int m = x.m;
   const auto [begin, end] = lane_samples(lanes);
   std::array<Lanes, kMaxConstraints> multipliers{};
+  PendingCorrections pending;
   LaneMask stepping{};
   Lanes penetration = b.penetration, t{};
   long chunk_begin = begin;
@@ -359,10 +474,12 @@ template <bool kDamping, bool kMassTerm>
       }
     }
     if (starting) {
-      step_chain<kDamping, kMassTerm, true>(x, c, multipliers.data());
+      step_chain<kDamping, kMassTerm, true, true>(x, c, multipliers.data(), pending);
       c.plain_state = LaneMask{};
+    } else if (pending.count > 0) {
+      step_chain<kDamping, kMassTerm, false, true>(x, c, multipliers.data(), pending);
     } else {
-      step_chain<kDamping, kMassTerm, false>(x, c, multipliers.data());
+      step_chain<kDamping, kMassTerm, false, false>(x, c, multipliers.data(), pending);
     }
     t = t + splat(c.dt);
 
@@ -371,13 +488,13 @@ template <bool kDamping, bool kMassTerm>
     bool finite = true;
     for (int k = 0; k < m; ++k) {
       const LaneContact& contact = x.contacts[k];
-      const Lanes v = velocity(x, c, contact.velocity_dof);
+      const Lanes v = velocity(x, c, pending, contact.velocity_dof);
       store(&sample[k], multipliers[k] / contact.area);
       store(&sample[m + k], v);
       finite = finite && all_finite(multipliers[k], v);
       Lanes g = -contact.gap;
-      if (contact.plus >= 0) g = g + displacement(x, c, contact.plus);
-      if (contact.minus >= 0) g = g - displacement(x, c, contact.minus);
+      if (contact.plus >= 0) g = g + displacement(x, c, pending, contact.plus);
+      if (contact.minus >= 0) g = g - displacement(x, c, pending, contact.minus);
       const LaneMask larger = greater(g, penetration);  // std::max(penetration, g)
       penetration = select({larger.lo & stepping.lo, larger.hi & stepping.hi}, g, penetration);
     }
@@ -392,7 +509,10 @@ template <bool kDamping, bool kMassTerm>
     chunk_begin = i + 1;
 
     Lanes energy{};
-    if (energy_due(lanes, i)) energy = chain_energy(x, c);
+    if (energy_due(lanes, i)) {
+      apply_pending(x, pending);
+      energy = chain_energy(x, c);
+    }
     for (int l = 0; l < kBatchLanes; ++l) {
       LaneRun& run = lanes[static_cast<std::size_t>(l)];
       if (!run.stepping) continue;
@@ -400,7 +520,7 @@ template <bool kDamping, bool kMassTerm>
       if (run.stepping) {
         for (int k = 0; k < m; ++k) {
           if (!std::isfinite(multipliers[k][l]) ||
-              !std::isfinite(velocity(x, c, x.contacts[k].velocity_dof)[l])) {
+              !std::isfinite(velocity(x, c, pending, x.contacts[k].velocity_dof)[l])) {
             stop_unstable(run, "non-finite values at t = " + format_value(t[l]) + " s");
             break;
           }
@@ -410,6 +530,10 @@ template <bool kDamping, bool kMassTerm>
       if (!run.stepping) {
         set_lane_state(x.u, x.v, x.a, x.n, l, nullptr);
         for (int k = 0; k < m; ++k) multipliers[k].set(l, 0.0);
+        for (int q = 0; q < pending.count; ++q) {  // its state stays zero
+          pending.force[q].set(l, 0.0);
+          pending.on[q].set(l, false);
+        }
         stepping.set(l, false);
       }
     }
@@ -424,6 +548,73 @@ IMPACTID_SIMD_VERSIONS void run_chain_any(ChainBatch& b) {
       b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
       [&b]<bool kDamping, bool kMassTerm>()
           __attribute__((always_inline)) { run_chain<kDamping, kMassTerm>(b); });
+}
+
+// The blocks of rows 1 .. n − 3 (RowBlock), from the factors of every lane: uniform runs of at
+// least kMinUniformRows rows, the forced rows alone, generic runs between them.
+constexpr Eigen::Index kMinUniformRows = 8;
+std::vector<RowBlock> row_blocks(const ChainArrays& x, const std::vector<ForceRow>& force_rows) {
+  const Eigen::Index last = x.n - 1;
+  const Tridiagonal& K = *x.stiffness;
+  const auto forced = [&](Eigen::Index i) {
+    return std::any_of(force_rows.begin(), force_rows.end(),
+                       [i](const ForceRow& f) { return f.row == i; });
+  };
+  const auto same_bits = [](const void* a, const void* b, std::size_t size) {
+    return std::memcmp(a, b, size) == 0;
+  };
+  // Row i's K and factors equal row j's, bit for bit.
+  const auto same_row = [&](Eigen::Index i, Eigen::Index j) {
+    return same_bits(&K.lower[i], &K.lower[j], sizeof(double)) &&
+           same_bits(&K.diag[i], &K.diag[j], sizeof(double)) &&
+           same_bits(&K.upper[i], &K.upper[j], sizeof(double)) &&
+           same_bits(&x.minus_inverse_pivot[i], &x.minus_inverse_pivot[j], sizeof(Lanes)) &&
+           same_bits(&x.minus_lower_ratio[i], &x.minus_lower_ratio[j], sizeof(Lanes)) &&
+           same_bits(&x.minus_upper_ratio[i], &x.minus_upper_ratio[j], sizeof(Lanes));
+  };
+  std::vector<RowBlock> blocks;
+  const auto add_generic = [&](Eigen::Index begin, Eigen::Index end) {
+    if (begin == end) return;
+    if (!blocks.empty() && !blocks.back().forces && !blocks.back().uniform &&
+        blocks.back().end == begin) {
+      blocks.back().end = end;
+      return;
+    }
+    RowBlock block;
+    block.begin = begin;
+    block.end = end;
+    blocks.push_back(block);
+  };
+  for (Eigen::Index i = 1; i < last - 1;) {
+    if (forced(i)) {
+      RowBlock block;
+      block.begin = i;
+      block.end = i + 1;
+      block.forces = true;
+      blocks.push_back(block);
+      ++i;
+      continue;
+    }
+    Eigen::Index j = i + 1;
+    while (j < last - 1 && !forced(j) && same_row(j, i)) ++j;
+    if (j - i < kMinUniformRows) {
+      add_generic(i, j);
+    } else {
+      RowBlock block;
+      block.begin = i;
+      block.end = j;
+      block.uniform = true;
+      block.k_lower = K.lower[i];
+      block.k_diag = K.diag[i];
+      block.k_upper = K.upper[i];
+      block.minus_inverse_pivot = x.minus_inverse_pivot[i];
+      block.minus_lower_ratio = x.minus_lower_ratio[i];
+      block.minus_upper_ratio = x.minus_upper_ratio[i];
+      blocks.push_back(block);
+    }
+    i = j;
+  }
+  return blocks;
 }
 
 bool same_tridiagonal(const Tridiagonal& a, const Tridiagonal& b) {
@@ -619,6 +810,9 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
     run.last = scenes[lane]->step_count - 1;
     run.energy_bound = options.energy_growth_limit * summary.initial_energy;
   }
+  const std::vector<RowBlock> blocks = row_blocks(x, force_rows);
+  x.blocks = blocks.data();
+  x.block_count = static_cast<int>(blocks.size());
   run_chain_any(b);
   for (int l = 0; l < count; ++l) {
     if (running[l]) summaries[static_cast<std::size_t>(l)].max_penetration = b.penetration[l];
