@@ -76,7 +76,7 @@ struct alignas(LaneBlock) RowBlock {
   Lanes minus_inverse_pivot, minus_lower_ratio, minus_upper_ratio;
 };
 
-struct ChainArrays {
+struct alignas(LaneBlock) ChainArrays {
   Eigen::Index n;
   const Tridiagonal* stiffness;
   const Tridiagonal* damping;
@@ -93,6 +93,7 @@ struct ChainArrays {
   const RowBlock* blocks;
   int block_count;
   std::array<const double*, kBatchLanes> delassus;  // each lane's m×m, column-major
+  Lanes single_delassus;  // with one contact (m = 1): each lane's 1×1 Delassus matrix
 };
 
 // The contact corrections a −= w·λ_k·A⁻¹·G_kᵀ of the last step that the rows 1 .. n − 2 still
@@ -280,7 +281,13 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kCorrect>
   }
   // The contact problem, in the lanes where a contact would penetrate: solve_contact_lcp's
   // answer is zero in the others (its start, the penetrating set, is empty and stays so).
-  if (any_lane(penetrating)) {
+  if (m == 1) {
+    // One contact: solve_contact_lcp's answer is p/d where p > 0 (and d > 0, which a Delassus
+    // matrix is), the same division, in every lane at once.
+    const LaneMask solves = greater(x.single_delassus, Lanes{});
+    const LaneMask on = {penetrating.lo & solves.lo, penetrating.hi & solves.hi};
+    weighted[0] = select(on, violation[0] / x.single_delassus, Lanes{});
+  } else if (any_lane(penetrating)) {
     for (int l = 0; l < kBatchLanes; ++l) {
       if (!penetrating[l]) continue;
       std::array<double, kMaxConstraints> p, mu;
@@ -787,6 +794,7 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
       }
     }
     x.delassus[lane] = integrator.delassus().data();
+    if (m == 1) x.single_delassus.set(l, integrator.delassus()(0, 0));
 
     const ImplicitCoefficients co = implicit_coefficients(methods[lane]);
     const double dt2 = dt * dt;

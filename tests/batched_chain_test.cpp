@@ -131,6 +131,27 @@ TEST(BatchedChain, EveryLaneEqualsTheScalarRunBitForBit) {
   EXPECT_GE(pushed, 3);
 }
 
+// One contact between two bodies (the kernel's one-contact path, as in the shipped two-rods and
+// hopkinson plans): a full batch of HHT and generalized-α lanes with gaps and velocities that
+// differ, so lanes close the contact at different samples.
+TEST(BatchedChain, OneContactBetweenTwoBodies) {
+  Scene s;
+  s.bodies.push_back(Body{.name = "striker", .velocity = 1000.0, .segments = {segment(10, 50)}});
+  s.bodies.push_back(Body{.name = "bar", .gap = 0.01, .segments = {segment(30, 150)}});
+  std::vector<LaneRun> runs;
+  for (int l = 0; l < kBatchLanes; ++l) {
+    Scene lane = s;
+    lane.bodies[1].gap = 0.01 * (1 + l % 3);
+    lane.bodies[0].velocity = 1000.0 - 100.0 * (l % 4);
+    const MethodParams method = l % 2 == 0
+                                    ? MethodParams{HhtParams{.alpha = -0.03 * l}}
+                                    : MethodParams{GeneralizedAlphaParams{.rho_inf = 0.06 * l}};
+    runs.push_back({"lane " + std::to_string(l), lane, method});
+  }
+  const std::vector<RunSummary> scalar = expect_batch_equals_scalar(runs);
+  EXPECT_EQ(scalar[5].status, RunStatus::ok) << scalar[5].message;
+}
+
 // At a small Courant number a contact's column A⁻¹·G_kᵀ decays fast enough along a long body to
 // underflow to exact zeros, at a row that depends on the method's β: lanes then correct
 // different rows, and the kernel must touch each lane's own rows only.

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "study/evaluation.hpp"
+#include "study/indicator_table.hpp"
 #include "study/plan.hpp"
 #include "study/point_set.hpp"
 #include "study/scene_path.hpp"
@@ -184,6 +185,28 @@ TEST(SceneSweep, EveryContactIsStoredBesideThePrimaryOnAnyThreadCount) {
   ASSERT_EQ(one.status[0], 0);
   ASSERT_EQ(one.status[2], 0);
   EXPECT_GT(p[2], 1.5 * p[0]);
+}
+
+// A sweep runs consecutive points of one scene of bodies through the chain kernel in batches;
+// each point must hold what `impactid simulate` (evaluate() alone) gives it, bit for bit.
+TEST(SceneSweep, BatchedPointsEqualThePointsRunAlone) {
+  const Plan plan = parse_plan(kHopkinson, "plans/h.toml");
+  const PointSet points(plan);
+  ASSERT_TRUE(batchable_together(std::get<Simulation>(build(points.settings(0))),
+                                 std::get<Simulation>(build(points.settings(1)))));
+  const StudyResults batched = run_all(plan, 1);
+  SimulationWorkspace ws;
+  for (long k = 0; k < points.size(); ++k) {
+    const Evaluation alone = evaluate(std::get<Simulation>(build(points.settings(k))), ws);
+    const auto i = static_cast<std::size_t>(k);
+    EXPECT_EQ(batched.status[i], static_cast<int>(alone.summary.status)) << k;
+    for (const char* name : {"eps_p", "eps_v", "nop_p", "p_max"}) {
+      const double want = find_indicator(name)->value(alone);
+      const double got = column(batched, name)->values[i];
+      EXPECT_TRUE(got == want || (std::isnan(got) && std::isnan(want)))
+          << name << " point " << k << ": " << got << " vs " << want;
+    }
+  }
 }
 
 TEST(SceneSweep, AListPointSetsDottedKeysAndTheirColumnsKeepTheirUnits) {
