@@ -62,6 +62,30 @@ Scene to_scene(const RodScene& rod) {
   return scene;
 }
 
+std::optional<RodScene> as_rod(const Scene& scene) {
+  if (scene.bodies.size() != 1 || scene.bodies[0].segments.size() != 1 || scene.left_wall ||
+      !scene.right_wall) {
+    return std::nullopt;
+  }
+  const Body& body = scene.bodies[0];
+  const Segment& segment = body.segments[0];
+  RodScene rod;
+  rod.length = segment.length;
+  rod.elements = segment.elements;
+  rod.youngs_modulus = segment.youngs_modulus;
+  rod.density = segment.density;
+  rod.area = segment.area;
+  rod.velocity = body.velocity;
+  rod.gap = scene.right_wall->gap;
+  rod.mass = scene.mass;
+  rod.rayleigh_mass = scene.rayleigh_mass;
+  rod.rayleigh_stiffness = scene.rayleigh_stiffness;
+  rod.courant = scene.courant;
+  rod.dt = scene.dt;
+  rod.t_end = derive(scene).end_time;
+  return rod;
+}
+
 double transit_time(const Body& body) {
   double t = 0.0;
   for (const Segment& s : body.segments) t += 2.0 * s.length / wave_speed(s);

@@ -85,6 +85,12 @@ struct Scene {
 /// a left wall at far_gap; the body is named "rod" and the right wall is the primary contact.
 Scene to_scene(const RodScene& rod);
 
+/// The other way: the rod's shorthand of a scene in the paper's form (one body of one segment
+/// and a right wall, nothing else), with the scene's end time stated, whose run is the scene's
+/// bit for bit (the same matrices, step, time grid and free flight: core/scene_assembly.hpp).
+/// Sweeps run such scenes in the rod's batched kernel. Nothing for any other scene.
+std::optional<RodScene> as_rod(const Scene& scene);
+
 enum class ContactKind { left_wall, bodies, right_wall };
 
 /// One contact of a scene, with what identifies it in results and where it acts.

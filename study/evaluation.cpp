@@ -48,11 +48,27 @@ void evaluate_bodies_batch(std::span<const Simulation> simulations,
     pointers[k] = &scenes.back();
     methods[k] = simulations[k].method;
   }
-  simulate_chain_batch(std::span(pointers).first(count), std::span(methods).first(count),
-                       simulations[0].run, workspace.chain, std::span(summaries).first(count));
+  std::array<ContactTrace, kBatchLanes>* traces = &workspace.chain.traces;
+  if (as_rod(*simulations[0].bodies)) {
+    // The paper's form (batchable_together): the rod's kernel, whose trace then gets the one
+    // contact's columns as simulate() gives them.
+    std::array<RodScene, kBatchLanes> rods;
+    for (std::size_t k = 0; k < count; ++k) rods[k] = *as_rod(*simulations[k].bodies);
+    simulate_batch(std::span(rods).first(count), std::span(methods).first(count),
+                   simulations[0].run, workspace.rod, std::span(summaries).first(count));
+    traces = &workspace.rod.traces;
+    for (std::size_t k = 0; k < count; ++k) {
+      ContactTrace& trace = workspace.rod.traces[k];
+      trace.contact_pressure.assign(1, trace.pressure);
+      trace.contact_velocity.assign(1, trace.velocity);
+    }
+  } else {
+    simulate_chain_batch(std::span(pointers).first(count), std::span(methods).first(count),
+                         simulations[0].run, workspace.chain, std::span(summaries).first(count));
+  }
   for (std::size_t k = 0; k < count; ++k) {
-    out[k] = evaluate_bodies(simulations[k], scenes[k], summaries[k], workspace.chain.traces[k],
-                             workspace.reference);
+    out[k] =
+        evaluate_bodies(simulations[k], scenes[k], summaries[k], (*traces)[k], workspace.reference);
   }
 }
 
@@ -73,6 +89,13 @@ Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
 bool batchable_together(const Simulation& first, const Simulation& next) {
   if (first.bodies || next.bodies) {
     if (!first.bodies || !next.bodies) return false;
+    // The paper's form runs on the rod's named contact: the rod's kernel takes it.
+    const std::optional<RodScene> rod_a = as_rod(*first.bodies), rod_b = as_rod(*next.bodies);
+    if (rod_a || rod_b) {
+      return rod_a && rod_b && batchable(*rod_a, first.method, first.run) &&
+             batchable(*rod_b, next.method, next.run) &&
+             same_batch(*rod_a, first.run, *rod_b, next.run);
+    }
     const AssembledScene a = assemble(*first.bodies), b = assemble(*next.bodies);
     return chain_batchable(a, first.method, first.run) &&
            chain_batchable(b, next.method, next.run) && same_chain_batch(a, first.run, b, next.run);

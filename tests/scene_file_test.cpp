@@ -189,8 +189,7 @@ TEST(SceneSweep, EveryContactIsStoredBesideThePrimaryOnAnyThreadCount) {
 
 // A sweep runs consecutive points of one scene of bodies through the chain kernel in batches;
 // each point must hold what `impactid simulate` (evaluate() alone) gives it, bit for bit.
-TEST(SceneSweep, BatchedPointsEqualThePointsRunAlone) {
-  const Plan plan = parse_plan(kHopkinson, "plans/h.toml");
+void expect_batched_points_equal_points_alone(const Plan& plan) {
   const PointSet points(plan);
   ASSERT_TRUE(batchable_together(std::get<Simulation>(build(points.settings(0))),
                                  std::get<Simulation>(build(points.settings(1)))));
@@ -207,6 +206,32 @@ TEST(SceneSweep, BatchedPointsEqualThePointsRunAlone) {
           << name << " point " << k << ": " << got << " vs " << want;
     }
   }
+}
+
+TEST(SceneSweep, BatchedPointsEqualThePointsRunAlone) {
+  expect_batched_points_equal_points_alone(parse_plan(kHopkinson, "plans/h.toml"));
+  // The paper's form written as a scene of bodies runs in the rod's kernel.
+  const Plan paper = parse_plan(R"(
+name = "paper as a body"
+[scene]
+t_end = 2e-4
+[[scene.body]]
+name = "rod"
+velocity = 1000.0
+[[scene.body.segment]]
+length = 20.0
+elements = 100
+[scene.wall.right]
+gap = 0.01
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.3, to = 0.0, partitions = 4 }
+)",
+                                "plans/p.toml");
+  expect_batched_points_equal_points_alone(paper);
 }
 
 TEST(SceneSweep, AListPointSetsDottedKeysAndTheirColumnsKeepTheirUnits) {
