@@ -111,7 +111,8 @@ struct alignas(LaneBlock) PendingCorrections {
 // Row i's acceleration `a` with the pending corrections applied (apply_constraint_forces'
 // operations, in its order).
 [[gnu::always_inline]] inline Lanes corrected(const ChainArrays& x, const PendingCorrections& p,
-                                              Eigen::Index i, Lanes a) {
+                                              Eigen::Index i, const Lanes& row) {
+  Lanes a = row;  // by reference: a vector by value draws GCC's note on its calling convention
   for (int q = 0; q < p.count; ++q) {
     const LaneContact& k = x.contacts[p.contact[q]];
     if (i >= k.common_begin && i < k.common_end) {
