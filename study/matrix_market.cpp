@@ -8,12 +8,19 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace impactid {
 namespace {
 
 constexpr long kProgressEvery = 1L << 20;
+// Dimensions beyond this are refused before anything is allocated: ten million DOFs is a
+// hundred times the largest model issue 20 asks to measure, and the limit keeps a stray size
+// line from asking for gigabytes.
+constexpr long kMaxDimension = 10'000'000;
+// Storage reserved ahead of the entries at most (a size line may announce more than follow).
+constexpr long kMaxReserve = 1L << 22;
 
 std::string lower(std::string_view s) {
   std::string out(s);
@@ -38,15 +45,13 @@ std::vector<std::string_view> fields(std::string_view line) {
 // A file read line by line, each error naming the file and the line.
 class MarketReader {
  public:
-  explicit MarketReader(const std::filesystem::path& path) : path_(path), in_(path) {
-    if (!in_) fail_file("cannot open the file");
-  }
+  MarketReader(std::istream& in, std::string name) : name_(std::move(name)), in_(in) {}
 
   [[noreturn]] void fail_file(const std::string& what) const {
-    throw MatrixMarketError(path_.string() + ": " + what);
+    throw MatrixMarketError(name_ + ": " + what);
   }
   [[noreturn]] void fail(const std::string& what) const {
-    throw MatrixMarketError(path_.string() + ":" + std::to_string(line_number_) + ": " + what);
+    throw MatrixMarketError(name_ + ":" + std::to_string(line_number_) + ": " + what);
   }
 
   // The next line that is neither blank nor a comment; nothing at the end of the file.
@@ -97,8 +102,8 @@ class MarketReader {
   }
 
  private:
-  std::filesystem::path path_;
-  std::ifstream in_;
+  std::string name_;
+  std::istream& in_;
   std::string line_;
   long line_number_ = 0;
 };
@@ -140,7 +145,14 @@ Header read_banner(MarketReader& r) {
 
 Eigen::SparseMatrix<double> read_matrix_market(const std::filesystem::path& path,
                                                const MatrixMarketProgress& progress) {
-  MarketReader r(path);
+  std::ifstream in(path);
+  if (!in) throw MatrixMarketError(path.string() + ": cannot open the file");
+  return read_matrix_market(in, path.string(), progress);
+}
+
+Eigen::SparseMatrix<double> read_matrix_market(std::istream& in, const std::string& name,
+                                               const MatrixMarketProgress& progress) {
+  MarketReader r(in, name);
   const Header h = read_banner(r);
   const auto size = r.next_data_line();
   if (!size) r.fail_file("ends before its size line");
@@ -148,8 +160,12 @@ Eigen::SparseMatrix<double> read_matrix_market(const std::filesystem::path& path
     r.fail(h.coordinate ? "the size line must read '<rows> <columns> <entries>'"
                         : "the size line must read '<rows> <columns>'");
   }
-  const long rows = r.count((*size)[0], "the row count"),
-             cols = r.count((*size)[1], "the column count");
+  const long rows = r.count((*size)[0], "the row count");
+  const long cols = r.count((*size)[1], "the column count");
+  if (rows > kMaxDimension || cols > kMaxDimension) {
+    r.fail("a matrix of " + std::to_string(rows) + " x " + std::to_string(cols) +
+           " is beyond the " + std::to_string(kMaxDimension) + " rows and columns read here");
+  }
   if (h.symmetric && rows != cols) {
     r.fail("a symmetric matrix must be square, not " + std::to_string(rows) + " x " +
            std::to_string(cols));
@@ -159,7 +175,8 @@ Eigen::SparseMatrix<double> read_matrix_market(const std::filesystem::path& path
                        : h.symmetric ? rows * (rows + 1) / 2
                                      : rows * cols;
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(h.symmetric ? 2 * entries : entries));
+  triplets.reserve(
+      static_cast<std::size_t>(std::min(entries, kMaxReserve) * (h.symmetric ? 2 : 1)));
   long row = 0, col = 0;  // the next array entry
   for (long k = 0; k < entries; ++k) {
     const auto f = r.next_data_line();

@@ -13,8 +13,9 @@
 // Read: format coordinate or array, field real or integer, symmetry general or symmetric (the
 // stored triangle is mirrored). Not read, with an error saying so: pattern and complex fields,
 // skew-symmetric and hermitian symmetry. Repeated coordinate entries are summed, as
-// scipy.io.mmread and Eigen's loadMarket do. Why not Eigen's loadMarket (unsupported/SparseExtra,
-// installed): it reports a bad file as `false`, where a user needs the line and the value.
+// scipy.io.mmread and Eigen's loadMarket do. At most 10^7 rows and columns. Why not Eigen's
+// loadMarket (unsupported/SparseExtra, installed): it reports a bad file as `false`, where a user
+// needs the line and the value.
 //
 // Thread safety: free functions.
 #pragma once
@@ -23,7 +24,9 @@
 #include <Eigen/SparseCore>
 #include <filesystem>
 #include <functional>
+#include <istream>
 #include <stdexcept>
+#include <string>
 
 namespace impactid {
 
@@ -40,6 +43,9 @@ using MatrixMarketProgress = std::function<void(long read, long total)>;
 /// The matrix of a Matrix Market file (coordinate or array format); a symmetric file's triangle
 /// is mirrored, so the matrix returned is whole. Throws MatrixMarketError.
 Eigen::SparseMatrix<double> read_matrix_market(const std::filesystem::path& path,
+                                               const MatrixMarketProgress& progress = {});
+/// The same from a stream; errors name it `name` (the fuzzer's entry: fuzz/).
+Eigen::SparseMatrix<double> read_matrix_market(std::istream& in, const std::string& name,
                                                const MatrixMarketProgress& progress = {});
 
 /// A vector: a Matrix Market matrix of one column (array format as scipy writes a 1-D array, or

@@ -127,6 +127,9 @@ TEST(MatrixMarket, BadFilesNameTheFileTheLineAndTheValue) {
       {banner + "2 2 3\n1 1 1\n2 2 1\n", path + ": ends after 2 of the 3 entries"},
       {banner + "2 2 1\n1 1 1\n2 2 1\n",
        path + ":4: an entry beyond the 1 its size line announces"},
+      {banner + "1 20000000 0\n", path + ":2: a matrix of 1 x 20000000 is beyond the 10000000"},
+      {"%%MatrixMarket matrix array real general\n9223372036854775807 2\n",
+       path + ":2: a matrix of 9223372036854775807 x 2 is beyond"},
       {"%%MatrixMarket matrix coordinate real symmetric\n2 2 1\n1 2 1.0\n",
        path + ":3: entry (1, 2) lies above the diagonal"},
   };
