@@ -99,8 +99,9 @@ struct alignas(LaneBlock) ChainArrays {
 // The contact corrections a −= w·λ_k·A⁻¹·G_kᵀ of the last step that the rows 1 .. n − 2 still
 // await, in contact order. Like the update, the correction is deferred to the next forward
 // sweep, which reads a anyway: the same operations on the same numbers, but the correction pass
-// then neither loads nor stores a. Deferred only when every lane's column has the same rows
-// (the usual case: LaneContact::common_begin/end); otherwise applied at once.
+// then neither loads nor stores a; what reads a row before that (the samples, the energy) applies
+// them on the way (corrected). Deferred only when every lane's column has the same rows (the
+// usual case: LaneContact::common_begin/end); otherwise applied at once.
 struct alignas(LaneBlock) PendingCorrections {
   int count = 0;
   std::array<int, kMaxConstraints> contact{};
@@ -368,42 +369,19 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kCorrect>
   return fma(c.g1_dt, corrected(x, p, i, x.a[i]), x.v[i]);
 }
 
-// Applies the pending corrections to the rows 1 .. n − 2 now (before the energy reads every
-// row), contact by contact: in each row in contact order, as the deferred path.
-[[gnu::always_inline]] inline void apply_pending(const ChainArrays& x, PendingCorrections& p) {
-  for (int q = 0; q < p.count; ++q) {
-    const LaneContact& k = x.contacts[p.contact[q]];
-    const Lanes* column = k.influence - k.begin;
-    const Lanes f = p.force[q];
-    const LaneMask on = p.on[q];
-    Lanes* a = x.a;
-    const Eigen::Index end = std::min(k.common_end, x.n - 1);
-    for (Eigen::Index i = std::max(k.common_begin, Eigen::Index{1}); i < end; ++i) {
-      store(&a[i], select(on, a[i] - f * column[i], a[i]));
-    }
-  }
-  p.count = 0;
-}
-
 // ½·vᵀMv + ½·uᵀKu of every lane after step_chain, each form summed in
-// Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy).
-[[gnu::always_inline]] inline Lanes chain_energy(const ChainArrays& x, const ChainCoefficients& c) {
-  const PendingCorrections none{};  // applied before: apply_pending
+// Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy), with the rows' pending
+// corrections applied as the next step will apply them.
+[[gnu::always_inline]] inline Lanes chain_energy(const ChainArrays& x, const ChainCoefficients& c,
+                                                 const PendingCorrections& p) {
   const Eigen::Index n = x.n;
-  const auto product = [n](const Tridiagonal& a, Eigen::Index i, const Lanes& prev,
-                           const Lanes& cur, const Lanes& next) __attribute__((always_inline)) {
-    Lanes r = splat(a.diag[i]) * cur;
-    if (i > 0) r = r + splat(a.lower[i]) * prev;
-    if (i + 1 < n) r = r + splat(a.upper[i]) * next;
-    return r;
-  };
   Lanes kinetic{}, strain{};
-  Lanes u_prev{}, v_prev{}, u = displacement(x, c, none, 0), v = velocity(x, c, none, 0);
+  Lanes u_prev{}, v_prev{}, u = displacement(x, c, p, 0), v = velocity(x, c, p, 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     Lanes u_next{}, v_next{};
-    if (i + 1 < n) u_next = displacement(x, c, none, i + 1), v_next = velocity(x, c, none, i + 1);
-    kinetic = kinetic + v * product(*x.mass, i, v_prev, v, v_next);
-    strain = strain + u * product(*x.stiffness, i, u_prev, u, u_next);
+    if (i + 1 < n) u_next = displacement(x, c, p, i + 1), v_next = velocity(x, c, p, i + 1);
+    kinetic = kinetic + v * quadratic_form_row(*x.mass, i, v_prev, v, v_next);
+    strain = strain + u * quadratic_form_row(*x.stiffness, i, u_prev, u, u_next);
     u_prev = u, v_prev = v, u = u_next, v = v_next;
   }
   return 0.5 * kinetic + 0.5 * strain;
@@ -517,10 +495,7 @@ template <bool kDamping, bool kMassTerm>
     chunk_begin = i + 1;
 
     Lanes energy{};
-    if (energy_due(lanes, i)) {
-      apply_pending(x, pending);
-      energy = chain_energy(x, c);
-    }
+    if (energy_due(lanes, i)) energy = chain_energy(x, c, pending);
     for (int l = 0; l < kBatchLanes; ++l) {
       LaneRun& run = lanes[static_cast<std::size_t>(l)];
       if (!run.stepping) continue;

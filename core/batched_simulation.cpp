@@ -268,22 +268,14 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
     const Lanes a = x.a[i];
     return Row{fma(c.b1_dt2, a, x.u[i]), fma(c.g1_dt, a, x.v[i])};
   };
-  // Row i of a·x from x's neighbours, in quadratic_form's order: d·x, then + l·x₋, then + u·x₊.
-  const auto product = [n](const Tridiagonal& a, Eigen::Index i, const Lanes& prev,
-                           const Lanes& cur, const Lanes& next) __attribute__((always_inline)) {
-    Lanes r = splat(a.diag[i]) * cur;
-    if (i > 0) r = r + splat(a.lower[i]) * prev;
-    if (i + 1 < n) r = r + splat(a.upper[i]) * next;
-    return r;
-  };
   const Lanes k_lower = splat(x.k_lower), k_diag = splat(x.k_diag), k_upper = splat(x.k_upper);
   const Lanes m_lower = splat(x.m_lower), m_diag = splat(x.m_diag), m_upper = splat(x.m_upper);
   Lanes kinetic{}, strain{};
   Row prev{}, cur = state(0), next{};
   const auto end_row = [&](Eigen::Index i) __attribute__((always_inline)) {
     if (i + 1 < n) next = state(i + 1);
-    kinetic = kinetic + cur.v * product(*x.mass, i, prev.v, cur.v, next.v);
-    strain = strain + cur.u * product(*x.stiffness, i, prev.u, cur.u, next.u);
+    kinetic = kinetic + cur.v * quadratic_form_row(*x.mass, i, prev.v, cur.v, next.v);
+    strain = strain + cur.u * quadratic_form_row(*x.stiffness, i, prev.u, cur.u, next.u);
     prev = cur;
     cur = next;
   };
@@ -433,16 +425,6 @@ IMPACTID_SIMD_VERSIONS void run_batch_any(Batch& b) {
       b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
       [&b]<bool kDamping, bool kMassTerm>()
           __attribute__((always_inline)) { run_batch<kDamping, kMassTerm>(b); });
-}
-
-// As in core/simulation.cpp: the samples of rigid free flight before the impact, filled in.
-long free_flight_samples(const RodScene& scene, const RodSceneDerived& d,
-                         const RunOptions& options) {
-  if (!options.skip_free_flight || scene.rayleigh_mass != 0.0 || !std::isfinite(d.impact_time)) {
-    return 0;
-  }
-  return std::clamp(static_cast<long>(std::floor(d.impact_time / d.time_step) - 2.0), 0L,
-                    d.step_count);
 }
 
 // True when a's off-diagonals are one value each (lower in rows 1..n−1, upper in rows
@@ -660,7 +642,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
       summary.initial_energy = summaries[static_cast<std::size_t>(same_velocity)].initial_energy;
     }
     summary.final_energy = summary.initial_energy;
-    const long skipped = free_flight_samples(scene, derived, options);
+    const long skipped = free_flight_samples(derived.impact_time, dt, derived.step_count,
+                                             scene.rayleigh_mass == 0.0, options);
     std::fill_n(trace.pressure.begin(), skipped, 0.0);
     std::fill_n(trace.velocity.begin(), skipped, scene.velocity);
     if (skipped > 0) {

@@ -193,6 +193,17 @@ template <bool kFirst, bool kLast>
   return (splat(m.lower[i]) * prev + splat(m.diag[i]) * cur) + splat(m.upper[i]) * next;
 }
 
+// Row i of a·x from x's neighbours, in Tridiagonal::quadratic_form's order: d·x, then + l·x₋,
+// then + u·x₊ (the end rows without the missing term): the energy's rows.
+[[gnu::always_inline]] inline Lanes quadratic_form_row(const Tridiagonal& a, Eigen::Index i,
+                                                       const Lanes& prev, const Lanes& cur,
+                                                       const Lanes& next) {
+  Lanes r = splat(a.diag[i]) * cur;
+  if (i > 0) r = r + splat(a.lower[i]) * prev;
+  if (i + 1 < a.size()) r = r + splat(a.upper[i]) * next;
+  return r;
+}
+
 // What run_steps in core/simulation.cpp keeps for one run, per lane.
 struct LaneRun {
   RunSummary* summary = nullptr;

@@ -183,6 +183,12 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
   return summary;
 }
 
+long free_flight_samples(double first_contact_time, double dt, long step_count, bool rigid_flight,
+                         const RunOptions& options) {
+  if (!options.skip_free_flight || !rigid_flight || !std::isfinite(first_contact_time)) return 0;
+  return std::clamp(static_cast<long>(std::floor(first_contact_time / dt) - 2.0), 0L, step_count);
+}
+
 bool prepare_run(const AssembledScene& scene, const RunOptions& options, ContactTrace& trace,
                  State& state, RunSummary& summary) {
   const SecondOrderSystem& system = scene.system;
@@ -225,15 +231,9 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
   summary.initial_energy = system.energy(state.u, state.v);
   summary.final_energy = summary.initial_energy;
 
-  // Rigid free flight of every body, filled in: before the first contact every method computes
-  // u = v0·t, v = v0, a = 0 exactly (K·1 = 0 in each body), so the samples up to shortly before
-  // it are filled in. Central difference's λ at t_i looks ahead to t_{i+1}, hence one step of
-  // margin beyond the last sample before the contact.
-  long skipped = 0;
-  if (options.skip_free_flight && scene.rigid_flight && std::isfinite(scene.first_contact_time)) {
-    const double before = std::floor(scene.first_contact_time / dt) - 2.0;
-    skipped = std::clamp(static_cast<long>(before), 0L, scene.step_count);
-  }
+  // Rigid free flight of every body, filled in (free_flight_samples).
+  const long skipped = free_flight_samples(scene.first_contact_time, dt, scene.step_count,
+                                           scene.rigid_flight, options);
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
   if (listed || far_wall) summary.max_penetration = -kInf;
   for (long i = 0; i < skipped; ++i) {

@@ -70,6 +70,15 @@ RunSummary simulate(const RodScene& scene, const MethodParams& method, const Run
 RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
                     const RunOptions& options, SimulationWorkspace& workspace);
 
+/// How many samples of a run are rigid free flight to be filled in rather than stepped: before
+/// the first contact every method computes u = v0·t, v = v0, a = 0 exactly (K·1 = 0 in each
+/// body), so the samples up to shortly before it are filled in when options.skip_free_flight is
+/// set and nothing slows a body in flight (rigid_flight). Central difference's λ at t_i looks
+/// ahead to t_{i+1}, hence one step of margin beyond the last sample before the contact.
+/// Shared by simulate() and the batched kernels, which must fill in the same samples.
+long free_flight_samples(double first_contact_time, double dt, long step_count, bool rigid_flight,
+                         const RunOptions& options);
+
 /// The part of simulate(AssembledScene) before its step loop: the summary and the trace set up
 /// (every sample NaN), the state at t = 0 with its consistent acceleration, and the free flight
 /// filled in (the state then at its end, summary.skipped_steps samples written). Returns false
