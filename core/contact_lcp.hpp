@@ -18,19 +18,41 @@
 // 1e-12 of the largest |p_k| on the sign tests, and a cap of 2^m + 16 flips stops a cycle that
 // round-off could cause (the last iterate, clipped to μ >= 0, is then returned).
 //
-// Sizes are bounded by kMaxConstraints; the solver works in fixed arrays: no allocation.
+// Scenes of bodies have at most kMaxConstraints constraints, and the solver works in fixed arrays.
+// A user's model (issue 20: a block on a plane has a contact per node of its bottom edge) may have
+// any number: its solver's storage is a ContactLcpWorkspace sized once per run, and its cap on
+// flips 64·m + 1024 (least-index pivoting needs about one flip per constraint that joins or leaves
+// the active set in a step; the cap only guards against round-off cycles). Neither allocates.
 //
-// Thread safety: a pure function.
+// Thread safety: pure functions on caller-owned storage.
 #pragma once
 
 #include <array>
+#include <vector>
 
 namespace impactid {
 
 inline constexpr int kMaxConstraints = 32;
+/// The sign tests' tolerance, relative to the largest |p_k|.
+inline constexpr double kContactLcpTolerance = 1e-12;
 
 /// Column-major m×m Delassus matrix and m violations; writes m forces >= 0 to mu. Returns the
-/// number of active-set flips it took (0: the penetrating set was the answer).
+/// number of active-set flips it took (0: the penetrating set was the answer). m <= kMaxConstraints.
 int solve_contact_lcp(const double* delassus, const double* violation, int m, double* mu);
+
+/// Storage for problems of any size, allocated by resize() (set-up), reused by every solve.
+struct ContactLcpWorkspace {
+  std::vector<double> factor;  // Cholesky factor of D_SS, m×m
+  std::vector<double> rhs;
+  std::vector<int> active;
+  std::vector<int> in;
+  int capacity = 0;
+
+  void resize(int m);
+};
+
+/// The same solver for any m <= workspace.capacity, with the same operations (the same bits).
+int solve_contact_lcp(const double* delassus, const double* violation, int m, double* mu,
+                      ContactLcpWorkspace& workspace);
 
 }  // namespace impactid

@@ -18,10 +18,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "core/scene.hpp"
 #include "core/second_order_system.hpp"
+#include "core/sparse_system.hpp"
 
 namespace impactid {
 
@@ -33,7 +35,13 @@ struct ContactProbe {
 
 struct AssembledScene {
   SecondOrderSystem system;
-  Eigen::VectorXd initial_velocity;  ///< per dof [mm/s]; the initial displacement is zero
+  /// A user's model whose matrices are not all tridiagonal (core/model_scene.hpp): the run's
+  /// system, with its constraints; `system` is then unused. Shared, so that copies of a scene
+  /// (a sweep's points) hold one model.
+  std::shared_ptr<const SparseSystem> sparse;
+  Eigen::VectorXd initial_velocity;  ///< per dof [mm/s]
+  /// Per dof [mm]; empty: zero (every built-in scene). A scene with one sets rigid_flight false.
+  Eigen::VectorXd initial_displacement;
   double dt = 0.0;                   ///< [s]
   long step_count = 0;               ///< N; samples t_i = i·Δt, i = 1..N
   /// Before this time every body flies rigidly (no contact has closed) [s]; +inf if none closes.
@@ -41,7 +49,7 @@ struct AssembledScene {
   /// Whether the free flight may be filled in rather than stepped: nothing slows a body in flight
   /// (no mass-proportional damping).
   bool rigid_flight = true;
-  std::vector<ContactProbe> probes;  ///< one per contact, scene_contacts() order
+  std::vector<ContactProbe> probes;  ///< one per contact, scene_contacts() order (or the model's)
   int primary = 0;                   ///< index of the primary contact
   /// Whether a run fills ContactTrace::contact_pressure and contact_velocity. The rod's
   /// shorthand does not: its contact is the trace's pressure and velocity, its far wall's

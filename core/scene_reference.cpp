@@ -11,9 +11,6 @@
 
 namespace impactid {
 
-namespace {
-
-// Σ|a − b| / Σ|a| (eq. 18's form), 0 when both are zero.
 double relative_change(const std::vector<double>& a, const std::vector<double>& b) {
   double difference = 0.0, size = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) {
@@ -22,6 +19,8 @@ double relative_change(const std::vector<double>& a, const std::vector<double>& 
   }
   return size > 0.0 ? difference / size : (difference > 0.0 ? 1.0 : 0.0);
 }
+
+namespace {
 
 // The samples of `scene` run with every segment's elements multiplied and its step divided by
 // 2^k (the same Courant number), at the unrefined samples t_i.

@@ -69,6 +69,9 @@ struct SceneReference {
   std::string description() const;
 };
 
+/// Σ|a − b| / Σ|a| (eq. 18's form) of two refinements' samples, 0 when both are zero.
+double relative_change(const std::vector<double>& a, const std::vector<double>& b);
+
 /// The reference of a valid scene. Exact when the scene is undamped; otherwise converged. Never
 /// throws for a valid scene: a reference that cannot be had is !usable(), with the reason in
 /// `message`.

@@ -38,8 +38,8 @@ void reset_trace(ContactTrace& trace, long samples, bool history, bool far_wall)
 // state at the next sample time, `record` stores sample i of the state's contacts, `finite` says
 // whether those contact values are finite; they are lambdas, so the calls are inlined: no virtual
 // dispatch inside the loop. Histories record the displacement of `history_dof`.
-template <class Advance, class Record, class Finite>
-void run_steps(const SecondOrderSystem& system, const RunOptions& options, long first,
+template <class System, class Advance, class Record, class Finite>
+void run_steps(const System& system, const RunOptions& options, long first,
                Eigen::Index history_dof, State& state, ContactTrace& trace, RunSummary& summary,
                Advance&& advance, Record&& record, Finite&& finite) {
   const double energy_bound = options.energy_growth_limit * summary.initial_energy;
@@ -113,12 +113,13 @@ double violation(const Constraint& c, const Eigen::VectorXd& u) {
   return g;
 }
 
-// A scene of bodies with a constraint list: every contact's pressure and velocity, the primary
-// contact's also in the trace's main columns, and the largest penetration of any constraint.
-template <class Advance>
-void run_listed_steps(const AssembledScene& scene, const RunOptions& options, long first,
-                      State& state, ContactTrace& trace, RunSummary& summary, Advance&& advance) {
-  const SecondOrderSystem& system = scene.system;
+// A scene with a constraint list (of bodies, or a model's `system`): every contact's pressure and
+// velocity, the primary contact's also in the trace's main columns, and the largest penetration
+// of any constraint.
+template <class System, class Advance>
+void run_listed_steps(const AssembledScene& scene, const System& system,
+                      const RunOptions& options, long first, State& state, ContactTrace& trace,
+                      RunSummary& summary, Advance&& advance) {
   const auto m = static_cast<Eigen::Index>(scene.probes.size());
   const auto primary = static_cast<std::size_t>(scene.primary);
   run_steps(
@@ -171,6 +172,30 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
   }
 }
 
+// run_method for a model's sparse system.
+template <class Run>
+void run_sparse_method(const SparseSystem& system, const MethodParams& method, double dt,
+                       SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
+  if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
+    SparseCentralDifference& stepper = ws.sparse_central_difference;
+    if (stepper.initialize(system, cdm->velocity, dt, state)) {
+      stepper.step(system, state);  // the state at t_k
+      run([&](State& s) { stepper.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = "central difference: " + stepper.failure();
+    }
+  } else {
+    SparseImplicitIntegrator& stepper = ws.sparse_implicit;
+    if (stepper.initialize(system, implicit_coefficients(method), dt)) {
+      run([&](State& s) { stepper.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string(to_string(kind_of(method))) + ": " + stepper.failure();
+    }
+  }
+}
+
 }  // namespace
 
 RunSummary simulate(const RodScene& scene, const MethodParams& method, const RunOptions& options,
@@ -192,11 +217,13 @@ long free_flight_samples(double first_contact_time, double dt, long step_count, 
 bool prepare_run(const AssembledScene& scene, const RunOptions& options, ContactTrace& trace,
                  State& state, RunSummary& summary) {
   const SecondOrderSystem& system = scene.system;
-  const Eigen::Index n = system.size();
+  const SparseSystem* sparse = scene.sparse.get();
+  const Eigen::Index n = sparse ? sparse->size() : system.size();
   const double dt = scene.dt;
   const std::size_t contacts = scene.probes.size();
-  const bool listed = system.has_constraint_list();
-  const bool far_wall = system.has_far_contact();  // the rod's named far wall
+  const bool listed = sparse || system.has_constraint_list();
+  const std::vector<Constraint>& constraints = sparse ? sparse->constraints : system.constraints;
+  const bool far_wall = !sparse && system.has_far_contact();  // the rod's named far wall
 
   summary = RunSummary{};
   summary.planned_steps = scene.step_count;
@@ -221,14 +248,20 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
     return false;
   }
 
-  state.u.setZero(n);
+  if (scene.initial_displacement.size() == n) {
+    state.u = scene.initial_displacement;
+  } else {
+    state.u.setZero(n);
+  }
   state.v = scene.initial_velocity;
   state.lambda = 0.0;
   state.far_lambda = 0.0;
   state.multipliers.setZero(listed ? static_cast<Eigen::Index>(contacts) : 0);
   state.t = 0.0;
-  state.a = consistent_acceleration(system, state);  // zero without damping
-  summary.initial_energy = system.energy(state.u, state.v);
+  // Zero for a built-in scene without damping.
+  state.a = sparse ? consistent_acceleration(*sparse, state) : consistent_acceleration(system, state);
+  summary.initial_energy =
+      sparse ? sparse->energy(state.u, state.v) : system.energy(state.u, state.v);
   summary.final_energy = summary.initial_energy;
 
   // Rigid free flight of every body, filled in (free_flight_samples).
@@ -249,7 +282,7 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
       trace.contact_pressure[k][i] = 0.0;
       trace.contact_velocity[k][i] = scene.initial_velocity[scene.probes[k].velocity_dof];
       if (listed) {
-        const Constraint& c = system.constraints[k];
+        const Constraint& c = constraints[k];
         double g = -c.gap;
         if (c.plus >= 0) g += scene.initial_velocity[c.plus] * t;
         if (c.minus >= 0) g -= scene.initial_velocity[c.minus] * t;
@@ -284,10 +317,20 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   const long skipped = summary.skipped_steps;
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
 
+  if (scene.sparse) {  // a user's model with sparse matrices
+    const SparseSystem& sparse = *scene.sparse;
+    run_sparse_method(sparse, method, scene.dt, ws, state, summary, [&](const auto& advance) {
+      run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, advance);
+    });
+    summary.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return summary;
+  }
+
   // The step loop; the far wall's bookkeeping only when the system has the named one.
   run_method(system, method, scene.dt, ws, state, summary, [&](const auto& advance) {
     if (listed) {
-      run_listed_steps(scene, options, skipped, state, ws.trace, summary, advance);
+      run_listed_steps(scene, system, options, skipped, state, ws.trace, summary, advance);
     } else if (far_wall) {
       run_rod_steps<true>(system, primary.area, options, skipped, state, ws.trace, summary,
                           advance);

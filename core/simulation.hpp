@@ -14,10 +14,12 @@
 #include "core/central_difference.hpp"
 #include "core/implicit_integrator.hpp"
 #include "core/method.hpp"
+#include "core/model_reference.hpp"
 #include "core/rod_scene.hpp"
 #include "core/run_record.hpp"
 #include "core/scene_assembly.hpp"
 #include "core/scene_reference.hpp"
+#include "core/sparse_integrators.hpp"
 #include "core/state.hpp"
 
 namespace impactid {
@@ -49,12 +51,16 @@ struct RunOptions {
 struct SimulationWorkspace {
   ImplicitIntegrator implicit;
   CentralDifference central_difference;
+  SparseImplicitIntegrator sparse_implicit;      ///< for a model's sparse system
+  SparseCentralDifference sparse_central_difference;
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace (study/
   /// evaluation.cpp): a sweep over method parameters keeps one scene, whose reference is then
   /// computed once per thread.
   std::optional<SceneReference> reference;
+  /// The same for a user's model (study/evaluation.cpp).
+  std::optional<ModelReference> model_reference;
 };
 
 /// Runs scene and method (both must be valid: see validate()): simulate(assemble(scene), …), the

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/model_reference.hpp"
 #include "core/scene_assembly.hpp"
 
 namespace impactid {
@@ -31,6 +32,35 @@ Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
                                        out.contacts);
   out.reference_refinements = reference->refinements;
   out.reference_change = reference->change;
+  out.reference = reference->description();
+  return out;
+}
+
+// A user's model against its reference, which `reference` caches from run to run.
+Evaluation evaluate_model(const Simulation& sim, SimulationWorkspace& workspace) {
+  const ModelScene& scene = *sim.model;
+  Evaluation out;
+  out.summary = simulate(assemble(scene), sim.method, sim.run, workspace);
+  ReferenceOptions options = model_reference_defaults();
+  options.tolerance = sim.indicators.reference_tolerance;
+  std::optional<ModelReference>& reference = workspace.model_reference;
+  if (!reference || !(reference->scene == scene) || !(reference->options == options)) {
+    reference = model_reference(scene, options);
+  }
+  const int primary = primary_contact_index(scene);
+  out.contacts.resize(scene.model->contacts.size());
+  if (!reference->usable(primary) && out.summary.status == RunStatus::ok) {
+    out.summary.status = RunStatus::failed;
+    out.summary.message = "no reference for the model: " + reference->message;
+  }
+  std::vector<ContactSamples> samples = reference->contacts;
+  samples.resize(out.contacts.size());
+  out.indicators = evaluate_indicators(samples, primary, workspace.trace, out.summary,
+                                       sim.indicators, out.contacts);
+  out.reference_refinements = reference->refinements;
+  out.reference_change = reference->change;
+  out.reference_dt = reference->dt;
+  out.reference = reference->description();
   return out;
 }
 
@@ -75,6 +105,7 @@ void evaluate_bodies_batch(std::span<const Simulation> simulations,
 }  // namespace
 
 Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
+  if (sim.model) return evaluate_model(sim, workspace);
   if (sim.bodies) {
     const AssembledScene scene = assemble(*sim.bodies);
     const RunSummary summary = simulate(scene, sim.method, sim.run, workspace);
@@ -87,6 +118,7 @@ Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
 }
 
 bool batchable_together(const Simulation& first, const Simulation& next) {
+  if (first.model || next.model) return false;  // a model's points run one by one
   if (first.bodies || next.bodies) {
     if (!first.bodies || !next.bodies) return false;
     // The paper's form runs on the rod's named contact: the rod's kernel takes it.

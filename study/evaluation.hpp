@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/batched_chain.hpp"
@@ -23,9 +24,14 @@ struct Evaluation {
   std::vector<ContactIndicators> contacts;
   /// A scene of bodies: its reference (core/scene_reference.hpp), 0 for the exact solution or
   /// k for a converged one at h/2^k and Δt/2^k, and the relative change at its last halving (NaN
-  /// for the exact one). NaN for the rod.
+  /// for the exact one). A model (core/model_reference.hpp): −1 for a supplied history, k for a
+  /// converged solution at Δt/2^k. NaN for the rod.
   double reference_refinements = std::numeric_limits<double>::quiet_NaN();
   double reference_change = std::numeric_limits<double>::quiet_NaN();
+  /// A model: its reference's step (NaN for a supplied history or another scene), and the
+  /// reference described in words (empty for the rod).
+  double reference_dt = std::numeric_limits<double>::quiet_NaN();
+  std::string reference;
 };
 
 Evaluation evaluate(const Simulation& simulation, SimulationWorkspace& workspace);

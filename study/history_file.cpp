@@ -102,6 +102,39 @@ std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrac
   return columns;
 }
 
+// A user's model: the primary contact's samples under the rod's column names, then every
+// contact's, with the reference's samples as reference_pressure.<contact>, … (no exact solution:
+// a model's reference is supplied or converged, core/model_reference.hpp). Units are the model's.
+std::vector<Column> model_history_columns(const ModelScene& scene, const ContactTrace& trace,
+                                          const ModelReference& reference) {
+  const Model& model = *scene.model;
+  const auto n = static_cast<std::size_t>(trace.size());
+  const std::string units = model.units.empty() ? "model units" : model.units;
+  std::vector<Column> columns{
+      {"t", "s", "sample time t_i = i*dt", {}},
+      {"pressure", "", "primary contact's pressure lambda/area (" + units + ")", trace.pressure},
+      {"velocity", "", "primary contact's velocity DOF (" + units + ")", trace.velocity},
+      {"displacement", "", "primary contact's velocity DOF's displacement", trace.displacement},
+      {"energy", "", "kinetic + strain energy", trace.energy},
+  };
+  for (std::size_t i = 0; i < n; ++i) columns[0].values.push_back(static_cast<double>(i + 1) * scene.dt);
+  const std::string description = reference.description();
+  for (std::size_t k = 0; k < model.contacts.size(); ++k) {
+    const std::string& name = model.contacts[k].name;
+    columns.push_back({"pressure." + name, "", "pressure lambda/area at contact " + name,
+                       trace.contact_pressure[k]});
+    columns.push_back({"velocity." + name, "", "velocity of the velocity DOF of contact " + name,
+                       trace.contact_velocity[k]});
+    const bool has = k < reference.contacts.size() && !reference.contacts[k].pressure.empty();
+    const std::vector<double> none(n, std::numeric_limits<double>::quiet_NaN());
+    columns.push_back({"reference_pressure." + name, "", description,
+                       has ? reference.contacts[k].pressure : none});
+    columns.push_back({"reference_velocity." + name, "", description,
+                       has ? reference.contacts[k].velocity : none});
+  }
+  return columns;
+}
+
 void write_csv(const std::filesystem::path& path, const std::vector<Column>& columns) {
   std::filesystem::path temporary = path;
   temporary += ".tmp";
@@ -160,7 +193,7 @@ void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& co
 }  // namespace
 
 void write_history(const std::filesystem::path& path, const Simulation& simulation,
-                   const ContactTrace& trace) {
+                   const ContactTrace& trace, const ModelReference* model_reference) {
   const std::string ext = path.extension().string();
   if (ext != ".csv" && ext != ".h5" && ext != ".hdf5") {
     throw HistoryFileError(path.string() +
@@ -172,11 +205,19 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
     std::filesystem::create_directories(path.parent_path(), ec);
     if (ec) throw HistoryFileError(path.parent_path().string() + ": " + ec.message());
   }
-  const std::vector<Column> columns =
-      simulation.bodies
-          ? bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step,
-                                   {.tolerance = simulation.indicators.reference_tolerance})
-          : history_columns(simulation.scene, trace);
+  std::vector<Column> columns;
+  if (simulation.model) {
+    if (!model_reference) {
+      throw HistoryFileError(path.string() + ": a model's history needs its reference");
+    }
+    columns = model_history_columns(*simulation.model, trace, *model_reference);
+  } else if (simulation.bodies) {
+    columns =
+        bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step,
+                               {.tolerance = simulation.indicators.reference_tolerance});
+  } else {
+    columns = history_columns(simulation.scene, trace);
+  }
   if (ext == ".csv") {
     write_csv(path, columns);
   } else {

@@ -17,8 +17,9 @@ struct HistoryFileError : std::runtime_error {
 };
 
 /// Throws HistoryFileError (unknown extension, cannot write) naming the file. HDF5 files carry
-/// the method and every numeric parameter of the simulation as root attributes.
+/// the method and every numeric parameter of the simulation as root attributes. A user's model
+/// needs its reference (the one evaluate() used: SimulationWorkspace::model_reference).
 void write_history(const std::filesystem::path& path, const Simulation& simulation,
-                   const ContactTrace& trace);
+                   const ContactTrace& trace, const ModelReference* model_reference = nullptr);
 
 }  // namespace impactid

@@ -16,6 +16,7 @@
 #include "core/amplification.hpp"
 #include "study/indicator_table.hpp"
 #include "study/point_set.hpp"
+#include "study/model_file.hpp"
 #include "study/scene_file.hpp"
 #include "study/scene_path.hpp"
 #include "study/work_precision.hpp"
@@ -181,6 +182,7 @@ class PlanReader {
                                [this](const toml::node& at, const std::string& key,
                                       const std::string& what) { fail(at, key, what); });
     }
+    read_model(scene);
     toml::table parameters;  // the whole-scene keys; name and description are the file's
     for (const auto& [key, node] : scene) {
       if (!scene_node && (key == "name" || key == "description")) continue;
@@ -355,6 +357,7 @@ class PlanReader {
                                    [this](const toml::node& at, const std::string& key,
                                           const std::string& what) { fail(at, key, what); });
         }
+        read_model(scene);
         read_parameters(scene, ParameterGroup::scene, "scene");
       } else if (e.key == "method") {
         read_method(table(node, e.key, "must be a table ([method])"));
@@ -379,11 +382,33 @@ class PlanReader {
   }
 
   // [scene]: every scene parameter of the settings table, by its own name.
+  // A user's model ([scene] kind = "matrices"): its files are relative to the plan's folder.
+  void read_model(const toml::table& scene) {
+    if (const toml::node* kind = scene.get("kind")) {
+      if (!is_model_scene(scene)) {
+        fail(*kind, "scene.kind",
+             "is not a kind of scene: \"matrices\" (a user's model) is the one kind given by "
+             "name; the rod and scenes of bodies need no kind");
+      }
+      if (is_scene_of_bodies(scene)) {
+        fail(*kind, "scene.kind", "a model cannot have bodies or walls ([[scene.body]], [scene.wall])");
+      }
+      plan_->base.model = read_model_scene(
+          scene, "scene", std::filesystem::path(file_).parent_path(),
+          [this](const toml::node& at, const std::string& key, const std::string& what) {
+            fail(at, key, what);
+          });
+    }
+  }
+
   void read_parameters(const toml::table& section, ParameterGroup group, const char* name) {
     for (const Entry& e : in_file_order(section)) {
       const std::string key = name + "."s + e.key;
       if (group == ParameterGroup::scene && plan_->base.bodies && is_scene_of_bodies_key(e.key)) {
         continue;  // read by read_scene_of_bodies
+      }
+      if (group == ParameterGroup::scene && plan_->base.model && is_model_scene_key(e.key)) {
+        continue;  // read by read_model_scene
       }
       const ParameterInfo* info = find_parameter(e.key);
       if (!info || info->group != group) {

@@ -261,7 +261,8 @@ void write_point_histories(const PointSet& points, const std::filesystem::path& 
     simulation.run.record_history = true;
     evaluate(simulation, workspace);  // the rod's or a scene of bodies' run, as the sweep's
     write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation,
-                  workspace.trace);
+                  workspace.trace,
+                  simulation.model ? &*workspace.model_reference : nullptr);
   }
   std::fprintf(stderr, "impactid run: wrote the time histories of %ld points to %s/\n",
                points.size(), folder.string().c_str());

@@ -54,7 +54,7 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("nop_v").value(e.indicators.nop_v);
   json.key("p_max").value(e.indicators.p_max);
   json.key("p_max_ratio").value(e.indicators.p_max_ratio);
-  if (!sim.bodies) json.key("pressure_scale").value(d.pressure_scale);
+  if (!sim.bodies && !sim.model) json.key("pressure_scale").value(d.pressure_scale);
   json.key("contact_episodes").value(e.indicators.contact_episodes);
   json.key("energy_ratio").value(e.indicators.energy_ratio);
   if (sim.scene.far_gap) {
@@ -62,16 +62,24 @@ void write_json(const Simulation& sim, const Evaluation& e) {
     json.key("impacts").value(e.indicators.impacts);
     json.key("max_penetration").value(e.indicators.max_penetration);
   }
-  if (sim.bodies) {
+  if (sim.bodies || sim.model) {
     json.key("max_penetration").value(e.indicators.max_penetration);
-    const std::vector<SceneContact> contacts = scene_contacts(*sim.bodies);
-    json.key("primary_contact")
-        .value(contacts[static_cast<std::size_t>(derive(*sim.bodies).primary_contact)].name);
+    std::vector<std::string> contacts;
+    int primary = 0;
+    if (sim.bodies) {
+      for (const SceneContact& c : scene_contacts(*sim.bodies)) contacts.push_back(c.name);
+      primary = derive(*sim.bodies).primary_contact;
+    } else {
+      for (const ModelContact& c : sim.model->model->contacts) contacts.push_back(c.name);
+      primary = primary_contact_index(*sim.model);
+      json.key("reference").value(e.reference);
+    }
+    json.key("primary_contact").value(contacts[static_cast<std::size_t>(primary)]);
     json.key("contacts").begin_array();
     for (std::size_t k = 0; k < contacts.size(); ++k) {
       const ContactIndicators& c = e.contacts[k];
       json.begin_object();
-      json.key("name").value(contacts[k].name);
+      json.key("name").value(contacts[k]);
       json.key("eps_p").value(c.eps_p);
       json.key("eps_v").value(c.eps_v);
       json.key("nop_p").value(c.nop_p);
@@ -112,16 +120,16 @@ void write_bodies(const Scene& scene) {
       d.time_step, d.time_step / d.min_h_over_c, d.step_count, d.end_time, to_string(scene.mass));
 }
 
-// Every contact's indicators, the primary one marked.
-void write_contacts(const Scene& scene, const Evaluation& e) {
-  const std::vector<SceneContact> contacts = scene_contacts(scene);
-  const int primary = derive(scene).primary_contact;
+// Every contact's indicators, the primary one marked. A model's pressure is in its own units
+// and its scale is its reference's largest pressure (metrics/indicators.hpp).
+void write_contacts(const std::vector<std::string>& names, int primary, bool model,
+                    const Evaluation& e) {
   std::printf("contact       %-24s %10s %6s %10s %6s %11s %8s %8s\n", "", "eps_p", "NoP_p", "eps_v",
-              "NoP_v", "p_max[MPa]", "p/(rcV)", "episodes");
-  for (std::size_t k = 0; k < contacts.size(); ++k) {
+              "NoP_v", model ? "p_max" : "p_max[MPa]", model ? "p/p_ref" : "p/(rcV)", "episodes");
+  for (std::size_t k = 0; k < names.size(); ++k) {
     const ContactIndicators& c = e.contacts[k];
     std::printf("            %s %-24s %10.4g %6g %10.4g %6g %11.4g %8.4g %8g\n",
-                static_cast<int>(k) == primary ? "*" : " ", contacts[k].name.c_str(), c.eps_p,
+                static_cast<int>(k) == primary ? "*" : " ", names[k].c_str(), c.eps_p,
                 c.nop_p, c.eps_v, c.nop_v, c.p_max, c.p_max_ratio, c.contact_episodes);
   }
   std::printf("            (* the primary contact, whose indicators a sweep stores)\n");
@@ -142,7 +150,14 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     std::printf(", alpha_m = %.6g, alpha_f = %.6g", c.alpha_m, c.alpha_f);
   }
   std::printf("%s\n", *sep == ',' ? ")" : "");
-  if (sim.bodies) {
+  if (sim.model) {
+    const Model& model = *sim.model->model;
+    std::printf("scene       model of %ld DOFs (%s), %zu contact(s)%s%s\n",
+                static_cast<long>(model.size()), model.source.c_str(), model.contacts.size(),
+                model.units.empty() ? "" : "; units ", model.units.c_str());
+    std::printf("time        dt = %.6g, %ld steps to t_end = %.6g\n", sim.model->dt,
+                step_count(sim.model->t_end, sim.model->dt), sim.model->t_end);
+  } else if (sim.bodies) {
     write_bodies(*sim.bodies);
   } else {
     std::printf(
@@ -163,8 +178,20 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
     return;
   }
+  if (sim.model) {
+    std::vector<std::string> names;
+    for (const ModelContact& c : sim.model->model->contacts) names.push_back(c.name);
+    write_contacts(names, primary_contact_index(*sim.model), true, e);
+    std::printf("reference   %s\n", e.reference.c_str());
+    std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g\n",
+                e.indicators.energy_ratio, e.indicators.max_penetration);
+    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    return;
+  }
   if (sim.bodies) {
-    write_contacts(*sim.bodies, e);
+    std::vector<std::string> names;
+    for (const SceneContact& c : scene_contacts(*sim.bodies)) names.push_back(c.name);
+    write_contacts(names, derive(*sim.bodies).primary_contact, false, e);
     if (e.reference_refinements == 0) {
       std::printf("reference   the exact solution of the chain\n");
     } else {
@@ -241,7 +268,8 @@ std::function<int()> add_simulate_command(CLI::App& app) {
     }
     if (!options->history.empty()) {
       try {
-        write_history(options->history, *sim, workspace.trace);
+        write_history(options->history, *sim, workspace.trace,
+                      workspace.model_reference ? &*workspace.model_reference : nullptr);
       } catch (const std::exception& error) {
         std::cerr << "impactid simulate: " << error.what() << '\n';
         return kExitFailure;

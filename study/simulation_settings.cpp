@@ -6,6 +6,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/model_reference.hpp"
 #include "study/scene_path.hpp"
 
 namespace impactid {
@@ -155,8 +156,10 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   else if (name == "gamma") s.method.gamma = v;
   else if (name == "rho_inf") s.method.rho_inf = v;
   else if (name == "peak_prominence") s.indicators.peak_prominence = v;
-  else if (name == "reference_tolerance")
+  else if (name == "reference_tolerance") {
     s.indicators.reference_tolerance = v;
+    s.reference_tolerance_given = true;
+  }
   else if (name == "energy_growth_limit") s.run.energy_growth_limit = v;
   return std::nullopt;
 }
@@ -174,6 +177,12 @@ const ParameterInfo* find_parameter(std::string_view name) {
 
 std::optional<ParameterError> assign(SimulationSettings& settings, std::string_view name,
                                      const ParameterValue& value) {
+  if (settings.model && name == "primary_contact") {
+    const auto* text = std::get_if<std::string>(&value);
+    if (!text) return ParameterError{"primary_contact", choice_text(value), "must be a string"};
+    settings.model->primary_contact = *text;
+    return std::nullopt;
+  }
   if (is_scene_path(name)) {
     if (!settings.bodies) {
       return ParameterError{std::string(name), choice_text(value),
@@ -241,7 +250,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     }
   }
 
-  Simulation out{s.scene, std::nullopt, default_params(m.kind), s.indicators, s.run};
+  Simulation out{s.scene, std::nullopt, std::nullopt, default_params(m.kind), s.indicators, s.run};
   switch (m.kind) {
     case MethodKind::central_difference:
       out.method = CentralDifferenceParams{m.cdm_velocity.value_or(CdmVelocity::central)};
@@ -279,7 +288,32 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
       break;
     }
   }
-  if (s.bodies) {
+  if (s.model) {
+    if (!s.rod_keys.empty()) {
+      return ParameterError{s.rod_keys.front().first, format_value(s.rod_keys.front().second),
+                            "is a key of the one-body rod: a model (kind = \"matrices\") has its "
+                            "matrices, initial state and contacts instead"};
+    }
+    if (s.courant_given) {
+      return ParameterError{"courant", format_value(s.scene.courant),
+                            "does not apply to a model (kind = \"matrices\"): give dt"};
+    }
+    ModelScene scene = *s.model;
+    if (!s.scene.dt) return ParameterError{"dt", "(missing)", "a model needs its time step dt"};
+    if (!s.scene.t_end) {
+      return ParameterError{"t_end", "(missing)", "a model needs its end time t_end"};
+    }
+    scene.dt = *s.scene.dt;
+    scene.t_end = *s.scene.t_end;
+    scene.rayleigh_mass = s.scene.rayleigh_mass;
+    scene.rayleigh_stiffness = s.scene.rayleigh_stiffness;
+    if (auto e = validate(scene)) return *e;
+    out.model = std::move(scene);
+    // A model's converged reference has its own default tolerance (core/model_reference.hpp).
+    if (!s.reference_tolerance_given) {
+      out.indicators.reference_tolerance = model_reference_defaults().tolerance;
+    }
+  } else if (s.bodies) {
     if (!s.rod_keys.empty()) {
       return ParameterError{s.rod_keys.front().first, format_value(s.rod_keys.front().second),
                             "is a key of the one-body rod: a scene of bodies gives it on a body "
@@ -316,6 +350,15 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
 }
 
 std::optional<double> numeric_value(const Simulation& sim, std::string_view name) {
+  if (sim.model) {
+    if (name == "dt") return sim.model->dt;
+    if (name == "t_end") return sim.model->t_end;
+    if (name == "rayleigh_mass") return sim.model->rayleigh_mass;
+    if (name == "rayleigh_stiffness") return sim.model->rayleigh_stiffness;
+    if (name == "reference_tolerance") return sim.indicators.reference_tolerance;
+    const ParameterInfo* info = find_parameter(name);
+    if (info && info->group == ParameterGroup::scene) return std::nullopt;  // the rod's keys
+  }
   if (sim.bodies) {
     const SceneDerived d = derive(*sim.bodies);
     if (is_scene_path(name)) return scene_path_value(*sim.bodies, name);

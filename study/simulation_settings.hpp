@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/method.hpp"
+#include "core/model_scene.hpp"
 #include "core/parameter_error.hpp"
 #include "core/rod_scene.hpp"
 #include "core/scene.hpp"
@@ -42,6 +43,11 @@ struct SimulationSettings {
   /// One-body keys given (by assign()) with their values, to refuse them beside a scene of
   /// bodies.
   std::vector<std::pair<std::string, double>> rod_keys;
+  /// A user's model ([scene] kind = "matrices", study/model_file.hpp). When set it is the scene:
+  /// dt, t_end and the Rayleigh factors of `scene` apply to it; the rod's other keys may not be
+  /// given.
+  std::optional<ModelScene> model;
+  bool reference_tolerance_given = false;
   MethodSettings method;
   IndicatorOptions indicators;
   RunOptions run;
@@ -53,6 +59,8 @@ struct Simulation {
   /// A scene of bodies, complete (its mass, step and end time set) and valid; when set, it is
   /// the scene that runs and `scene` is unused.
   std::optional<Scene> bodies;
+  /// A user's model, complete and valid; when set, it is the scene that runs.
+  std::optional<ModelScene> model;
   MethodParams method;
   IndicatorOptions indicators;
   RunOptions run;

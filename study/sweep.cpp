@@ -36,6 +36,19 @@ bool contact_indicator(const std::string& name) {
   return contact_indicator(name, ContactIndicators{}).has_value();
 }
 
+// The names of a scene's contacts: a scene of bodies' or a model's; none for the rod (whose
+// indicators are its one contact's). S is SimulationSettings or Simulation.
+template <class S>
+std::vector<std::string> contact_names(const S& s) {
+  std::vector<std::string> names;
+  if (s.bodies) {
+    for (const SceneContact& c : scene_contacts(*s.bodies)) names.push_back(c.name);
+  } else if (s.model) {
+    for (const ModelContact& c : s.model->model->contacts) names.push_back(c.name);
+  }
+  return names;
+}
+
 bool is_dimension(const PointSet& points, const std::string& name) {
   const auto& dims = points.dimension_names();
   return std::find(dims.begin(), dims.end(), name) != dims.end();
@@ -101,16 +114,37 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
                             "last halving of the mesh and the step; NaN for the exact solution",
                             std::vector<double>(size, kNaN)});
   }
+  // A user's model records its reference the same way (−1: the supplied history), with the
+  // reference's step; the model's units and files are attributes.
+  if (plan.base.model) {
+    r.indicators.push_back(
+        {"reference_refinements", "1", "reference_refinements",
+         "-1: the reference history supplied with the model; k >= 1: a converged numerical "
+         "solution at dt/2^k (core/model_reference.hpp)",
+         std::vector<double>(size, kNaN)});
+    r.indicators.push_back({"reference_change", "1", "reference_change",
+                            "relative change of the converged reference's primary contact at its "
+                            "last halving of the step; NaN for a supplied history",
+                            std::vector<double>(size, kNaN)});
+    r.indicators.push_back({"reference_dt", "s", "reference_dt",
+                            "time step of the converged reference; NaN for a supplied history",
+                            std::vector<double>(size, kNaN)});
+    const Model& model = *plan.base.model->model;
+    r.text_attributes.emplace_back("model_units", model.units);
+    r.text_attributes.emplace_back("model_files", model.source);
+    r.numeric_attributes.emplace_back("model_dofs", static_cast<double>(model.size()));
+  }
   // A scene of several contacts: each contact's indicators beside the primary's, as
   // "<indicator>.<contact>" (the contacts are the same at every point: axes change numbers only).
-  if (plan.base.bodies && scene_contacts(*plan.base.bodies).size() > 1) {
-    for (const SceneContact& contact : scene_contacts(*plan.base.bodies)) {
+  const std::vector<std::string> contacts = contact_names(plan.base);
+  if (contacts.size() > 1) {
+    for (const std::string& contact : contacts) {
       for (const std::string& name : plan.output.indicators) {
         const IndicatorInfo* info = find_indicator(name);
         if (!contact_indicator(name)) continue;
         r.indicators.push_back(
-            {name + "." + contact.name, info->units, name + " at contact " + contact.name,
-             std::string(info->definition) + " (at contact " + contact.name + ")",
+            {name + "." + contact, info->units, name + " at contact " + contact,
+             std::string(info->definition) + " (at contact " + contact + ")",
              std::vector<double>(size, kNaN)});
       }
     }
@@ -132,8 +166,7 @@ void store_point(StudyResults& results, const PointSet& points, long index,
       column.values[i] = numeric_value(simulation, column.name).value_or(kNaN);
     }
   }
-  const std::vector<SceneContact> contacts =
-      simulation.bodies ? scene_contacts(*simulation.bodies) : std::vector<SceneContact>{};
+  const std::vector<std::string> contacts = contact_names(simulation);
   for (ResultColumn& column : results.indicators) {
     if (const IndicatorInfo* info = find_indicator(column.name)) {
       column.values[i] = info->value(evaluation);
@@ -147,11 +180,15 @@ void store_point(StudyResults& results, const PointSet& points, long index,
       column.values[i] = evaluation.reference_change;
       continue;
     }
+    if (column.name == "reference_dt") {
+      column.values[i] = evaluation.reference_dt;
+      continue;
+    }
     // "<indicator>.<contact>" of a scene of bodies (empty_results).
     const std::size_t dot = column.name.find('.');
     const std::string contact = column.name.substr(dot + 1);
     for (std::size_t k = 0; k < contacts.size(); ++k) {
-      if (contacts[k].name == contact && k < evaluation.contacts.size()) {
+      if (contacts[k] == contact && k < evaluation.contacts.size()) {
         column.values[i] = *contact_indicator(column.name.substr(0, dot), evaluation.contacts[k]);
       }
     }

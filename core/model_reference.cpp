@@ -1,0 +1,139 @@
+#include "core/model_reference.hpp"
+
+#include <cmath>
+
+#include "core/simulation.hpp"
+
+namespace impactid {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The history's values at t_i = i·Δt, i = 1..N: its own where a time matches to 1e-9·Δt, linear
+// between two samples otherwise; NaN outside the history (reported by the caller).
+std::vector<double> resample(const std::vector<double>& t, const std::vector<double>& x, double dt,
+                             long n) {
+  std::vector<double> out(static_cast<std::size_t>(n), kNaN);
+  std::size_t j = 0;
+  for (long i = 1; i <= n; ++i) {
+    const double ti = static_cast<double>(i) * dt;
+    while (j + 1 < t.size() && t[j + 1] <= ti + 1e-9 * dt) ++j;
+    if (std::abs(t[j] - ti) <= 1e-9 * dt) {
+      out[static_cast<std::size_t>(i - 1)] = x[j];
+    } else if (t[j] < ti && j + 1 < t.size()) {
+      const double w = (ti - t[j]) / (t[j + 1] - t[j]);
+      out[static_cast<std::size_t>(i - 1)] = x[j] + w * (x[j + 1] - x[j]);
+    }
+  }
+  return out;
+}
+
+// The samples of `scene` run by the reference method at Δt/2^k, at the run's samples t_i.
+bool refined_samples(const AssembledScene& scene, int k, const ReferenceOptions& options,
+                     std::vector<ContactSamples>& out, std::string& message) {
+  const long factor = 1L << k;
+  AssembledScene refined = scene;
+  refined.dt = scene.dt / static_cast<double>(factor);
+  refined.step_count = scene.step_count * factor;
+  SimulationWorkspace ws;
+  const RunSummary summary = simulate(refined, options.method, RunOptions{}, ws);
+  if (summary.status != RunStatus::ok) {
+    message = "the reference run at dt/" + std::to_string(factor) + " is " +
+              to_string(summary.status) + ": " + summary.message;
+    return false;
+  }
+  out.assign(ws.trace.contact_pressure.size(), {});
+  for (std::size_t c = 0; c < out.size(); ++c) {
+    for (long i = 1; i <= scene.step_count; ++i) {
+      const auto j = static_cast<std::size_t>(i * factor - 1);
+      out[c].pressure.push_back(ws.trace.contact_pressure[c][j]);
+      out[c].velocity.push_back(ws.trace.contact_velocity[c][j]);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool ModelReference::usable(int primary) const {
+  const auto k = static_cast<std::size_t>(primary);
+  return k < contacts.size() && !contacts[k].pressure.empty() && !contacts[k].velocity.empty();
+}
+
+std::string ModelReference::description() const {
+  if (refinements < 0) {
+    return "supplied: " + scene.model->reference->source + (message.empty() ? "" : "; " + message);
+  }
+  return std::string(converged ? "converged" : "not converged") + ": " +
+         to_string(kind_of(options.method)) + " at dt/" + std::to_string(1L << refinements) +
+         " = " + format_value(dt) + ", relative change " + format_value(change) +
+         " at the last halving (tolerance " + format_value(options.tolerance) + ")" +
+         (message.empty() ? "" : "; " + message);
+}
+
+ReferenceOptions model_reference_defaults() {
+  return {.method = HhtParams{.alpha = -0.3}, .tolerance = 1e-3, .max_refinements = 10};
+}
+
+ModelReference model_reference(const ModelScene& scene, const ReferenceOptions& options) {
+  ModelReference r;
+  r.scene = scene;
+  r.options = options;
+  const AssembledScene assembled = assemble(scene);
+  const Model& model = *scene.model;
+  const int primary = primary_contact_index(scene);
+  if (model.reference) {
+    const ReferenceHistory& h = *model.reference;
+    r.dt = kNaN;
+    r.contacts.resize(model.contacts.size());
+    const double last = static_cast<double>(assembled.step_count) * assembled.dt;
+    if (h.t.front() > assembled.dt * (1.0 + 1e-9) || h.t.back() < last * (1.0 - 1e-12)) {
+      r.converged = false;
+      r.message = "the history covers t = " + format_value(h.t.front()) + " to " +
+                  format_value(h.t.back()) + ", the run's samples " + format_value(assembled.dt) +
+                  " to " + format_value(last);
+      r.contacts.clear();
+      return r;
+    }
+    for (std::size_t k = 0; k < model.contacts.size(); ++k) {
+      if (h.contacts[k].pressure.empty() || h.contacts[k].velocity.empty()) continue;
+      r.contacts[k].pressure = resample(h.t, h.contacts[k].pressure, assembled.dt,
+                                        assembled.step_count);
+      r.contacts[k].velocity = resample(h.t, h.contacts[k].velocity, assembled.dt,
+                                        assembled.step_count);
+    }
+    if (!r.usable(primary)) {
+      r.converged = false;
+      r.message = "the history has no pressure and velocity of the primary contact " +
+                  model.contacts[static_cast<std::size_t>(primary)].name;
+    }
+    return r;
+  }
+  const auto p = static_cast<std::size_t>(primary);
+  std::vector<ContactSamples> previous;
+  r.refinements = 1;
+  r.dt = assembled.dt / 2.0;
+  r.converged = false;
+  if (!refined_samples(assembled, 1, options, previous, r.message)) return r;
+  r.contacts = previous;
+  for (int k = 2; k <= options.max_refinements; ++k) {
+    std::vector<ContactSamples> next;
+    if (!refined_samples(assembled, k, options, next, r.message)) return r;
+    r.change = std::max(relative_change(next[p].pressure, previous[p].pressure),
+                        relative_change(next[p].velocity, previous[p].velocity));
+    r.contacts = next;
+    r.refinements = k;
+    r.dt = assembled.dt / static_cast<double>(1L << k);
+    if (r.change < options.tolerance) {
+      r.converged = true;
+      return r;
+    }
+    previous = std::move(next);
+  }
+  r.message = "the tolerance was not reached in " + std::to_string(options.max_refinements) +
+              " halvings of the step";
+  return r;
+}
+
+}  // namespace impactid

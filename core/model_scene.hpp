@@ -1,0 +1,92 @@
+// A user's own model as a scene (issue 20): the semi-discrete equations of a finite element model
+// made elsewhere (M, K and optionally C, as Matrix Market files: study/model_file.hpp reads them),
+// its initial state, and its unilateral contacts, each on one DOF (a rigid wall) or between two
+// (node to node):
+//   wall, side "upper":  u[dof] <= gap           force −λ on dof
+//   wall, side "lower":  u[dof] >= −gap          force +λ on dof
+//   pair [i, j]:         u[i] − u[j] <= gap      force −λ on i, +λ on j
+// with λ >= 0 the contact force in the model's units; a contact's pressure is λ/area and its
+// velocity that of its velocity DOF. DOFs count from 0 (a Matrix Market file's row minus one).
+// Units are the user's: they are text for the reports.
+//
+// The run (core/simulation.hpp) sees the model as an AssembledScene like every other scene:
+// - when M, C and K are all tridiagonal (a 1D chain, the paper's rod exported by `impactid
+//   export-model`) as a SecondOrderSystem, on the integrators and kernels of the built-in scenes;
+//   with a single upper wall, through the named contact of the paper's scene, so that the exported
+//   rod runs the built-in rod's operations, bit for bit;
+// - otherwise as a SparseSystem (core/sparse_system.hpp), on the sparse integrators.
+// Before the first contact a model flies rigidly when nothing deforms or damps it: u(0) = 0 and
+// K·v0 = C·v0 = 0 exactly (a uniform velocity of a free body). Its free flight is then filled in
+// up to the earliest time a gap closes, as for the built-in scenes.
+//
+// Thread safety: values; the model is shared read-only between copies of a scene.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/parameter_error.hpp"
+#include "core/scene_assembly.hpp"
+#include "core/scene_reference.hpp"
+#include "core/sparse_system.hpp"
+
+namespace impactid {
+
+struct ModelContact {
+  std::string name;
+  Eigen::Index plus = -1;   ///< u[plus] − u[minus] <= gap; −1: the term is absent
+  Eigen::Index minus = -1;
+  double gap = 0.0;         ///< >= 0, in the model's length unit
+  double area = 1.0;        ///< pressure = λ/area; > 0 (1: the pressure is the force)
+  Eigen::Index velocity_dof = 0;  ///< the DOF whose velocity the contact reports
+
+  bool operator==(const ModelContact&) const = default;
+};
+
+/// A history the user supplies to measure runs against: samples at times t of some contacts.
+struct ReferenceHistory {
+  std::string source;                    ///< the file, for reports
+  std::vector<double> t;                 ///< increasing
+  std::vector<ContactSamples> contacts;  ///< Model::contacts order; empty vectors: not given
+};
+
+/// A loaded model: what the files said, checked (study/model_file.hpp).
+struct Model {
+  SparseMatrix mass, stiffness, damping;  ///< damping 0×0 when absent
+  Eigen::VectorXd initial_displacement;   ///< size n (zero when not given)
+  Eigen::VectorXd initial_velocity;       ///< size n
+  std::vector<ModelContact> contacts;     ///< at least one
+  std::string units;                      ///< as the scene states them, for reports
+  std::string source;                     ///< the files it was read from, for reports
+  std::optional<ReferenceHistory> reference;  ///< a supplied reference, if any
+
+  Eigen::Index size() const { return mass.rows(); }
+};
+
+struct ModelScene {
+  std::shared_ptr<const Model> model;
+  double dt = 0.0;     ///< > 0, in the model's time unit
+  double t_end = 0.0;  ///< > dt
+  /// Rayleigh damping added to the model's C: a0·M + a1·K (>= 0 each).
+  double rayleigh_mass = 0.0;
+  double rayleigh_stiffness = 0.0;
+  /// The contact whose indicators a sweep stores; default the first listed.
+  std::optional<std::string> primary_contact;
+
+  /// The same model object and the same parameters.
+  bool operator==(const ModelScene& other) const;
+};
+
+/// First invalid field (dt, t_end, rayleigh_*, primary_contact), or nothing.
+std::optional<ParameterError> validate(const ModelScene& scene);
+
+/// Index of the primary contact in model->contacts; the scene must be valid.
+int primary_contact_index(const ModelScene& scene);
+
+/// The scene must be valid.
+AssembledScene assemble(const ModelScene& scene);
+
+}  // namespace impactid

@@ -1,0 +1,239 @@
+#include "core/sparse_integrators.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "core/constraint_set.hpp"
+#include "core/contact_lcp.hpp"
+
+namespace impactid {
+
+namespace {
+
+// v[plus_k] += s·f_k, v[minus_k] −= s·f_k: s·Gᵀ·f added to v.
+void add_constraint_forces(const std::vector<Constraint>& constraints, const Eigen::VectorXd& f,
+                           double s, Eigen::VectorXd& v) {
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const double force = s * f[static_cast<Eigen::Index>(k)];
+    if (force == 0.0) continue;
+    if (constraints[k].plus >= 0) v[constraints[k].plus] += force;
+    if (constraints[k].minus >= 0) v[constraints[k].minus] -= force;
+  }
+}
+
+// G·x for constraint k (no gap).
+double constraint_row(const Constraint& c, const Eigen::VectorXd& x) {
+  double g = 0.0;
+  if (c.plus >= 0) g += x[c.plus];
+  if (c.minus >= 0) g -= x[c.minus];
+  return g;
+}
+
+// scale·G·A⁻¹·Gᵀ, one solve per constraint; exactly symmetric. Allocates: set-up only.
+Eigen::MatrixXd delassus_matrix(const std::vector<Constraint>& constraints,
+                                const SparseFactorization& a, double scale) {
+  const auto m = static_cast<Eigen::Index>(constraints.size());
+  Eigen::MatrixXd d(m, m);
+  Eigen::VectorXd column(a.size()), unit(m);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    unit.setZero();
+    unit[k] = 1.0;
+    column.setZero();
+    add_constraint_forces(constraints, unit, 1.0, column);
+    a.solve_in_place(column);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      d(j, k) = scale * constraint_row(constraints[static_cast<std::size_t>(j)], column);
+    }
+  }
+  return (0.5 * (d + d.transpose())).eval();
+}
+
+// The failure of a factorisation, naming the pivot's DOF (0-based, as the scene files count).
+std::string pivot_failure(const char* what, const SparseFactorization& f) {
+  return std::string(what) + " is not positive definite: pivot " + format_value(f.failed_pivot()) +
+         " at DOF " + std::to_string(f.failed_dof());
+}
+
+// The contact forces of a step from the free prediction `free` (u at t + Δt without new forces,
+// read through `position`): violations, the complementarity problem, and the correction
+// scale·A⁻¹·Gᵀ·μ subtracted from `x` by one solve. Returns whether a force acts.
+template <class Position>
+bool contact_forces(const std::vector<Constraint>& constraints, const Eigen::MatrixXd& delassus,
+                    const SparseFactorization& a, Position&& position, Eigen::VectorXd& violation,
+                    Eigen::VectorXd& forces, ContactLcpWorkspace& lcp, Eigen::VectorXd& correction,
+                    Eigen::VectorXd& x) {
+  const auto m = static_cast<int>(constraints.size());
+  if (m == 0) return false;
+  for (int j = 0; j < m; ++j) {
+    const Constraint& c = constraints[static_cast<std::size_t>(j)];
+    double g = -c.gap;
+    if (c.plus >= 0) g += position(c.plus);
+    if (c.minus >= 0) g -= position(c.minus);
+    violation[j] = g;
+  }
+  solve_contact_lcp(delassus.data(), violation.data(), m, forces.data(), lcp);
+  bool active = false;
+  for (int j = 0; j < m; ++j) active = active || forces[j] > 0.0;
+  if (!active) return false;
+  correction.setZero();
+  add_constraint_forces(constraints, forces, 1.0, correction);
+  a.solve_in_place(correction);
+  x -= correction;
+  return true;
+}
+
+}  // namespace
+
+bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
+                                          const ImplicitCoefficients& coefficients, double dt) {
+  c_ = coefficients;
+  dt_ = dt;
+  failure_.clear();
+  const double k_weight = (1.0 - c_.alpha_f) * c_.b1 * dt * dt;
+  const double c_weight = (1.0 - c_.alpha_f) * c_.g1 * dt;
+  SparseMatrix effective = (1.0 - c_.alpha_m) * system.mass + k_weight * system.stiffness;
+  if (system.has_damping()) effective += c_weight * system.damping;
+  if (!factorization_.factor(effective)) {
+    failure_ = pivot_failure("the effective matrix", factorization_);
+    return false;
+  }
+  const Eigen::Index n = system.size();
+  for (Eigen::VectorXd* v : {&u_predicted_, &v_predicted_, &u_alpha_, &v_alpha_, &rhs_,
+                             &correction_}) {
+    v->resize(n);
+  }
+  delassus_ = delassus_matrix(system.constraints, factorization_, c_.b1 * dt * dt);
+  const auto m = static_cast<int>(system.constraints.size());
+  violation_.resize(m);
+  forces_.setZero(m);
+  lcp_.resize(m);
+  return true;
+}
+
+bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
+  const Eigen::Index n = system.size();
+  const double dt = dt_, dt2 = dt * dt;
+  const double af = c_.alpha_f;
+  // The predictors and α-weighted arguments of the tridiagonal integrator, by the same formulas.
+  const double dt2_b0 = dt2 * c_.b0, dt_g0 = dt * c_.g0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double du = std::fma(dt, s.v[i], dt2_b0 * s.a[i]);
+    u_predicted_[i] = s.u[i] + du;
+    v_predicted_[i] = std::fma(dt_g0, s.a[i], s.v[i]);
+    u_alpha_[i] = std::fma(-af, du, u_predicted_[i]);
+    v_alpha_[i] = std::fma(-af, dt_g0 * s.a[i], v_predicted_[i]);
+  }
+  multiply(system.stiffness, u_alpha_, rhs_);
+  rhs_ = -rhs_;
+  if (system.has_damping()) multiply_add(system.damping, -1.0, v_alpha_, rhs_);
+  if (c_.alpha_m != 0.0) multiply_add(system.mass, -c_.alpha_m, s.a, rhs_);
+  if (s.multipliers.size() > 0) {
+    add_constraint_forces(system.constraints, s.multipliers, -(1.0 - c_.contact_weight), rhs_);
+  }
+  factorization_.solve_in_place(rhs_);
+
+  const double k = c_.b1 * dt2;
+  const bool active = contact_forces(
+      system.constraints, delassus_, factorization_,
+      [&](Eigen::Index i) { return std::fma(k, rhs_[i], u_predicted_[i]); }, violation_, forces_,
+      lcp_, correction_, rhs_);
+  const double g1_dt = c_.g1 * dt;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    s.a[i] = rhs_[i];
+    s.u[i] = std::fma(k, rhs_[i], u_predicted_[i]);
+    s.v[i] = std::fma(g1_dt, rhs_[i], v_predicted_[i]);
+  }
+  for (Eigen::Index j = 0; j < forces_.size(); ++j) {
+    s.multipliers[j] = active ? forces_[j] / c_.contact_weight : 0.0;
+  }
+  if (active) snap_walls(system.constraints, forces_, s.u);
+  s.t += dt;
+  return active;
+}
+
+bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity velocity,
+                                         double dt, const State& initial) {
+  velocity_ = velocity;
+  dt_ = dt;
+  t_ = initial.t;
+  failure_.clear();
+  if (!is_diagonal(system.mass)) {
+    failure_ =
+        "central difference needs a diagonal (lumped) mass matrix; this model's M has entries off "
+        "the diagonal: lump it (row sums) or choose an implicit method";
+    return false;
+  }
+  const bool damped = velocity == CdmVelocity::central && system.has_damping();
+  SparseMatrix lhs = (1.0 / (dt * dt)) * system.mass;
+  if (damped) lhs += (0.5 / dt) * system.damping;
+  if (!factorization_.factor(lhs)) {
+    failure_ = pivot_failure("the left-hand matrix M/dt^2 + C/(2 dt)", factorization_);
+    return false;
+  }
+  const Eigen::Index n = system.size();
+  u_ = initial.u;
+  u_previous_ = initial.u - dt * initial.v + (0.5 * dt * dt) * initial.a;
+  u_next_.resize(n);
+  scratch_.resize(n);
+  correction_.resize(n);
+  delassus_ = delassus_matrix(system.constraints, factorization_, 1.0);
+  const auto m = static_cast<int>(system.constraints.size());
+  violation_.resize(m);
+  forces_.setZero(m);
+  lcp_.resize(m);
+  return true;
+}
+
+bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
+  const Eigen::Index n = system.size();
+  const double dt = dt_, inv_dt2 = 1.0 / (dt * dt);
+  for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (2.0 * u_[i] - u_previous_[i]) * inv_dt2;
+  multiply(system.mass, scratch_, u_next_);
+  multiply_add(system.stiffness, -1.0, u_, u_next_);
+  if (system.has_damping()) {
+    if (velocity_ == CdmVelocity::central) {
+      multiply_add(system.damping, 0.5 / dt, u_previous_, u_next_);
+    } else {
+      for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (u_[i] - u_previous_[i]) / dt;
+      multiply_add(system.damping, -1.0, scratch_, u_next_);
+    }
+  }
+  factorization_.solve_in_place(u_next_);
+  const bool active = contact_forces(
+      system.constraints, delassus_, factorization_, [&](Eigen::Index i) { return u_next_[i]; },
+      violation_, forces_, lcp_, correction_, u_next_);
+  if (active) snap_walls(system.constraints, forces_, u_next_);
+
+  at_t.u = u_;
+  if (velocity_ == CdmVelocity::central) {
+    at_t.v = (u_next_ - u_previous_) / (2.0 * dt);
+  } else {
+    at_t.v = (u_ - u_previous_) / dt;
+  }
+  at_t.a = (u_next_ - 2.0 * u_ + u_previous_) * inv_dt2;
+  for (Eigen::Index j = 0; j < forces_.size(); ++j) at_t.multipliers[j] = active ? forces_[j] : 0.0;
+  at_t.lambda = 0.0;
+  at_t.t = t_;
+  u_previous_.swap(u_);
+  u_.swap(u_next_);
+  t_ += dt;
+  return active;
+}
+
+Eigen::VectorXd consistent_acceleration(const SparseSystem& system, const State& state) {
+  const Eigen::Index n = system.size();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  multiply_add(system.stiffness, -1.0, state.u, rhs);
+  if (system.has_damping()) multiply_add(system.damping, -1.0, state.v, rhs);
+  if (state.multipliers.size() > 0) {
+    add_constraint_forces(system.constraints, state.multipliers, -1.0, rhs);
+  }
+  SparseFactorization mass;
+  if (!mass.factor(system.mass)) {
+    return Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+  }
+  mass.solve_in_place(rhs);
+  return rhs;
+}
+
+}  // namespace impactid
