@@ -20,8 +20,8 @@ struct LcpStorage {
 
 // Solves D_SS·x = p_S by Cholesky (D_SS is positive definite) for the indices of `active`
 // (count of them), writing x into mu at those indices. Returns false on a non-positive pivot.
-bool solve_active(const double* d, const double* p, int m, const int* active, int count,
-                  double* mu, const LcpStorage& s) {
+bool solve_active(const double* d, const double* p, int m, const int* active, int count, double* mu,
+                  const LcpStorage& s) {
   if (count == 1) {  // one active constraint: p/d, as the single-wall solvers compute it
     const int k = active[0];
     if (!(d[k + m * k] > 0.0)) return false;
@@ -112,8 +112,7 @@ void ContactLcpWorkspace::resize(int m) {
   capacity = m;
 }
 
-int solve_contact_lcp(const double* d, const double* p, int m, double* mu,
-                      ContactLcpWorkspace& w) {
+int solve_contact_lcp(const double* d, const double* p, int m, double* mu, ContactLcpWorkspace& w) {
   assert(m <= w.capacity);
   const int cap = 64 * m + 1024;
   return solve(d, p, m, mu, {w.factor.data(), m, w.rhs.data(), w.active.data(), w.in.data()}, cap);

@@ -37,7 +37,8 @@ inline constexpr int kMaxConstraints = 32;
 inline constexpr double kContactLcpTolerance = 1e-12;
 
 /// Column-major m×m Delassus matrix and m violations; writes m forces >= 0 to mu. Returns the
-/// number of active-set flips it took (0: the penetrating set was the answer). m <= kMaxConstraints.
+/// number of active-set flips it took (0: the penetrating set was the answer). m <=
+/// kMaxConstraints.
 int solve_contact_lcp(const double* delassus, const double* violation, int m, double* mu);
 
 /// Storage for problems of any size, allocated by resize() (set-up), reused by every solve.

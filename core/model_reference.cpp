@@ -98,10 +98,10 @@ ModelReference model_reference(const ModelScene& scene, const ReferenceOptions& 
     }
     for (std::size_t k = 0; k < model.contacts.size(); ++k) {
       if (h.contacts[k].pressure.empty() || h.contacts[k].velocity.empty()) continue;
-      r.contacts[k].pressure = resample(h.t, h.contacts[k].pressure, assembled.dt,
-                                        assembled.step_count);
-      r.contacts[k].velocity = resample(h.t, h.contacts[k].velocity, assembled.dt,
-                                        assembled.step_count);
+      r.contacts[k].pressure =
+          resample(h.t, h.contacts[k].pressure, assembled.dt, assembled.step_count);
+      r.contacts[k].velocity =
+          resample(h.t, h.contacts[k].velocity, assembled.dt, assembled.step_count);
     }
     if (!r.usable(primary)) {
       r.converged = false;

@@ -24,8 +24,8 @@
 namespace impactid {
 
 struct ModelReference {
-  ModelScene scene;          ///< what it is the reference of (a cache key)
-  ReferenceOptions options;  ///< and with which options
+  ModelScene scene;                      ///< what it is the reference of (a cache key)
+  ReferenceOptions options;              ///< and with which options
   std::vector<ContactSamples> contacts;  ///< Model::contacts order; empty vectors: none
   /// −1: the supplied history; k >= 1: the converged solution at Δt/2^k.
   int refinements = -1;

@@ -20,7 +20,9 @@ double contact_row(const ModelContact& c, const Eigen::VectorXd& x) {
   return g;
 }
 
-bool is_zero(const Eigen::VectorXd& v) { return (v.array() == 0.0).all(); }
+bool is_zero(const Eigen::VectorXd& v) {
+  return (v.array() == 0.0).all();
+}
 
 }  // namespace
 
@@ -71,8 +73,8 @@ int primary_contact_index(const ModelScene& s) {
 AssembledScene assemble(const ModelScene& s) {
   const Model& model = *s.model;
   AssembledScene out;
-  SparseMatrix damping = model.damping.rows() == 0 ? SparseMatrix(model.size(), model.size())
-                                                   : model.damping;
+  SparseMatrix damping =
+      model.damping.rows() == 0 ? SparseMatrix(model.size(), model.size()) : model.damping;
   if (s.rayleigh_mass != 0.0) damping += s.rayleigh_mass * model.mass;
   if (s.rayleigh_stiffness != 0.0) damping += s.rayleigh_stiffness * model.stiffness;
   damping.prune(0.0);
@@ -101,7 +103,8 @@ AssembledScene assemble(const ModelScene& s) {
   const std::optional<Tridiagonal> mass = as_tridiagonal(model.mass);
   const std::optional<Tridiagonal> stiffness = as_tridiagonal(model.stiffness);
   const std::optional<Tridiagonal> damping_t = as_tridiagonal(damping);
-  if (mass && stiffness && damping_t && constraints.size() <= static_cast<std::size_t>(kMaxConstraints)) {
+  if (mass && stiffness && damping_t &&
+      constraints.size() <= static_cast<std::size_t>(kMaxConstraints)) {
     SecondOrderSystem& system = out.system;
     system.mass = *mass;
     system.stiffness = *stiffness;

@@ -37,10 +37,10 @@ namespace impactid {
 
 struct ModelContact {
   std::string name;
-  Eigen::Index plus = -1;   ///< u[plus] − u[minus] <= gap; −1: the term is absent
+  Eigen::Index plus = -1;  ///< u[plus] − u[minus] <= gap; −1: the term is absent
   Eigen::Index minus = -1;
-  double gap = 0.0;         ///< >= 0, in the model's length unit
-  double area = 1.0;        ///< pressure = λ/area; > 0 (1: the pressure is the force)
+  double gap = 0.0;               ///< >= 0, in the model's length unit
+  double area = 1.0;              ///< pressure = λ/area; > 0 (1: the pressure is the force)
   Eigen::Index velocity_dof = 0;  ///< the DOF whose velocity the contact reports
 
   bool operator==(const ModelContact&) const = default;
@@ -55,12 +55,12 @@ struct ReferenceHistory {
 
 /// A loaded model: what the files said, checked (study/model_file.hpp).
 struct Model {
-  SparseMatrix mass, stiffness, damping;  ///< damping 0×0 when absent
-  Eigen::VectorXd initial_displacement;   ///< size n (zero when not given)
-  Eigen::VectorXd initial_velocity;       ///< size n
-  std::vector<ModelContact> contacts;     ///< at least one
-  std::string units;                      ///< as the scene states them, for reports
-  std::string source;                     ///< the files it was read from, for reports
+  SparseMatrix mass, stiffness, damping;      ///< damping 0×0 when absent
+  Eigen::VectorXd initial_displacement;       ///< size n (zero when not given)
+  Eigen::VectorXd initial_velocity;           ///< size n
+  std::vector<ModelContact> contacts;         ///< at least one
+  std::string units;                          ///< as the scene states them, for reports
+  std::string source;                         ///< the files it was read from, for reports
   std::optional<ReferenceHistory> reference;  ///< a supplied reference, if any
 
   Eigen::Index size() const { return mass.rows(); }

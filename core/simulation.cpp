@@ -117,9 +117,9 @@ double violation(const Constraint& c, const Eigen::VectorXd& u) {
 // velocity, the primary contact's also in the trace's main columns, and the largest penetration
 // of any constraint.
 template <class System, class Advance>
-void run_listed_steps(const AssembledScene& scene, const System& system,
-                      const RunOptions& options, long first, State& state, ContactTrace& trace,
-                      RunSummary& summary, Advance&& advance) {
+void run_listed_steps(const AssembledScene& scene, const System& system, const RunOptions& options,
+                      long first, State& state, ContactTrace& trace, RunSummary& summary,
+                      Advance&& advance) {
   const auto m = static_cast<Eigen::Index>(scene.probes.size());
   const auto primary = static_cast<std::size_t>(scene.primary);
   run_steps(
@@ -259,7 +259,8 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
   state.multipliers.setZero(listed ? static_cast<Eigen::Index>(contacts) : 0);
   state.t = 0.0;
   // Zero for a built-in scene without damping.
-  state.a = sparse ? consistent_acceleration(*sparse, state) : consistent_acceleration(system, state);
+  state.a =
+      sparse ? consistent_acceleration(*sparse, state) : consistent_acceleration(system, state);
   summary.initial_energy =
       sparse ? sparse->energy(state.u, state.v) : system.energy(state.u, state.v);
   summary.final_energy = summary.initial_energy;

@@ -51,7 +51,7 @@ struct RunOptions {
 struct SimulationWorkspace {
   ImplicitIntegrator implicit;
   CentralDifference central_difference;
-  SparseImplicitIntegrator sparse_implicit;      ///< for a model's sparse system
+  SparseImplicitIntegrator sparse_implicit;  ///< for a model's sparse system
   SparseCentralDifference sparse_central_difference;
   State state;
   ContactTrace trace;

@@ -98,8 +98,8 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
     return false;
   }
   const Eigen::Index n = system.size();
-  for (Eigen::VectorXd* v : {&u_predicted_, &v_predicted_, &u_alpha_, &v_alpha_, &rhs_,
-                             &correction_}) {
+  for (Eigen::VectorXd* v :
+       {&u_predicted_, &v_predicted_, &u_alpha_, &v_alpha_, &rhs_, &correction_}) {
     v->resize(n);
   }
   delassus_ = delassus_matrix(system.constraints, factorization_, c_.b1 * dt * dt);

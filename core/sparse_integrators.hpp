@@ -41,8 +41,7 @@ class SparseImplicitIntegrator {
  public:
   /// Builds and factors the effective matrix. Returns false (with failure() saying why, naming
   /// the DOF of the failed pivot) when it is not positive definite.
-  bool initialize(const SparseSystem& system, const ImplicitCoefficients& coefficients,
-                  double dt);
+  bool initialize(const SparseSystem& system, const ImplicitCoefficients& coefficients, double dt);
   /// Advances state from t to t + Δt (its acceleration consistent: consistent_acceleration).
   /// Returns true if a constraint is active at t + Δt.
   bool step(const SparseSystem& system, State& state);

@@ -152,29 +152,28 @@ Indicators evaluate_indicators(const RodScene& scene, const ContactTrace& trace,
   return out;
 }
 
-Indicators evaluate_indicators(const Scene& scene, const SceneReference& reference,
-                               const ContactTrace& trace, const RunSummary& summary,
-                               const IndicatorOptions& options,
-                               std::span<ContactIndicators> contacts) {
-  const std::vector<SceneContact> list = scene_contacts(scene);
-  const SceneDerived derived = derive(scene);
-  assert(contacts.size() == list.size() && trace.contact_pressure.size() == list.size());
+namespace {
+
+// Each contact's indicators against its reference samples, with its pressure and velocity
+// scales; the primary contact's as Indicators. Shared by scenes of bodies and models.
+Indicators contact_indicators(const std::vector<ContactSamples>& reference,
+                              std::span<const double> pressure_scales,
+                              std::span<const double> velocity_scales, std::size_t primary_contact,
+                              const ContactTrace& trace, const RunSummary& summary,
+                              const IndicatorOptions& options,
+                              std::span<ContactIndicators> contacts) {
   Indicators primary = not_results();
-  for (std::size_t k = 0; k < list.size(); ++k) {
-    if (summary.status != RunStatus::ok) {
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (summary.status != RunStatus::ok || reference[k].pressure.empty()) {
       contacts[k] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
       continue;
     }
-    const SceneContact& c = list[k];
-    const Body& body = scene.bodies[static_cast<std::size_t>(c.left_body >= 0 ? c.left_body : 0)];
-    const Segment& seg = c.left_body >= 0 ? body.segments.back() : body.segments.front();
-    const double pressure_scale =
-        seg.density * std::sqrt(seg.youngs_modulus / seg.density) * derived.velocity_scale;
+    const ContactSamples& expected = reference[k];
+    const double pressure_scale = pressure_scales[k];
     SamplePass pass(options.peak_prominence * pressure_scale,
-                    options.peak_prominence * derived.velocity_scale);
+                    options.peak_prominence * velocity_scales[k]);
     const std::vector<double>& pressure = trace.contact_pressure[k];
     const std::vector<double>& velocity = trace.contact_velocity[k];
-    const ContactSamples& expected = reference.contacts[k];
     assert(expected.pressure.size() == pressure.size());
     for (std::size_t i = 0; i < pressure.size(); ++i) {
       pass.add(expected.pressure[i], expected.velocity[i], pressure[i], velocity[i]);
@@ -188,7 +187,7 @@ Indicators evaluate_indicators(const Scene& scene, const SceneReference& referen
                    static_cast<double>(pass.episodes)};
   }
   if (summary.status != RunStatus::ok) return primary;
-  const ContactIndicators& p = contacts[static_cast<std::size_t>(derived.primary_contact)];
+  const ContactIndicators& p = contacts[primary_contact];
   primary.eps_p = p.eps_p;
   primary.eps_v = p.eps_v;
   primary.nop_p = p.nop_p;
@@ -200,6 +199,49 @@ Indicators evaluate_indicators(const Scene& scene, const SceneReference& referen
       summary.initial_energy > 0.0 ? summary.final_energy / summary.initial_energy : kNaN;
   primary.max_penetration = summary.max_penetration;
   return primary;
+}
+
+double largest_magnitude(const std::vector<double>& x) {
+  double m = 0.0;
+  for (const double v : x) m = std::max(m, std::abs(v));
+  return m;
+}
+
+}  // namespace
+
+Indicators evaluate_indicators(const Scene& scene, const SceneReference& reference,
+                               const ContactTrace& trace, const RunSummary& summary,
+                               const IndicatorOptions& options,
+                               std::span<ContactIndicators> contacts) {
+  const std::vector<SceneContact> list = scene_contacts(scene);
+  const SceneDerived derived = derive(scene);
+  assert(contacts.size() == list.size() && trace.contact_pressure.size() == list.size());
+  std::vector<double> pressure_scales(list.size()), velocity_scales(list.size());
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const SceneContact& c = list[k];
+    const Body& body = scene.bodies[static_cast<std::size_t>(c.left_body >= 0 ? c.left_body : 0)];
+    const Segment& seg = c.left_body >= 0 ? body.segments.back() : body.segments.front();
+    pressure_scales[k] =
+        seg.density * std::sqrt(seg.youngs_modulus / seg.density) * derived.velocity_scale;
+    velocity_scales[k] = derived.velocity_scale;
+  }
+  return contact_indicators(reference.contacts, pressure_scales, velocity_scales,
+                            static_cast<std::size_t>(derived.primary_contact), trace, summary,
+                            options, contacts);
+}
+
+Indicators evaluate_indicators(const std::vector<ContactSamples>& reference, int primary,
+                               const ContactTrace& trace, const RunSummary& summary,
+                               const IndicatorOptions& options,
+                               std::span<ContactIndicators> contacts) {
+  assert(contacts.size() == reference.size() && trace.contact_pressure.size() == reference.size());
+  std::vector<double> pressure_scales(reference.size()), velocity_scales(reference.size());
+  for (std::size_t k = 0; k < reference.size(); ++k) {
+    pressure_scales[k] = largest_magnitude(reference[k].pressure);
+    velocity_scales[k] = largest_magnitude(reference[k].velocity);
+  }
+  return contact_indicators(reference, pressure_scales, velocity_scales,
+                            static_cast<std::size_t>(primary), trace, summary, options, contacts);
 }
 
 }  // namespace impactid

@@ -83,4 +83,14 @@ Indicators evaluate_indicators(const Scene& scene, const SceneReference& referen
                                const IndicatorOptions& options,
                                std::span<ContactIndicators> contacts);
 
+/// The same for a user's model (core/model_scene.hpp) against its reference samples
+/// (core/model_reference.hpp; a contact without samples gets NaN), `primary` the primary
+/// contact's index. A model knows no ρ·c: a contact's pressure scale (peak prominence, p_max_ratio)
+/// is the largest |pressure| of its reference, its velocity scale the largest |velocity| of its
+/// reference (for the paper's rod with the exact solution as reference: ρ·c·v0 and v0, as above).
+Indicators evaluate_indicators(const std::vector<ContactSamples>& reference, int primary,
+                               const ContactTrace& trace, const RunSummary& summary,
+                               const IndicatorOptions& options,
+                               std::span<ContactIndicators> contacts);
+
 }  // namespace impactid

@@ -117,7 +117,8 @@ std::vector<Column> model_history_columns(const ModelScene& scene, const Contact
       {"displacement", "", "primary contact's velocity DOF's displacement", trace.displacement},
       {"energy", "", "kinetic + strain energy", trace.energy},
   };
-  for (std::size_t i = 0; i < n; ++i) columns[0].values.push_back(static_cast<double>(i + 1) * scene.dt);
+  for (std::size_t i = 0; i < n; ++i)
+    columns[0].values.push_back(static_cast<double>(i + 1) * scene.dt);
   const std::string description = reference.description();
   for (std::size_t k = 0; k < model.contacts.size(); ++k) {
     const std::string& name = model.contacts[k].name;

@@ -19,12 +19,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(impactid::kVersion) + " (" +
                                         impactid::kGitRevision + ")");
   std::vector<std::function<int()>> commands{
-      impactid::add_simulate_command(app),
-      impactid::add_compare_command(app),
-      impactid::add_spectral_command(app),
-      impactid::add_run_command(app),
-      impactid::add_export_command(app),
-      impactid::add_export_model_command(app),
+      impactid::add_simulate_command(app), impactid::add_compare_command(app),
+      impactid::add_spectral_command(app), impactid::add_run_command(app),
+      impactid::add_export_command(app),   impactid::add_export_model_command(app),
   };
   try {
     app.parse(argc, argv);

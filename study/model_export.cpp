@@ -42,8 +42,8 @@ std::string matrix_market(const Tridiagonal& a, const std::string& what) {
       ++entries;
     }
     if (j + 1 < n && a.lower[j + 1] != 0.0) {
-      body += std::to_string(j + 2) + " " + std::to_string(j + 1) + " " + number(a.lower[j + 1]) +
-              "\n";
+      body +=
+          std::to_string(j + 2) + " " + std::to_string(j + 1) + " " + number(a.lower[j + 1]) + "\n";
       ++entries;
     }
   }
@@ -70,14 +70,14 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
   if (sim.bodies) {
     const std::vector<SceneContact> list = scene_contacts(*sim.bodies);
     for (std::size_t k = 0; k < list.size(); ++k) {
-      contacts.push_back({list[k].name, system.constraints.empty()
-                                            ? Constraint{system.contact_dof, -1, system.gap}
-                                            : system.constraints[k],
+      contacts.push_back({list[k].name,
+                          system.constraints.empty()
+                              ? Constraint{system.contact_dof, -1, system.gap}
+                              : system.constraints[k],
                           scene.probes[k]});
     }
   } else {
-    contacts.push_back(
-        {"wall", {system.contact_dof, -1, system.gap}, scene.probes.front()});
+    contacts.push_back({"wall", {system.contact_dof, -1, system.gap}, scene.probes.front()});
     if (system.has_far_contact()) {
       contacts.push_back({"far_wall",
                           {-1, system.far_contact_dof, system.far_gap},
@@ -105,7 +105,8 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
   write_file(directory / "M.mtx", matrix_market(system.mass, "mass matrix M [t]"));
   write_file(directory / "K.mtx", matrix_market(system.stiffness, "stiffness matrix K [N/mm]"));
   const bool damped = system.has_damping();
-  if (damped) write_file(directory / "C.mtx", matrix_market(system.damping, "damping matrix C [N s/mm]"));
+  if (damped)
+    write_file(directory / "C.mtx", matrix_market(system.damping, "damping matrix C [N s/mm]"));
 
   const Eigen::VectorXd& v0 = scene.initial_velocity;
   const bool uniform = (v0.array() == v0[0]).all();
@@ -118,14 +119,17 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
 
   std::string toml =
       "# A built-in impactid scene exported as a user's model by `impactid export-model`:\n"
-      "# M, K" + std::string(damped ? ", C" : "") + " in Matrix Market files, its contacts, and" +
+      "# M, K" +
+      std::string(damped ? ", C" : "") + " in Matrix Market files, its contacts, and" +
       (exact.empty() ? "" : " its exact solution at the run's samples as the reference") +
       ".\n# DOFs count from 0. Units: N, mm, s, t (tonne).\n[scene]\nkind = \"matrices\"\n"
       "units = \"N, mm, s, t\"\n"
-      "dt = " + number(scene.dt) + "\nt_end = " + number(t_end) + "\nprimary_contact = \"" +
-      contacts[static_cast<std::size_t>(scene.primary)].name + "\"\n\n[scene.matrices]\n"
-      "mass = \"M.mtx\"\nstiffness = \"K.mtx\"\n" + (damped ? "damping = \"C.mtx\"\n" : "") +
-      "\n[scene.initial]\nvelocity = " +
+      "dt = " +
+      number(scene.dt) + "\nt_end = " + number(t_end) + "\nprimary_contact = \"" +
+      contacts[static_cast<std::size_t>(scene.primary)].name +
+      "\"\n\n[scene.matrices]\n"
+      "mass = \"M.mtx\"\nstiffness = \"K.mtx\"\n" +
+      (damped ? "damping = \"C.mtx\"\n" : "") + "\n[scene.initial]\nvelocity = " +
       (uniform ? "{ value = " + number(v0[0]) + ", dofs = \"all\" }" : std::string("\"v0.mtx\"")) +
       "\n";
   for (const ExportedContact& c : contacts) {
@@ -192,7 +196,8 @@ std::function<int()> add_export_model_command(CLI::App& app) {
       std::cerr << "impactid export-model: " << e.what() << '\n';
       return kExitFailure;
     }
-    std::cerr << "impactid export-model: wrote " << options->output << "/scene.toml and its files\n";
+    std::cerr << "impactid export-model: wrote " << options->output
+              << "/scene.toml and its files\n";
     return 0;
   };
 }

@@ -10,10 +10,9 @@
 // Thread safety: free functions.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
-
-#include <CLI/CLI.hpp>
 
 #include "study/simulation_settings.hpp"
 

@@ -1,12 +1,13 @@
 #include "study/model_file.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
-#include <unistd.h>
 
 #include "core/sparse_factorization.hpp"
 #include "study/matrix_market.hpp"
@@ -39,13 +40,15 @@ Asymmetry asymmetry(const SparseMatrix& a) {
   const SparseMatrix diff = a - t;
   double scale = 0.0;
   for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
-    for (SparseMatrix::InnerIterator it(a, j); it; ++it) scale = std::max(scale, std::abs(it.value()));
+    for (SparseMatrix::InnerIterator it(a, j); it; ++it)
+      scale = std::max(scale, std::abs(it.value()));
   }
   Asymmetry out;
   for (Eigen::Index j = 0; j < diff.outerSize(); ++j) {
     for (SparseMatrix::InnerIterator it(diff, j); it; ++it) {
       const double r = scale > 0.0 ? std::abs(it.value()) / scale : 0.0;
-      if (r > out.relative) out = {r, it.row(), it.col(), a.coeff(it.row(), it.col()), t.coeff(it.row(), it.col())};
+      if (r > out.relative)
+        out = {r, it.row(), it.col(), a.coeff(it.row(), it.col()), t.coeff(it.row(), it.col())};
     }
   }
   return out;
@@ -74,19 +77,22 @@ class ModelReader : public toml_reading::TableReader {
     }
     const std::string where = file.string() + ": ";
     if (a.rows() != a.cols()) {
-      fail(node, key, where + "is not square: " + std::to_string(a.rows()) + " rows, " +
-                          std::to_string(a.cols()) + " columns");
+      fail(node, key,
+           where + "is not square: " + std::to_string(a.rows()) + " rows, " +
+               std::to_string(a.cols()) + " columns");
     }
     if (n >= 0 && a.rows() != n) {
-      fail(node, key, where + "has " + std::to_string(a.rows()) + " rows, where the mass matrix has " +
-                          std::to_string(n));
+      fail(node, key,
+           where + "has " + std::to_string(a.rows()) + " rows, where the mass matrix has " +
+               std::to_string(n));
     }
     const Asymmetry s = asymmetry(a);
     if (s.relative > 1e-12) {
-      fail(node, key, where + "is not symmetric: entry (" + std::to_string(s.row + 1) + ", " +
-                          std::to_string(s.col + 1) + ") is " + format_value(s.value) + " and (" +
-                          std::to_string(s.col + 1) + ", " + std::to_string(s.row + 1) + ") is " +
-                          format_value(s.mirror) + " (1-based, as in the file)");
+      fail(node, key,
+           where + "is not symmetric: entry (" + std::to_string(s.row + 1) + ", " +
+               std::to_string(s.col + 1) + ") is " + format_value(s.value) + " and (" +
+               std::to_string(s.col + 1) + ", " + std::to_string(s.row + 1) + ") is " +
+               format_value(s.mirror) + " (1-based, as in the file)");
     }
     // Exactly symmetric: the factorisations read one triangle, the products both.
     SparseMatrix sym = SparseMatrix(0.5 * (a + SparseMatrix(a.transpose())));
@@ -98,8 +104,9 @@ class ModelReader : public toml_reading::TableReader {
     const auto* i = node.as_integer();
     if (!i) fail(node, key, "must be a DOF: an integer from 0 (DOFs count from 0)");
     if (i->get() < 0 || i->get() >= n) {
-      fail(node, key, "DOF " + std::to_string(i->get()) + " is out of range: the model has " +
-                          std::to_string(n) + " DOFs, 0 to " + std::to_string(n - 1));
+      fail(node, key,
+           "DOF " + std::to_string(i->get()) + " is out of range: the model has " +
+               std::to_string(n) + " DOFs, 0 to " + std::to_string(n - 1));
     }
     return static_cast<Eigen::Index>(i->get());
   }
@@ -123,16 +130,21 @@ class ModelReader : public toml_reading::TableReader {
         return dof_set(*set, prefix_ + ".dof_sets." + text, n, nullptr);
       }
     }
-    fail(node, key, "\"" + text + "\" is not a set of DOFs: give a list, \"all\", a slice "
-                    "\"start:stop:step\", or the name of a [" + prefix_ + ".dof_sets] entry");
+    fail(node, key,
+         "\"" + text +
+             "\" is not a set of DOFs: give a list, \"all\", a slice "
+             "\"start:stop:step\", or the name of a [" +
+             prefix_ + ".dof_sets] entry");
   }
 
   std::vector<Eigen::Index> slice(const toml::node& node, const std::string& key, Eigen::Index n,
                                   const std::string& text) const {
     std::vector<std::string> fields(1);
     for (const char ch : text) {
-      if (ch == ':') fields.emplace_back();
-      else fields.back() += ch;
+      if (ch == ':')
+        fields.emplace_back();
+      else
+        fields.back() += ch;
     }
     if (fields.size() < 2 || fields.size() > 3) {
       fail(node, key, "\"" + text + "\" is not a slice start:stop:step");
@@ -165,8 +177,9 @@ class ModelReader : public toml_reading::TableReader {
         fail(node, key, e.what());
       }
       if (out.size() != n) {
-        fail(node, key, file.string() + ": has " + std::to_string(out.size()) +
-                            " entries, where the model has " + std::to_string(n) + " DOFs");
+        fail(node, key,
+             file.string() + ": has " + std::to_string(out.size()) +
+                 " entries, where the model has " + std::to_string(n) + " DOFs");
       }
       return out;
     }
@@ -194,9 +207,9 @@ class ModelReader : public toml_reading::TableReader {
       const std::string path = at + "." + key;
       if (key == "name") {
         c.name = string(*node, path);
-        const bool ok = !c.name.empty() &&
-                        c.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVW"
-                                                 "XYZ0123456789_-") == std::string::npos;
+        const bool ok = !c.name.empty() && c.name.find_first_not_of(
+                                               "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVW"
+                                               "XYZ0123456789_-") == std::string::npos;
         if (!ok) fail(*node, path, "must be letters, digits, '_' or '-'");
       } else if (key == "dof") {
         dof_node = node;
@@ -204,7 +217,8 @@ class ModelReader : public toml_reading::TableReader {
       } else if (key == "dofs") {
         dofs_node = node;
         const auto* pair = node->as_array();
-        if (!pair || pair->size() != 2) fail(*node, path, "must be a pair of DOFs [i, j]: u_i − u_j <= gap");
+        if (!pair || pair->size() != 2)
+          fail(*node, path, "must be a pair of DOFs [i, j]: u_i − u_j <= gap");
         c.plus = dof((*pair)[0], path + ".1", n);
         c.minus = dof((*pair)[1], path + ".2", n);
         if (c.plus == c.minus) fail(*node, path, "must be two different DOFs");
@@ -212,7 +226,8 @@ class ModelReader : public toml_reading::TableReader {
         side_node = node;
         side = string(*node, path);
         if (side != "upper" && side != "lower") {
-          fail(*node, path, "\"" + side + "\" is not a side: \"upper\" (u <= gap) or \"lower\" (u >= -gap)");
+          fail(*node, path,
+               "\"" + side + "\" is not a side: \"upper\" (u <= gap) or \"lower\" (u >= -gap)");
         }
       } else if (key == "gap") {
         c.gap = number(*node, path);
@@ -224,13 +239,16 @@ class ModelReader : public toml_reading::TableReader {
         velocity_node = node;
         c.velocity_dof = dof(*node, path, n);
       } else {
-        fail(*node, path, "unknown key (contact keys: name, dof, side, dofs, gap, area, velocity_dof)");
+        fail(*node, path,
+             "unknown key (contact keys: name, dof, side, dofs, gap, area, velocity_dof)");
       }
     }
     if (c.name.empty()) fail(t, at + ".name", "is missing: every contact needs a name");
-    if (!dof_node && !dofs_node) fail(t, at + ".dof", "is missing: give dof (a wall) or dofs (a pair)");
+    if (!dof_node && !dofs_node)
+      fail(t, at + ".dof", "is missing: give dof (a wall) or dofs (a pair)");
     if (dof_node && dofs_node) fail(*dofs_node, at + ".dofs", "cannot be given with dof");
-    if (dofs_node && side_node) fail(*side_node, at + ".side", "applies to a wall (dof), not a pair");
+    if (dofs_node && side_node)
+      fail(*side_node, at + ".side", "applies to a wall (dof), not a pair");
     if (!velocity_node) c.velocity_dof = c.plus;
     if (dof_node && side == "lower") {
       c.minus = c.plus;
@@ -271,30 +289,37 @@ ReferenceHistory read_reference_csv(const std::filesystem::path& file, const Mod
     }
     if (!header) {
       header = true;
-      if (cells.empty() || cells[0] != "t") error("the first column must be t, not \"" + (cells.empty() ? "" : cells[0]) + "\"");
+      if (cells.empty() || cells[0] != "t")
+        error("the first column must be t, not \"" + (cells.empty() ? "" : cells[0]) + "\"");
       columns.push_back(&out.t);
       for (std::size_t c = 1; c < cells.size(); ++c) {
         const std::size_t dot = cells[c].rfind('.');
-        const std::string name = cells[c].substr(0, dot), what = dot == std::string::npos ? "" : cells[c].substr(dot + 1);
+        const std::string name = cells[c].substr(0, dot),
+                          what = dot == std::string::npos ? "" : cells[c].substr(dot + 1);
         std::size_t k = 0;
         while (k < model.contacts.size() && model.contacts[k].name != name) ++k;
         if (k == model.contacts.size() || (what != "pressure" && what != "velocity")) {
-          error("column \"" + cells[c] + "\" is not <contact>.pressure or <contact>.velocity of a contact of the model");
+          error("column \"" + cells[c] +
+                "\" is not <contact>.pressure or <contact>.velocity of a contact of the model");
         }
-        columns.push_back(what == "pressure" ? &out.contacts[k].pressure : &out.contacts[k].velocity);
+        columns.push_back(what == "pressure" ? &out.contacts[k].pressure
+                                             : &out.contacts[k].velocity);
       }
       continue;
     }
     if (cells.size() != columns.size()) {
-      error(std::to_string(cells.size()) + " values, where the header has " + std::to_string(columns.size()));
+      error(std::to_string(cells.size()) + " values, where the header has " +
+            std::to_string(columns.size()));
     }
     for (std::size_t c = 0; c < cells.size(); ++c) {
       char* end = nullptr;
       const double v = std::strtod(cells[c].c_str(), &end);
-      if (cells[c].empty() || *end != '\0' || !std::isfinite(v)) error("\"" + cells[c] + "\" is not a finite number");
+      if (cells[c].empty() || *end != '\0' || !std::isfinite(v))
+        error("\"" + cells[c] + "\" is not a finite number");
       columns[c]->push_back(v);
     }
-    if (out.t.size() > 1 && !(out.t.back() > out.t[out.t.size() - 2])) error("t must increase: " + format_value(out.t.back()));
+    if (out.t.size() > 1 && !(out.t.back() > out.t[out.t.size() - 2]))
+      error("t must increase: " + format_value(out.t.back()));
   }
   if (out.t.empty()) error("has no samples");
   return out;
@@ -322,9 +347,11 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
   ModelScene out;
   const toml::node* matrices = scene.get("matrices");
   if (!matrices) {
-    r.fail(scene, prefix + ".matrices", "is missing: a model needs [" + prefix + ".matrices] with mass and stiffness files");
+    r.fail(scene, prefix + ".matrices",
+           "is missing: a model needs [" + prefix + ".matrices] with mass and stiffness files");
   }
-  const toml::table& m = r.table(*matrices, prefix + ".matrices", "must be a table (mass, stiffness, damping)");
+  const toml::table& m =
+      r.table(*matrices, prefix + ".matrices", "must be a table (mass, stiffness, damping)");
   for (const auto& [key, node] : ordered(m)) {
     if (key != "mass" && key != "stiffness" && key != "damping") {
       r.fail(*node, prefix + ".matrices." + key, "unknown key (mass, stiffness, damping)");
@@ -333,7 +360,8 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
   const toml::node* mass = m.get("mass");
   const toml::node* stiffness = m.get("stiffness");
   if (!mass) r.fail(m, prefix + ".matrices.mass", "is missing: the mass matrix file");
-  if (!stiffness) r.fail(m, prefix + ".matrices.stiffness", "is missing: the stiffness matrix file");
+  if (!stiffness)
+    r.fail(m, prefix + ".matrices.stiffness", "is missing: the stiffness matrix file");
   model->mass = r.matrix(*mass, prefix + ".matrices.mass", -1);
   const Eigen::Index n = model->mass.rows();
   {
@@ -355,20 +383,26 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
   const toml::table* sets = nullptr;
   if (const toml::node* s = scene.get("dof_sets")) {
     sets = &r.table(*s, prefix + ".dof_sets", "must be a table of named DOF sets");
-    for (const auto& [key, node] : ordered(*sets)) r.dof_set(*node, prefix + ".dof_sets." + key, n, nullptr);
+    for (const auto& [key, node] : ordered(*sets))
+      r.dof_set(*node, prefix + ".dof_sets." + key, n, nullptr);
   }
   model->initial_displacement = Eigen::VectorXd::Zero(n);
   model->initial_velocity = Eigen::VectorXd::Zero(n);
   if (const toml::node* initial = scene.get("initial")) {
-    const toml::table& t = r.table(*initial, prefix + ".initial", "must be a table (displacement, velocity)");
+    const toml::table& t =
+        r.table(*initial, prefix + ".initial", "must be a table (displacement, velocity)");
     for (const auto& [key, node] : ordered(t)) {
       const std::string at = prefix + ".initial." + key;
-      if (key == "displacement") model->initial_displacement = r.initial(*node, at, n, sets);
-      else if (key == "velocity") model->initial_velocity = r.initial(*node, at, n, sets);
-      else r.fail(*node, at, "unknown key (displacement, velocity)");
+      if (key == "displacement")
+        model->initial_displacement = r.initial(*node, at, n, sets);
+      else if (key == "velocity")
+        model->initial_velocity = r.initial(*node, at, n, sets);
+      else
+        r.fail(*node, at, "unknown key (displacement, velocity)");
     }
   }
-  if (const toml::node* units = scene.get("units")) model->units = r.string(*units, prefix + ".units");
+  if (const toml::node* units = scene.get("units"))
+    model->units = r.string(*units, prefix + ".units");
 
   const toml::node* contacts = scene.get("contact");
   const auto* array = contacts ? contacts->as_array() : nullptr;
@@ -384,15 +418,18 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
     for (const ModelContact& other : model->contacts) {
       if (other.name == c.name) r.fail(t, at + ".name", "\"" + c.name + "\" names two contacts");
       if (other.plus == c.plus && other.minus == c.minus) {
-        r.fail(t, at, "contact \"" + c.name + "\" repeats the constraint of contact \"" + other.name + "\"");
+        r.fail(
+            t, at,
+            "contact \"" + c.name + "\" repeats the constraint of contact \"" + other.name + "\"");
       }
     }
     if ((c.plus < 0) != (c.minus < 0)) {  // a wall
       const Eigen::Index d = c.plus >= 0 ? c.plus : c.minus;
       for (const auto& [dof, name] : walls) {
         if (dof == d) {
-          r.fail(t, at + ".dof", "DOF " + std::to_string(d) + " already has a wall (contact \"" + name +
-                                     "\"): two walls on one DOF make the contact problem singular");
+          r.fail(t, at + ".dof",
+                 "DOF " + std::to_string(d) + " already has a wall (contact \"" + name +
+                     "\"): two walls on one DOF make the contact problem singular");
         }
       }
       walls.emplace_back(d, c.name);
@@ -403,7 +440,9 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
     out.primary_contact = r.string(*primary, prefix + ".primary_contact");
     bool found = false;
     for (const ModelContact& c : model->contacts) found = found || c.name == *out.primary_contact;
-    if (!found) r.fail(*primary, prefix + ".primary_contact", "\"" + *out.primary_contact + "\" is not a contact of the model");
+    if (!found)
+      r.fail(*primary, prefix + ".primary_contact",
+             "\"" + *out.primary_contact + "\" is not a contact of the model");
   }
   if (const toml::node* reference = scene.get("reference")) {
     const toml::table& t = r.table(*reference, prefix + ".reference", "must be a table (file)");

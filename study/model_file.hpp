@@ -23,12 +23,10 @@
 //
 //   [[scene.contact]]              # at least one
 //   name = "bottom_0"              # unique; letters, digits, '_', '-'
-//   dof = 1                        # a wall: side "upper" (u <= gap, default) or "lower" (u >= −gap)
-//   side = "lower"
-//   # dofs = [3, 7]                # or a pair: u[3] − u[7] <= gap
-//   gap = 0.001                    # >= 0; default 0
-//   area = 0.25                    # pressure = λ/area; default 1
-//   velocity_dof = 1               # default: dof, or the first of the pair
+//   dof = 1                        # a wall: side "upper" (u <= gap, default) or "lower" (u >=
+//   −gap) side = "lower" # dofs = [3, 7]                # or a pair: u[3] − u[7] <= gap gap = 0.001
+//   # >= 0; default 0 area = 0.25                    # pressure = λ/area; default 1 velocity_dof =
+//   1               # default: dof, or the first of the pair
 //
 //   [scene.reference]              # optional: the history the runs are measured against
 //   file = "reference.csv"         #   columns t, <contact>.pressure, <contact>.velocity

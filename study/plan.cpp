@@ -15,8 +15,8 @@
 
 #include "core/amplification.hpp"
 #include "study/indicator_table.hpp"
-#include "study/point_set.hpp"
 #include "study/model_file.hpp"
+#include "study/point_set.hpp"
 #include "study/scene_file.hpp"
 #include "study/scene_path.hpp"
 #include "study/work_precision.hpp"
@@ -391,13 +391,13 @@ class PlanReader {
              "name; the rod and scenes of bodies need no kind");
       }
       if (is_scene_of_bodies(scene)) {
-        fail(*kind, "scene.kind", "a model cannot have bodies or walls ([[scene.body]], [scene.wall])");
+        fail(*kind, "scene.kind",
+             "a model cannot have bodies or walls ([[scene.body]], [scene.wall])");
       }
-      plan_->base.model = read_model_scene(
-          scene, "scene", std::filesystem::path(file_).parent_path(),
-          [this](const toml::node& at, const std::string& key, const std::string& what) {
-            fail(at, key, what);
-          });
+      plan_->base.model =
+          read_model_scene(scene, "scene", std::filesystem::path(file_).parent_path(),
+                           [this](const toml::node& at, const std::string& key,
+                                  const std::string& what) { fail(at, key, what); });
     }
   }
 

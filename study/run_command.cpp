@@ -260,8 +260,7 @@ void write_point_histories(const PointSet& points, const std::filesystem::path& 
     Simulation simulation = std::get<Simulation>(build(points.settings(index)));
     simulation.run.record_history = true;
     evaluate(simulation, workspace);  // the rod's or a scene of bodies' run, as the sweep's
-    write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation,
-                  workspace.trace,
+    write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation, workspace.trace,
                   simulation.model ? &*workspace.model_reference : nullptr);
   }
   std::fprintf(stderr, "impactid run: wrote the time histories of %ld points to %s/\n",

@@ -1,12 +1,12 @@
 #include "study/scene_file.hpp"
 
-#include "study/toml_reading.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
 #include <vector>
+
+#include "study/toml_reading.hpp"
 
 namespace impactid {
 namespace {

@@ -129,8 +129,8 @@ void write_contacts(const std::vector<std::string>& names, int primary, bool mod
   for (std::size_t k = 0; k < names.size(); ++k) {
     const ContactIndicators& c = e.contacts[k];
     std::printf("            %s %-24s %10.4g %6g %10.4g %6g %11.4g %8.4g %8g\n",
-                static_cast<int>(k) == primary ? "*" : " ", names[k].c_str(), c.eps_p,
-                c.nop_p, c.eps_v, c.nop_v, c.p_max, c.p_max_ratio, c.contact_episodes);
+                static_cast<int>(k) == primary ? "*" : " ", names[k].c_str(), c.eps_p, c.nop_p,
+                c.eps_v, c.nop_v, c.p_max, c.p_max_ratio, c.contact_episodes);
   }
   std::printf("            (* the primary contact, whose indicators a sweep stores)\n");
 }

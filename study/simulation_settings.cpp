@@ -159,8 +159,8 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   else if (name == "reference_tolerance") {
     s.indicators.reference_tolerance = v;
     s.reference_tolerance_given = true;
-  }
-  else if (name == "energy_growth_limit") s.run.energy_growth_limit = v;
+  } else if (name == "energy_growth_limit")
+    s.run.energy_growth_limit = v;
   return std::nullopt;
 }
 

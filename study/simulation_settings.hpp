@@ -11,8 +11,8 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "core/method.hpp"

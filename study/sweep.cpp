@@ -142,10 +142,9 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
       for (const std::string& name : plan.output.indicators) {
         const IndicatorInfo* info = find_indicator(name);
         if (!contact_indicator(name)) continue;
-        r.indicators.push_back(
-            {name + "." + contact, info->units, name + " at contact " + contact,
-             std::string(info->definition) + " (at contact " + contact + ")",
-             std::vector<double>(size, kNaN)});
+        r.indicators.push_back({name + "." + contact, info->units, name + " at contact " + contact,
+                                std::string(info->definition) + " (at contact " + contact + ")",
+                                std::vector<double>(size, kNaN)});
       }
     }
   }

@@ -1,0 +1,224 @@
+// A user's model read from files (study/model_file.hpp): every refusal names the file, the key or
+// line and the bad value; the paper's rod exported as a model (study/model_export.hpp) runs the
+// built-in rod's numbers bit for bit; the shipped block keeps the Signorini conditions after every
+// step.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "core/simulation.hpp"
+#include "core/sparse_integrators.hpp"
+#include "same_run.hpp"
+#include "study/evaluation.hpp"
+#include "study/model_export.hpp"
+#include "study/plan.hpp"
+#include "test_files.hpp"
+
+namespace impactid {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::scratch_path;
+using testing::write_file;
+
+constexpr const char* kMass =
+    "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 2.0\n2 2 2.0\n3 3 2.0\n";
+constexpr const char* kStiffness =
+    "%%MatrixMarket matrix coordinate real symmetric\n3 3 5\n1 1 10\n2 1 -10\n2 2 20\n3 2 -10\n"
+    "3 3 10\n";
+
+// A folder with M.mtx, K.mtx and scene.toml (`scene` after the [scene] header's defaults).
+fs::path model_folder(const std::string& name, const std::string& scene,
+                      const std::string& mass = kMass, const std::string& stiffness = kStiffness) {
+  const fs::path dir = scratch_path("model_file", name);
+  fs::create_directories(dir);
+  write_file(dir / "M.mtx", mass);
+  write_file(dir / "K.mtx", stiffness);
+  write_file(dir / "scene.toml", scene);
+  return dir / "scene.toml";
+}
+
+const std::string kGood =
+    "[scene]\nkind = \"matrices\"\ndt = 1e-3\nt_end = 0.5\n"
+    "[scene.matrices]\nmass = \"M.mtx\"\nstiffness = \"K.mtx\"\n"
+    "[scene.initial]\nvelocity = { value = 1.0, dofs = \"all\" }\n"
+    "[[scene.contact]]\nname = \"wall\"\ndof = 2\ngap = 0.1\n";
+
+// The message of loading `scene` (with the matrices given), which must fail.
+std::string refusal(const std::string& name, const std::string& scene,
+                    const std::string& mass = kMass, const std::string& stiffness = kStiffness) {
+  try {
+    load_scene_file(model_folder(name, scene, mass, stiffness));
+  } catch (const PlanError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << name << ": loaded";
+  return "";
+}
+
+TEST(ModelFile, ReadsAGoodModelAndRunsIt) {
+  const SimulationSettings settings = load_scene_file(model_folder("good", kGood));
+  ASSERT_TRUE(settings.model);
+  const auto built = build(settings);
+  ASSERT_TRUE(std::holds_alternative<Simulation>(built))
+      << std::get<ParameterError>(built).constraint;
+  const Simulation sim = std::get<Simulation>(built);
+  EXPECT_EQ(sim.model->model->size(), 3);
+  EXPECT_EQ(sim.model->model->contacts.front().plus, 2);
+  SimulationWorkspace ws;
+  const Evaluation e = evaluate(sim, ws);
+  EXPECT_EQ(e.summary.status, RunStatus::ok) << e.summary.message;
+  EXPECT_GE(e.reference_refinements, 1);  // converged: no history was given
+}
+
+TEST(ModelFile, RefusesEveryBadInputNamingIt) {
+  const auto expect = [](const std::string& message, std::initializer_list<const char*> parts) {
+    for (const char* part : parts) EXPECT_NE(message.find(part), std::string::npos) << message;
+  };
+  expect(refusal("not_square", kGood,
+                 "%%MatrixMarket matrix coordinate real general\n3 2 1\n1 1 2.0\n"),
+         {"M.mtx", "not square", "3 rows, 2 columns"});
+  expect(refusal("sizes", kGood, kMass,
+                 "%%MatrixMarket matrix coordinate real symmetric\n2 2 1\n1 1 1.0\n"),
+         {"K.mtx", "2 rows", "mass matrix has 3"});
+  expect(refusal("not_a_number", kGood, kMass,
+                 "%%MatrixMarket matrix coordinate real symmetric\n3 3 1\n1 1 abc\n"),
+         {"K.mtx:3", "abc"});
+  expect(refusal("not_symmetric", kGood, kMass,
+                 "%%MatrixMarket matrix coordinate real general\n3 3 2\n1 2 1.0\n2 1 3.0\n"),
+         {"K.mtx", "not symmetric", "(1, 2)"});
+  expect(refusal("mass_not_pd", kGood,
+                 "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 2.0\n2 2 -1.0\n"
+                 "3 3 2.0\n"),
+         {"M.mtx", "not positive definite", "at DOF 1", "row 2"});
+  std::string scene = kGood;
+  scene.replace(scene.find("dof = 2"), 7, "dof = 3");
+  expect(refusal("dof_range", scene), {"scene.contact.1.dof", "DOF 3 is out of range", "0 to 2"});
+  expect(refusal("two_walls",
+                 kGood + "[[scene.contact]]\nname = \"floor\"\ndof = 2\nside = \"lower\"\n"),
+         {"scene.contact.2.dof", "DOF 2 already has a wall", "\"wall\""});
+  expect(refusal("side", kGood + "[[scene.contact]]\nname = \"x\"\ndof = 1\nside = \"up\"\n"),
+         {"scene.contact.2.side", "\"up\""});
+  expect(refusal("pair_side",
+                 kGood + "[[scene.contact]]\nname = \"p\"\ndofs = [0, 1]\nside = \"upper\"\n"),
+         {"scene.contact.2.side", "applies to a wall"});
+  expect(refusal("no_contact", kGood.substr(0, kGood.find("[[scene.contact]]"))),
+         {"scene.contact", "at least one"});
+  expect(refusal("slice", "[scene.dof_sets]\nodd = \"1:x\"\n" + kGood),
+         {"scene.dof_sets.odd", "1:x"});
+  expect(refusal("no_dt", std::string(kGood).replace(kGood.find("dt = 1e-3\n"), 10, "")),
+         {"dt", "time step"});
+  expect(refusal("primary", kGood + "primary_contact = \"nowhere\"\n"), {"nowhere"});
+  expect(refusal("rod_key", kGood.substr(0, kGood.find("[scene.matrices]")) + "length = 3.0\n" +
+                                kGood.substr(kGood.find("[scene.matrices]"))),
+         {"length", "one-body rod"});
+}
+
+TEST(ModelFile, RefusesABadReferenceHistory) {
+  const fs::path scene = model_folder("reference", kGood + "[scene.reference]\nfile = \"r.csv\"\n");
+  write_file(scene.parent_path() / "r.csv",
+             "t,wall.pressure,wall.velocity\n0.001,0,1\n0.002,x,1\n");
+  try {
+    load_scene_file(scene);
+    ADD_FAILURE() << "loaded";
+  } catch (const PlanError& e) {
+    EXPECT_NE(std::string(e.what()).find("r.csv:3"), std::string::npos) << e.what();
+  }
+  // A history that ends before the run: not usable, the runs fail with the reason.
+  write_file(scene.parent_path() / "r.csv",
+             "t,wall.pressure,wall.velocity\n0.001,0,1\n0.002,0,1\n");
+  const Simulation sim = std::get<Simulation>(build(load_scene_file(scene)));
+  SimulationWorkspace ws;
+  const Evaluation e = evaluate(sim, ws);
+  EXPECT_EQ(e.summary.status, RunStatus::failed);
+  EXPECT_NE(e.summary.message.find("covers t ="), std::string::npos) << e.summary.message;
+}
+
+// The rod exported as a model: the same run, bit for bit (lumped and consistent mass, with and
+// without stiffness damping), and the same indicators against its exported exact solution.
+TEST(ModelExport, TheExportedRodRunsTheBuiltInRodBitForBit) {
+  for (const MassMatrix mass : {MassMatrix::lumped, MassMatrix::consistent}) {
+    for (const double damping : {0.0, 2e-8}) {
+      SimulationSettings settings;
+      settings.scene.mass = mass;
+      settings.scene.rayleigh_stiffness = damping;
+      settings.scene.elements = 60;
+      const Simulation rod = std::get<Simulation>(build(settings));
+      const fs::path dir = scratch_path("model_export", "rod");
+      export_model(rod, dir);
+      SimulationSettings model_settings = load_scene_file(dir / "scene.toml");
+      for (const MethodParams& method :
+           {MethodParams{HhtParams{.alpha = -0.2}}, MethodParams{CentralDifferenceParams{}},
+            MethodParams{NewmarkParams{.delta = 0.3}}}) {
+        const std::string name = std::string(to_string(mass)) + " a1=" + std::to_string(damping) +
+                                 " " + to_string(kind_of(method));
+        Simulation a = rod, b = std::get<Simulation>(build(model_settings));
+        a.method = b.method = method;
+        SimulationWorkspace wa, wb;
+        const Evaluation ea = evaluate(a, wa), eb = evaluate(b, wb);
+        testing::expect_same_samples(wb.trace.pressure, wa.trace.pressure, name + " pressure");
+        testing::expect_same_samples(wb.trace.velocity, wa.trace.velocity, name + " velocity");
+        EXPECT_EQ(ea.summary.status, eb.summary.status) << name;
+        if (damping == 0.0) {  // the exact solution is the model's reference
+          EXPECT_TRUE(testing::same(ea.indicators.eps_p, eb.indicators.eps_p)) << name;
+          EXPECT_TRUE(testing::same(ea.indicators.eps_v, eb.indicators.eps_v)) << name;
+          EXPECT_TRUE(testing::same(ea.indicators.nop_p, eb.indicators.nop_p)) << name;
+          EXPECT_TRUE(testing::same(ea.indicators.nop_v, eb.indicators.nop_v)) << name;
+          EXPECT_EQ(eb.reference_refinements, -1) << name;
+        }
+      }
+    }
+  }
+}
+
+// The shipped block (examples/block: 1722 DOFs, 41 contacts on its bottom edge), stepped by the
+// sparse integrators: after every step every multiplier is >= 0, no node is below the plane by
+// more than the solver's tolerance, and a pushing node is exactly on it.
+TEST(ModelExample, TheBlockKeepsTheSignoriniConditionsAfterEveryStep) {
+  const Simulation sim = std::get<Simulation>(
+      build(load_scene_file(fs::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
+  const AssembledScene scene = assemble(*sim.model);
+  ASSERT_TRUE(scene.sparse);
+  const SparseSystem& system = *scene.sparse;
+  for (const MethodParams& method :
+       {MethodParams{HhtParams{.alpha = -0.1}}, MethodParams{CentralDifferenceParams{}}}) {
+    State s;
+    s.u = Eigen::VectorXd::Zero(system.size());
+    s.v = scene.initial_velocity;
+    s.a = Eigen::VectorXd::Zero(system.size());
+    s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
+    SparseImplicitIntegrator implicit;
+    SparseCentralDifference explicit_;
+    const bool cdm = std::holds_alternative<CentralDifferenceParams>(method);
+    ASSERT_TRUE(cdm ? explicit_.initialize(system, CdmVelocity::central, scene.dt, s)
+                    : implicit.initialize(system, implicit_coefficients(method), scene.dt));
+    long pushing = 0;
+    for (long i = 0; i < scene.step_count; ++i) {
+      if (cdm) {
+        explicit_.step(system, s);
+      } else {
+        implicit.step(system, s);
+      }
+      for (std::size_t k = 0; k < system.constraints.size(); ++k) {
+        const Constraint& c = system.constraints[k];
+        const double lambda = s.multipliers[static_cast<Eigen::Index>(k)];
+        const double gap = c.gap + s.u[c.minus];  // a lower wall: u >= −gap
+        ASSERT_GE(lambda, 0.0) << "step " << i;
+        ASSERT_GE(gap, -1e-12 * c.gap) << "step " << i << " contact " << k;
+        if (lambda > 0.0) {
+          ++pushing;
+          // Complementarity: on the plane at the end of the step where the implicit multiplier
+          // acts (central difference's λ_t acts on u_{t+Δt}, one sample later than `s`).
+          if (!cdm) {
+            ASSERT_EQ(s.u[c.minus], -c.gap) << "step " << i;
+          }
+        }
+      }
+    }
+    EXPECT_GT(pushing, 100) << to_string(kind_of(method));
+  }
+}
+
+}  // namespace
+}  // namespace impactid
