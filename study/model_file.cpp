@@ -63,7 +63,13 @@ class ModelReader : public toml_reading::TableReader {
     const std::string name = string(node, key);
     if (name.empty()) fail(node, key, "must name a file");
     std::filesystem::path p(name);
-    return p.is_absolute() ? p : directory_ / p;
+    if (!p.is_absolute()) p = directory_ / p;
+    // A device or a folder would be read without end (/dev/zero) or fail obscurely.
+    std::error_code ec;
+    if (std::filesystem::exists(p, ec) && !std::filesystem::is_regular_file(p, ec)) {
+      fail(node, key, p.string() + ": is not a regular file");
+    }
+    return p;
   }
 
   // A square, symmetric matrix of a file, of size n when n >= 0.

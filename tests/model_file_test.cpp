@@ -109,6 +109,8 @@ TEST(ModelFile, RefusesEveryBadInputNamingIt) {
          {"scene.dof_sets.odd", "1:x"});
   expect(refusal("no_dt", std::string(kGood).replace(kGood.find("dt = 1e-3\n"), 10, "")),
          {"dt", "time step"});
+  expect(refusal("device", std::string(kGood).replace(kGood.find("\"K.mtx\""), 7, "\"/dev/zero\"")),
+         {"/dev/zero", "not a regular file"});
   expect(refusal("primary", kGood + "primary_contact = \"nowhere\"\n"), {"nowhere"});
   expect(refusal("rod_key", kGood.substr(0, kGood.find("[scene.matrices]")) + "length = 3.0\n" +
                                 kGood.substr(kGood.find("[scene.matrices]"))),
