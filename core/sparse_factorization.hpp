@@ -2,11 +2,11 @@
 // implicit methods and the left-hand matrix of central difference on a user's model (issue 20),
 // and M itself for the consistent initial acceleration.
 //
-// Eigen's SimplicialLDLT with an approximate minimum degree ordering (AMD). Why it and not
-// CHOLMOD (Debian's SuiteSparse): on the shipped examples the factorisation is done once per run
-// and the step's two triangular solves dominate, where a supernodal factor brings nothing for a
-// few thousand DOFs (docs/performance.md, "user models"). A diagonal matrix (a lumped mass with
-// central difference) is inverted entry by entry instead.
+// Eigen's SimplicialLDLT with an approximate minimum degree ordering (AMD): the factorisation is
+// done once per run and a step costs its two triangular solves. CHOLMOD (Debian's SuiteSparse) is
+// the alternative the issue names; it has not been measured against this yet
+// (docs/performance.md, "User models"). A diagonal matrix (a lumped mass with central
+// difference) is inverted entry by entry instead.
 //
 // A pivot that is not positive is reported with the DOF it belongs to (the ordering maps the
 // elimination step back to the user's numbering): a mass matrix that is not positive definite,
