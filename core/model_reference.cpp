@@ -1,6 +1,7 @@
 #include "core/model_reference.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include "core/simulation.hpp"
 
@@ -72,8 +73,11 @@ std::string ModelReference::description() const {
          (message.empty() ? "" : "; " + message);
 }
 
-ReferenceOptions model_reference_defaults() {
-  return {.method = HhtParams{.alpha = -0.3}, .tolerance = 1e-3, .max_refinements = 10};
+ReferenceOptions model_reference_defaults(const Model& model) {
+  ReferenceOptions options{
+      .method = HhtParams{.alpha = -0.3}, .tolerance = 1e-3, .max_refinements = 10};
+  if (is_diagonal(model.mass)) options.method = CentralDifferenceParams{};
+  return options;
 }
 
 ModelReference model_reference(const ModelScene& scene, const ReferenceOptions& options) {
@@ -111,25 +115,33 @@ ModelReference model_reference(const ModelScene& scene, const ReferenceOptions& 
     return r;
   }
   const auto p = static_cast<std::size_t>(primary);
-  std::vector<ContactSamples> previous;
-  r.refinements = 1;
-  r.dt = assembled.dt / 2.0;
+  // A halving whose run is not ok (central difference above its stability limit at the first
+  // halvings) is passed over until one is; after that, a failed run ends the refinement.
+  std::optional<std::vector<ContactSamples>> previous;
   r.converged = false;
-  if (!refined_samples(assembled, 1, options, previous, r.message)) return r;
-  r.contacts = previous;
-  for (int k = 2; k <= options.max_refinements; ++k) {
+  for (int k = 1; k <= options.max_refinements; ++k) {
     std::vector<ContactSamples> next;
-    if (!refined_samples(assembled, k, options, next, r.message)) return r;
-    r.change = std::max(relative_change(next[p].pressure, previous[p].pressure),
-                        relative_change(next[p].velocity, previous[p].velocity));
-    r.contacts = next;
+    if (!refined_samples(assembled, k, options, next, r.message)) {
+      if (previous) return r;
+      continue;
+    }
+    r.message.clear();
     r.refinements = k;
     r.dt = assembled.dt / static_cast<double>(1L << k);
-    if (r.change < options.tolerance) {
+    if (previous) {
+      r.change = std::max(relative_change(next[p].pressure, (*previous)[p].pressure),
+                          relative_change(next[p].velocity, (*previous)[p].velocity));
+    }
+    r.contacts = next;
+    if (previous && r.change < options.tolerance) {
       r.converged = true;
       return r;
     }
     previous = std::move(next);
+  }
+  if (r.contacts.empty()) {
+    r.refinements = options.max_refinements;
+    return r;  // every halving failed: the last one's message says why
   }
   r.message = "the tolerance was not reached in " + std::to_string(options.max_refinements) +
               " halvings of the step";

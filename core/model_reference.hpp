@@ -4,11 +4,24 @@
 //   interpolated in t between its samples, its own values where a sample time matches to 1e-9·Δt
 //   (a history written at the run's samples, as `impactid export-model` writes the exact solution
 //   of a built-in scene, is taken as it is); or
-// - a converged solution: the scene run by a reference method (default HHT α = −0.3, δ = −α:
-//   second order, and damped) at Δt/2^k, k = 1, 2, …, until the primary contact's pressure and
-//   velocity change by less than a tolerance between two halvings, in the form of eq. 18
-//   (Σ|x_k − x_{k−1}| / Σ|x_k| over the samples). A refined run's sample t_i is its step i·2^k:
-//   no interpolation enters.
+// - a converged solution: the scene run by a reference method at Δt/2^k, k = 1, 2, …, until the
+//   primary contact's pressure and velocity change by less than a tolerance between two
+//   halvings, in the form of eq. 18 (Σ|x_k − x_{k−1}| / Σ|x_k| over the samples). A refined run's
+//   sample t_i is its step i·2^k: no interpolation enters. Halvings whose run is not ok (central
+//   difference above its stability limit) are passed over until one is.
+//
+// The reference method (model_reference_defaults): central difference when M is diagonal, HHT
+// α = −0.3 (δ = −α) otherwise. Why central difference: the semi-discrete model with a Lagrange
+// contact needs an impact law at the contact DOF, and each integrator brings its own. Carpenter's
+// forward-increment multiplier stops the contact DOF at the wall (an inelastic impact of the
+// node, the persistent-contact solution), which converges as Δt → 0; the implicit family's
+// end-of-step constraint reverses the node's velocity at every re-contact, so its contact force
+// chatters at the refined step and the samples keep changing. Measured (2026-11-25, the default
+// HHT run on each scene): the exported paper's rod converged with central difference at Δt/64
+// (change 3.1e-4), and the shipped block at Δt/32 (3.6e-4). With HHT α = −0.3, after ten halvings
+// the change was still 3.6 % on the rod and 45 % on the block. With a consistent mass (no central
+// difference) the HHT reference may therefore end unconverged, and says so.
+//
 // Unlike a scene of bodies (core/scene_reference.hpp), a model's mesh is the user's and cannot be
 // refined: the converged solution is that of the semi-discrete model, not of the continuum.
 //
@@ -27,7 +40,7 @@ struct ModelReference {
   ModelScene scene;                      ///< what it is the reference of (a cache key)
   ReferenceOptions options;              ///< and with which options
   std::vector<ContactSamples> contacts;  ///< Model::contacts order; empty vectors: none
-  /// −1: the supplied history; k >= 1: the converged solution at Δt/2^k.
+  /// −1: the supplied history; k >= 1: the converged solution at Δt/2^k (or the last computed).
   int refinements = -1;
   double dt = 0.0;  ///< the reference's step (the supplied history's: NaN)
   /// The relative change at the last halving (NaN for a supplied history).
@@ -41,9 +54,10 @@ struct ModelReference {
   std::string description() const;
 };
 
-/// Options of a model's converged reference: HHT α = −0.3, tolerance 1e-3, at most 10 halvings
-/// (1024 times the run's steps; each halving doubles the cost).
-ReferenceOptions model_reference_defaults();
+/// Options of a model's converged reference: central difference when M is diagonal, else HHT
+/// α = −0.3 (see above); tolerance 1e-3; at most 10 halvings (1024 times the run's steps; each
+/// halving doubles the cost).
+ReferenceOptions model_reference_defaults(const Model& model);
 
 /// The reference of a valid model scene. Never throws: a reference that cannot be had is not
 /// usable(), with the reason in `message`.

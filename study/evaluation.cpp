@@ -41,7 +41,7 @@ Evaluation evaluate_model(const Simulation& sim, SimulationWorkspace& workspace)
   const ModelScene& scene = *sim.model;
   Evaluation out;
   out.summary = simulate(assemble(scene), sim.method, sim.run, workspace);
-  ReferenceOptions options = model_reference_defaults();
+  ReferenceOptions options = model_reference_defaults(*scene.model);
   options.tolerance = sim.indicators.reference_tolerance;
   std::optional<ModelReference>& reference = workspace.model_reference;
   if (!reference || !(reference->scene == scene) || !(reference->options == options)) {

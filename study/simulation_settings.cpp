@@ -311,7 +311,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     out.model = std::move(scene);
     // A model's converged reference has its own default tolerance (core/model_reference.hpp).
     if (!s.reference_tolerance_given) {
-      out.indicators.reference_tolerance = model_reference_defaults().tolerance;
+      out.indicators.reference_tolerance = model_reference_defaults(*out.model->model).tolerance;
     }
   } else if (s.bodies) {
     if (!s.rod_keys.empty()) {
