@@ -30,13 +30,15 @@ std::vector<double> resample(const std::vector<double>& t, const std::vector<dou
   return out;
 }
 
-// The samples of `scene` run by the reference method at Δt/2^k, at the run's samples t_i.
+// The samples of `scene` run by the reference method at Δt/2^k, at the run's samples t_i: each
+// the mean of the refined samples in the window (t_i − Δt/2, t_i + Δt/2] (why: see the header).
+// The refined run goes on half a step past the last sample to fill its window.
 bool refined_samples(const AssembledScene& scene, int k, const ReferenceOptions& options,
                      std::vector<ContactSamples>& out, std::string& message) {
   const long factor = 1L << k;
   AssembledScene refined = scene;
   refined.dt = scene.dt / static_cast<double>(factor);
-  refined.step_count = scene.step_count * factor;
+  refined.step_count = scene.step_count * factor + factor / 2;
   SimulationWorkspace ws;
   const RunSummary summary = simulate(refined, options.method, RunOptions{}, ws);
   if (summary.status != RunStatus::ok) {
@@ -46,10 +48,17 @@ bool refined_samples(const AssembledScene& scene, int k, const ReferenceOptions&
   }
   out.assign(ws.trace.contact_pressure.size(), {});
   for (std::size_t c = 0; c < out.size(); ++c) {
+    const std::vector<double>& pressure = ws.trace.contact_pressure[c];
+    const std::vector<double>& velocity = ws.trace.contact_velocity[c];
     for (long i = 1; i <= scene.step_count; ++i) {
-      const auto j = static_cast<std::size_t>(i * factor - 1);
-      out[c].pressure.push_back(ws.trace.contact_pressure[c][j]);
-      out[c].velocity.push_back(ws.trace.contact_velocity[c][j]);
+      // Refined sample j (index j − 1) is at t = j·Δt/2^k.
+      double p = 0.0, v = 0.0;
+      for (long j = i * factor - factor / 2 + 1; j <= i * factor + factor / 2; ++j) {
+        p += pressure[static_cast<std::size_t>(j - 1)];
+        v += velocity[static_cast<std::size_t>(j - 1)];
+      }
+      out[c].pressure.push_back(p / static_cast<double>(factor));
+      out[c].velocity.push_back(v / static_cast<double>(factor));
     }
   }
   return true;

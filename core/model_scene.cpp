@@ -26,6 +26,20 @@ bool is_zero(const Eigen::VectorXd& v) {
 
 }  // namespace
 
+double gershgorin_omega(const SparseMatrix& mass, const SparseMatrix& stiffness) {
+  const Eigen::Index n = mass.rows();
+  Eigen::VectorXd lumped = Eigen::VectorXd::Zero(n), row = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (SparseMatrix::InnerIterator it(mass, j); it; ++it) lumped[it.row()] += it.value();
+    for (SparseMatrix::InnerIterator it(stiffness, j); it; ++it) {
+      row[it.row()] += std::abs(it.value());
+    }
+  }
+  double bound = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) bound = std::max(bound, row[i] / lumped[i]);
+  return std::sqrt(bound);
+}
+
 bool ModelScene::operator==(const ModelScene& other) const {
   return model == other.model && dt == other.dt && t_end == other.t_end &&
          rayleigh_mass == other.rayleigh_mass && rayleigh_stiffness == other.rayleigh_stiffness &&

@@ -61,10 +61,18 @@ struct Model {
   std::vector<ModelContact> contacts;         ///< at least one
   std::string units;                          ///< as the scene states them, for reports
   std::string source;                         ///< the files it was read from, for reports
+  double omega_bound = 0.0;  ///< gershgorin_omega(mass, stiffness), set when the model is read
   std::optional<ReferenceHistory> reference;  ///< a supplied reference, if any
 
   Eigen::Index size() const { return mass.rows(); }
 };
+
+/// An upper bound of the model's highest angular frequency ω_max [rad per time unit]: Gershgorin's
+/// bound on M_L⁻¹·K, ω² <= max_i Σ_j |K_ij| / m_i, with m_i the row sums of M (M itself when it is
+/// diagonal). A model's Courant number is Δt·ω/2 with this ω: central difference with that lumped
+/// mass is stable below 1, and for the paper's rod (lumped) it is the rod's c·Δt/h, since ω = 2c/h
+/// there. O(nnz); computed when the model is read (Model::omega_bound).
+double gershgorin_omega(const SparseMatrix& mass, const SparseMatrix& stiffness);
 
 struct ModelScene {
   std::shared_ptr<const Model> model;

@@ -3,8 +3,8 @@
 
     figures/make_figures.py [--results DIR] [--out DIR]
 
-reads the results files of the plans in plans/ (layout: results/README.md) from DIR (default
-results/) and writes one PNG per figure to --out (default DIR/figures/). It prints one line per
+reads the results files of the plans in plans/ and examples/block/ (layout: results/README.md)
+from DIR (default results/) and writes one PNG per figure to --out (default DIR/figures/). It prints one line per
 figure: `wrote PATH` or `skipped NAME: WHY`, where WHY names the missing file and the command
 that produces it. The exit status is 0 unless a figure failed with an unexpected error (1) or
 the arguments are wrong (2). What each figure shows: figures/README.md.
@@ -42,7 +42,19 @@ except ImportError as error:  # pragma: no cover - environment problem
 
 PROJECT_ROOT = Path(__file__).resolve().parent.parent
 DPI = 150
-RUN = "build/study/impactid run plans/{}.toml"  # how a results file is produced (project root)
+RUN = "build/study/impactid run {}"  # how a results file is produced (project root)
+# The plans that are not plans/<name>.toml: the shipped models' (examples/<model>/), by the
+# results file they write (their `name`).
+PLAN_FILES = {
+    "block-hht-delta-alpha": "examples/block/hht-delta-alpha.toml",
+    "block-identical-dissipation": "examples/block/identical-dissipation.toml",
+    "block-work-precision": "examples/block/work-precision.toml",
+}
+
+
+def run_command(name):
+    """The command that produces results/<name>.h5, from the project root."""
+    return RUN.format(PLAN_FILES.get(name, f"plans/{name}.toml"))
 
 # ---------------------------------------------------------------------------------------------
 # Style: one colour per method in every figure (Okabe & Ito's colour-blind-safe palette).
@@ -194,12 +206,12 @@ class Results:
 def load(results_dir, name):
     path = Path(results_dir) / f"{name}.h5"
     if not path.exists():
-        raise Skip(f"{path} not found; produce it with: {RUN.format(name)}")
+        raise Skip(f"{path} not found; produce it with: {run_command(name)}")
     r = Results(path)
     if r.status is None or r.status.size == 0:
         raise Skip(f"{path} holds no points")
     if np.all(r.status == -1):
-        raise Skip(f"{path}: no point is done yet (status −1 everywhere); finish it with: {RUN.format(name)} --resume")
+        raise Skip(f"{path}: no point is done yet (status −1 everywhere); finish it with: {run_command(name)} --resume")
     return r
 
 
@@ -246,11 +258,189 @@ def scene_text(scene, varying=()):
 
 def results_scene(r):
     """The scene of a results file: the plan's [scene] table, minus the parameters that vary
-    (for a scene of bodies also its dotted keys, such as 'body.striker.velocity')."""
-    scene = dict(r.plan.get("scene", {}))
+    (for a scene of bodies also its dotted keys, such as 'body.striker.velocity'); a user's
+    model as model_scene_text describes it."""
     names = list(DEFAULT_SCENE) + ["dt"] + [d for d in r.dims if "." in d]
     varying = {name for name in names if r.param_varies(name)}
+    if is_model_results(r):
+        return model_scene_text(r, varying)
+    scene = dict(r.plan.get("scene", {}))
     return scene_text(scene, varying)
+
+
+# ---------------------------------------------------------------------------------------------
+# User models ([scene] kind = "matrices", often a plan's `scene = "FILE.toml"`; examples/block)
+# ---------------------------------------------------------------------------------------------
+
+
+def is_model_results(r):
+    """Whether a results file is a user model's: impactid writes the model_* root attributes."""
+    return "model_dofs" in r.attrs or "model_files" in r.attrs or \
+        isinstance(r.plan.get("scene"), str) or text(r.plan.get("scene", {}).get("kind", "")) == "matrices"
+
+
+def project_path(path):
+    """A path as the user would write it: relative to the project root when it is inside it."""
+    path = Path(path)
+    try:
+        return str(path.resolve().relative_to(PROJECT_ROOT))
+    except (ValueError, OSError):
+        return str(path)
+
+
+def model_files(r):
+    """The model's matrix files of a results file (root attribute model_files), as Paths."""
+    return [Path(f.strip()) for f in text(r.attr("model_files", "")).split(",") if f.strip()]
+
+
+def model_scene(r):
+    """The [scene] table of a user model's results file and the scene file it came from, as
+    (table, path); path is None for a plan's inline [scene]. A plan's `scene = "FILE.toml"` is
+    relative to the plan, which the results file does not name, so the file is looked for beside
+    the plan of PLAN_FILES of that name, and beside the model's matrices (model_files, relative to
+    where impactid ran: the project root, the results folder's parent or the current folder).
+    ({}, None) if it is not found."""
+    scene = r.plan.get("scene", {})
+    if isinstance(scene, dict):
+        return scene, None
+    name = Path(text(scene))
+    roots = [PROJECT_ROOT, r.path.resolve().parent.parent, Path.cwd()]
+    candidates = [name] if name.is_absolute() else []
+    plan = PLAN_FILES.get(text(r.attr("plan_name", r.plan.get("name", ""))))
+    if plan and not name.is_absolute():
+        candidates.append(PROJECT_ROOT / Path(plan).parent / name)
+    for folder in [f.parent for f in model_files(r)]:
+        for c in (folder / name, folder / name.name):
+            candidates += [c] if c.is_absolute() else [root / c for root in roots]
+    for c in candidates:
+        if c.is_file():
+            try:
+                root = tomllib.loads(c.read_text())
+            except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+                continue
+            return root.get("scene", root), c
+    return {}, None
+
+
+def model_units(r):
+    """The model's units (root attribute model_units, 'N, mm, s, t') as (force, length, time)."""
+    u = [x.strip() for x in text(r.attr("model_units", "N, mm, s, t")).split(",")]
+    return tuple((u + ["N", "mm", "s"][len(u):])[:3])
+
+
+def pressure_unit(force, length):
+    return "MPa" if (force, length) == ("N", "mm") else "Pa" if (force, length) == ("N", "m") else f"{force}/{length}²"
+
+
+def model_scene_text(r, varying=()):
+    """A user's model in one line: 'model examples/block (1722 DOFs, 41 contacts bottom_0 …
+    bottom_40), Δt = 4.23e-08 s, to t = 6.13e-06 s, v0 = −1000 mm/s on all_y', from the results
+    file's model_* attributes and the model's scene file; what varies in the study is left out."""
+    scene, path = model_scene(r)
+    force, length, time = model_units(r)
+    files = model_files(r)
+    where = project_path(path.parent) if path else project_path(files[0].parent) if files else "(model)"
+    inside = []
+    dofs = r.attr("model_dofs")
+    if dofs is None and r.has("elements") and np.asarray(r.data["elements"]).size == 1:
+        dofs = np.asarray(r.data["elements"]).item()  # a work-precision study: its one 'mesh'
+    if dofs is not None:
+        inside.append(f"{num(float(dofs))} DOFs")
+    contacts = [str(c.get("name", f"contact {k}")) for k, c in enumerate(scene.get("contact", []))]
+    if len(contacts) > 3:
+        inside.append(f"{len(contacts)} contacts {contacts[0]} … {contacts[-1]}")
+    elif contacts:
+        inside.append(("contact " if len(contacts) == 1 else "contacts ") + ", ".join(contacts))
+    parts = [f"model {where}" + (f" ({', '.join(inside)})" if inside else "")]
+    if not varying & {"dt", "courant"}:
+        if "courant" in scene:
+            parts.append(f"Courant {num(scene['courant'])}")
+        elif "dt" in scene:
+            parts.append(f"Δt = {float(scene['dt']):.3g} {time}")
+    if "t_end" in scene:
+        parts.append(f"to t = {float(scene['t_end']):.3g} {time}")
+    v = scene.get("initial", {}).get("velocity")
+    if isinstance(v, dict) and "value" in v:
+        parts.append(f"v0 = {num(v['value'])} {length}/{time}" + (f" on {v['dofs']}" if "dofs" in v else ""))
+    return ", ".join(parts)
+
+
+def model_contact_areas(r):
+    """{contact name: area} of a user model's scene (contacts without an area: 1)."""
+    scene, _ = model_scene(r)
+    return {str(c["name"]): float(c.get("area", 1.0)) for c in scene.get("contact", []) if "name" in c}
+
+
+def middle_contact_text(r, contact):
+    """', the middle one of the 41' when `contact` is the middle one of the model's contacts
+    (in the scene's order: bottom_20 of bottom_0 … bottom_40 of the block); '' otherwise."""
+    names = list(model_contact_areas(r))
+    if len(names) > 2 and len(names) % 2 == 1 and contact in names and names.index(contact) == len(names) // 2:
+        return f", the middle one of the {len(names)}"
+    return ""
+
+
+def model_primary_contact(r):
+    """A user model's primary contact: the scene's primary_contact, or its only contact; None."""
+    scene, _ = model_scene(r)
+    if scene.get("primary_contact"):
+        return str(scene["primary_contact"])
+    contacts = scene.get("contact", [])
+    return str(contacts[0].get("name")) if len(contacts) == 1 else None
+
+
+def mass_is_diagonal(r):
+    """Whether the model's mass matrix (the scene's matrices.mass, a Matrix Market file) is
+    diagonal; None if it cannot be read."""
+    scene, path = model_scene(r)
+    mass = scene.get("matrices", {}).get("mass")
+    files = model_files(r)
+    if mass and path:
+        f = path.parent / mass
+    elif files:  # model_files names the mass first
+        f = files[0] if files[0].is_absolute() else PROJECT_ROOT / files[0]
+    else:
+        return None
+    try:
+        with open(f) as fh:
+            header = True
+            for line in fh:
+                if line.startswith("%") or not line.strip():
+                    continue
+                if header:  # the size line
+                    header = False
+                    continue
+                i, j = line.split()[:2]
+                if i != j:
+                    return False
+        return True
+    except (OSError, ValueError):
+        return None
+
+
+def model_reference_text(r):
+    """What a user model's indicators are measured against, from the reference_* columns: its
+    converged numerical solution (core/model_reference.hpp: central difference when M is diagonal,
+    else HHT-α), at Δt/2^k, or the reference history supplied with the model."""
+    how = {True: "central-difference", False: "HHT-α (α = −0.3)"}.get(mass_is_diagonal(r), "numerical")
+    if not r.has("reference_refinements"):  # a work-precision study: a reference for each point's Δt
+        return f"the model's converged {how} solution at Δt/2^k of each point's Δt, not an exact solution"
+    ok = r.status == 0
+    k = np.asarray(r.data["reference_refinements"], dtype=float)[ok]
+    k = k[np.isfinite(k)]
+    if k.size and np.all(k == -1):
+        return "the reference history supplied with the model (not an exact solution)"
+    if not k.size:
+        return "the model's converged numerical solution (not an exact solution)"
+    ks = sorted({int(v) for v in k})
+    steps = " or ".join(f"Δt/{2 ** v}" for v in ks)
+    change = ""
+    if r.has("reference_change"):
+        c = np.asarray(r.data["reference_change"], dtype=float)[ok]
+        c = c[np.isfinite(c)]
+        if c.size:
+            change = f", changed by {100 * c.max():.2g} % at its last halving"
+    return f"the model's converged {how} solution ({steps}{change}), not an exact solution"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -707,7 +897,10 @@ def hht_map(ax, r, key, norm_kind="log", cbar_label="", fig=None, valid=None):
     cb = fig.colorbar(mesh, ax=ax, pad=0.02)
     cb.set_label(cbar_label)
     if norm_kind == "log":
-        cb.ax.yaxis.set_major_locator(mticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+        # 1, 2, 5 per decade; a range of less than a decade (the block's ε_p, 0.04 to 0.16) gets more
+        narrow = vmin > 0 and vmax / vmin < 6
+        subs = (1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0) if narrow else (1.0, 2.0, 5.0)
+        cb.ax.yaxis.set_major_locator(mticker.LogLocator(subs=subs))
         log_axis_plain(cb.ax.yaxis)
     ax.set_xlim(xe.min(), xe.max())
     ax.set_ylim(ye.min(), ye.max())
@@ -742,8 +935,10 @@ def outline_practical(ax, r):
         return []
     x, y, pr = grid_2d(r, "practical")
     pr = np.where(np.isfinite(pr), pr, 0.0)
-    if not np.any(pr == 1):
-        return []
+    if not np.any(pr == 1):  # say so, as the 1-D figures do
+        thresholds = practical_thresholds(r)
+        return [Patch(facecolor="none", edgecolor=PRACTICAL_COLOR, lw=2.0,
+                      label="practical region: no point" + (f" ({thresholds})" if thresholds else ""))]
     # outline the union of practical cells (their edges), not a contour through the centres
     xe, ye = cell_edges(x), cell_edges(y)
     fine = np.kron(pr, np.ones((4, 4)))
@@ -803,6 +998,19 @@ def fig_hopkinson(results_dir, out_dir):
         "the chain's characteristics)", where=where, scene_sep="\n", paper_stage_label="paper's practical stage "
         "(on one rod) α ∈ [−0.5, −0.3] on eq. 19",
         chatter_where=f"at the {contact_text(contact)}" if contact else "at a contact")
+
+
+def fig_block_hht(results_dir, out_dir):
+    r = load(results_dir, "block-hht-delta-alpha")
+    contact = model_primary_contact(r) or primary_contact({}, r.data)
+    where = f"{contact} " if contact else ""
+    return hht_maps_figure(
+        results_dir, out_dir, "block-hht-delta-alpha", "block-hht-delta-alpha.png",
+        f"2D elastic block dropped on a rigid plane (GetFEM plane-strain model) — HHT-α over (δ, α), at the "
+        f"{contact_text(contact)}{middle_contact_text(r, contact)}\nReference: {model_reference_text(r)}",
+        where=where, scene_sep="\n",
+        paper_stage_label="paper's practical stage (on the rod) α ∈ [−0.5, −0.3] on eq. 19",
+        chatter_where="at the contacts")
 
 
 def hht_maps_figure(results_dir, out_dir, name, png, heading, where="", scene_sep="; ", paper_stage_label=None,
@@ -903,7 +1111,7 @@ def find_history_dir(results_dir, name):
     for c in candidates:
         if (c / "point-0.h5").exists():
             return c
-    raise Skip(f"no time histories: {candidates[0]}/point-*.h5 not found; produce them with: {RUN.format(name)}")
+    raise Skip(f"no time histories: {candidates[0]}/point-*.h5 not found; produce them with: {run_command(name)}")
 
 
 def load_histories(results_dir, name="identical-dissipation"):
@@ -1198,6 +1406,130 @@ def fig_stepped_rod_velocity(results_dir, out_dir):
 
 
 # ---------------------------------------------------------------------------------------------
+# A user's model with many contacts: the total contact force (the block, examples/block)
+# ---------------------------------------------------------------------------------------------
+
+
+def relative_error(ref, y):
+    """eq. 18 on any history: sum_i |ref - y| / sum_i |ref|."""
+    den = np.nansum(np.abs(ref))
+    return float(np.nansum(np.abs(ref - y)) / den) if den > 0 else np.nan
+
+
+def model_histories(results_dir, name):
+    """The per-point histories of a user model's list study, with the contacts' pressures:
+    (results, [(point, attrs, {dataset: array})]) for the points of the results file."""
+    r = load(results_dir, name)
+    folder = find_history_dir(results_dir, name)
+    out = []
+    for k in range(r.status.size):
+        path = folder / f"point-{k}.h5"
+        if not path.exists():
+            continue
+        with h5py.File(path, "r") as f:
+            attrs = {a: (text(f.attrs[a]) if isinstance(f.attrs[a], (bytes, str)) else f.attrs[a]) for a in f.attrs}
+            data = {d: np.asarray(f[d][()], dtype=float) for d in f if isinstance(f[d], h5py.Dataset)}
+        for key in ("t", "pressure"):
+            if key not in data:
+                raise Skip(f"{path}: dataset {key!r} missing (layout of `impactid simulate --history`)")
+        out.append((k, attrs, data))
+    if not out:
+        raise Skip(f"{folder}: no point-*.h5 files of the points of {r.path}")
+    return r, out
+
+
+def contact_force(data, areas, prefix="pressure"):
+    """The total contact force sum_k p_k·A_k of a history's '<prefix>.<contact>' datasets."""
+    return sum(data[f"{prefix}.{c}"] * a for c, a in areas.items())
+
+
+def fig_block_contact_force(results_dir, out_dir):
+    name = "block-identical-dissipation"
+    r, hist = model_histories(results_dir, name)
+    areas_all = model_contact_areas(r)
+    if not areas_all:
+        raise Skip(f"{r.path}: the model's scene file (with the contacts' areas) is not found: "
+                   f"{r.plan.get('scene', '?')} beside {text(r.attr('model_files', '?'))}")
+    _, _, first = hist[0]
+    contacts = sorted({d.split(".", 1)[1] for d in first if d.startswith("pressure.")})
+    missing = [c for c in contacts if c not in areas_all]
+    if not contacts or missing:
+        raise Skip(f"{r.path}: the histories' contacts {', '.join(missing) or '(none)'} are not in the scene file")
+    if not all(f"reference_pressure.{c}" in first for c in contacts):
+        raise Skip(f"{r.path}: the histories have no reference_pressure.<contact> datasets")
+    areas = {c: areas_all[c] for c in contacts}
+    primary = model_primary_contact(r)
+    force_unit, length, time_unit = model_units(r)
+    p_unit = pressure_unit(force_unit, length)
+    scale, t_unit = (1e6, "µs") if time_unit == "s" else (1.0, time_unit)
+    methods = [text(a.get("method", "?")) for _, a, _ in hist]
+    ref_t = first["t"] * scale
+    ref_force = contact_force(first, areas, "reference_pressure")
+    ref_p = first[f"reference_pressure.{primary}"] if primary and f"reference_pressure.{primary}" in first else None
+
+    fig = plt.figure(figsize=(14.5, 9.4), layout="constrained")
+    gs = fig.add_gridspec(2, 2, width_ratios=[2.3, 1])
+    ax_f, ax_p = fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[1, 0])
+    zoom_f, zoom_p = fig.add_subplot(gs[0, 1]), fig.add_subplot(gs[1, 1])
+    ax_p.sharex(ax_f)
+    zoom_p.sharex(zoom_f)
+    # the impact: from a few steps before the reference's first contact force to some 25 steps after
+    dt = float(np.median(np.diff(ref_t)))
+    on = np.nonzero(ref_force > 0)[0]
+    t_imp = ref_t[on[0]] if on.size else ref_t[0]
+    lo, hi = t_imp - 4 * dt, t_imp + 24 * dt
+    # the roughest curves behind the smooth ones (total variation of the force), the legend in point order
+    forces = [contact_force(d, areas) for _, _, d in hist]
+    variation = [np.nansum(np.abs(np.diff(f))) for f in forces]
+    order = np.argsort(np.argsort(-np.asarray(variation)))
+    handles = []
+    for (k, attrs, data), method, force, rank in zip(hist, methods, forces, order):
+        color = method_color(method)
+        label = f"{method_label(method, attrs)}: ε_F = {relative_error(ref_force, force):.4f}"
+        if r.status[k] == 0 and r.has("eps_p") and r.has("nop_p"):
+            label += (f"; {primary}: ε_p = {float(np.atleast_1d(r.data['eps_p'])[k]):.4f}, "
+                      f"NoP_p = {num(np.atleast_1d(r.data['nop_p'])[k])}")
+        elif r.status[k] != 0:
+            label += f"; {STATUS_TEXT.get(int(r.status[k]), 'not ok')}"
+        t = data["t"] * scale
+        for ax, y in ((ax_f, force), (zoom_f, force), (ax_p, data["pressure"]), (zoom_p, data["pressure"])):
+            line, = ax.plot(t, y, color=color, lw=1.1 if ax in (ax_f, ax_p) else 1.4, zorder=2 + 0.1 * rank,
+                            label=label, marker="o" if ax in (zoom_f, zoom_p) else None, ms=2.5)
+        handles.append(line)
+    ref_label = f"reference: {model_reference_text(r).split(' (')[0]}"
+    for ax, y in ((ax_f, ref_force), (zoom_f, ref_force), (ax_p, ref_p), (zoom_p, ref_p)):
+        if y is not None:
+            line, = ax.plot(ref_t, y, color=EXACT_COLOR, lw=1.4, ls="--", zorder=3, label=ref_label)
+    handles.append(line)
+    where = f"{contact_text(primary)}{middle_contact_text(r, primary)}"
+    ax_f.set_title(f"(a) total contact force of the {len(contacts)} contacts, F = Σ p_k·A_k (the areas of the "
+                   "scene file); boxes: the zooms")
+    ax_p.set_title(f"(b) contact pressure p at the {where}, the primary contact")
+    zoom_f.set_title("(c) F, zoom at impact (dots: the samples)")
+    zoom_p.set_title(f"(d) p at {primary}, zoom at impact")
+    for ax in (ax_f, zoom_f):
+        ax.set_ylabel(f"total contact force F [{force_unit}]")
+    for ax in (ax_p, zoom_p):
+        ax.set_ylabel(f"contact pressure p [{p_unit}]")
+        ax.set_xlabel(f"t [{t_unit}]")
+    ax_f.set_xlim(0, ref_t[-1])
+    zoom_f.set_xlim(lo, hi)
+    for ax in (ax_f, zoom_f):
+        ax.tick_params(labelbottom=False)
+    for ax, z in ((ax_f, zoom_f), (ax_p, zoom_p)):
+        _, connectors = ax.indicate_inset_zoom(z, edgecolor="0.3", alpha=0.9)
+        for c in connectors:  # they would cross the figure: keep only the box
+            c.set_visible(False)
+    fig.legend(handles=handles, loc="lower center", ncol=2, frameon=False, fontsize=8.5,
+               title="ε_F: eq. 18 on the total force F; ε_p, NoP_p: the study's indicators at " + str(primary)
+               + " (eq. 18, number of peaks)", title_fontsize=8.5)
+    fig.get_layout_engine().set(rect=(0, 0.11, 1, 0.89))
+    fig.suptitle(f"2D elastic block dropped on a rigid plane — the five methods at identical dissipation "
+                 f"(as Figs 5–6 on the rod)\n{results_scene(r)}\nReference: {model_reference_text(r)}")
+    return [save(fig, out_dir, "block-contact-force.png")]
+
+
+# ---------------------------------------------------------------------------------------------
 # Figures 7 and 8: the indicators of the methods at identical dissipation
 # ---------------------------------------------------------------------------------------------
 
@@ -1309,7 +1641,7 @@ def fig8(results_dir, out_dir):
 def load_spectral(results_dir):
     path = Path(results_dir) / "spectral.h5"
     if not path.exists():
-        raise Skip(f"{path} not found; produce it with: {RUN.format('spectral')}")
+        raise Skip(f"{path} not found; produce it with: {run_command('spectral')}")
     s = {}
     with h5py.File(path, "r") as f:
         fmt = text(f.attrs.get("format", ""))
@@ -1612,7 +1944,21 @@ def unstable_band(band, times, colors, label):
 
 
 def fig_work_precision(results_dir, out_dir):
-    r = load(results_dir, "work-precision")
+    return work_precision_figure(results_dir, out_dir, "work-precision", "fig_work_precision.png")
+
+
+def fig_block_work_precision(results_dir, out_dir):
+    return work_precision_figure(results_dir, out_dir, "block-work-precision", "block-work-precision.png",
+                                 "Work–precision on the 2D elastic block dropped on a rigid plane (GetFEM model)")
+
+
+def work_precision_figure(results_dir, out_dir, name, png, heading="Work–precision"):
+    """The work-precision figure of the results file `name`.h5 (study kind 'work-precision'):
+    wall time against ε_p, ε_v and NoP_p. On the rod the thin lines join the meshes of one Courant
+    number; on a user's model (one mesh: `elements` is its DOF count) they join the Courant numbers
+    of one method, its indicators are at the primary contact and measured against the model's
+    converged reference, which the title names."""
+    r = load(results_dir, name)
     dims = ("method", "elements", "courant")
     if sorted(r.dims) != sorted(dims):
         raise Skip(f"{r.path}: expected the axes method × elements × courant (study kind "
@@ -1634,6 +1980,11 @@ def fig_work_precision(results_dir, out_dir):
         labels.append(pretty_spectral_label(names[-1], raw))
     colors = [method_color(n) for n in names]
     markers = [COURANT_MARKERS[k % len(COURANT_MARKERS)] for k in range(C.size)]
+    model = is_model_results(r)
+    primary = model_primary_contact(r) if model else None
+    at = f"{primary} " if primary else ""
+    one_mesh = E.size == 1  # a model: the thin lines join its Courant numbers instead
+    mesh_text = f"{num(E[0])} DOFs" if model else f"n = {num(E.min())}–{num(E.max())}"
     panels = [(k, sym) for k, sym in (("eps_p", "ε_p"), ("eps_v", "ε_v"), ("nop_p", "NoP_p")) if r.has(k)]
     if not panels:
         raise Skip(f"{r.path}: none of eps_p, eps_v, nop_p")
@@ -1647,8 +1998,11 @@ def fig_work_precision(results_dir, out_dir):
         y = np.where(y > 0, y, np.nan)  # a log axis; NoP_p = 0 (no peak) cannot be drawn on it
         zeros = int(np.sum((status == 0) & (cube(key) <= 0)))
         for i in range(M.size):
+            if one_mesh:  # one thin line per method: its Courant numbers
+                ax.plot(t_ms[i, 0, :], y[i, 0, :], "-", color=colors[i], lw=0.8, alpha=0.45, zorder=2)
             for k in range(C.size):  # one thin line per Courant number: the meshes, coarse to fine
-                ax.plot(t_ms[i, :, k], y[i, :, k], "-", color=colors[i], lw=0.8, alpha=0.45, zorder=2)
+                if not one_mesh:
+                    ax.plot(t_ms[i, :, k], y[i, :, k], "-", color=colors[i], lw=0.8, alpha=0.45, zorder=2)
                 ax.plot(t_ms[i, :, k], y[i, :, k], markers[k], color=colors[i], mec="white", mew=0.5, ms=5,
                         ls="none", zorder=3)
             if key.startswith("eps"):  # fewer peaks is not more accurate: no frontier of NoP
@@ -1667,7 +2021,8 @@ def fig_work_precision(results_dir, out_dir):
             who = "; ".join(f"{labels[i].split(' (')[0]} at Courant {', '.join(num(c) for c in C[np.any(bad[i], axis=0)])}"
                             for i in range(M.size) if np.any(bad[i]))
             band = fig.add_subplot(gs[0, n], sharex=ax)
-            unstable_band(band, t_ms[ii, jj, kk], [colors[i] for i in ii], f"{int(bad.sum())} runs, no {sym}: {who}")
+            runs_text = f"{int(bad.sum())} run{'' if bad.sum() == 1 else 's'}"
+            unstable_band(band, t_ms[ii, jj, kk], [colors[i] for i in ii], f"{runs_text}, no {sym}: {who}")
         tt = t_ms[done & np.isfinite(t_ms)]
         if tt.size:
             ax.set_xlim(tt.min() / 1.6, tt.max() * 1.6)
@@ -1676,18 +2031,21 @@ def fig_work_precision(results_dir, out_dir):
                     ha="right", va="bottom", fontsize=7.5, color="0.25")
         log_axis_plain(ax.xaxis)
         if key.startswith("nop"):
+            if fin.size and fin.max() / fin.min() < 30:  # less than 1.5 decades: more than one label
+                ax.yaxis.set_major_locator(mticker.LogLocator(subs=(1.0, 2.0, 5.0)))
             log_axis_plain(ax.yaxis)
         ax.grid(True, which="major", alpha=0.3)
         ax.set_xlabel("wall time [ms] (fastest of the repeats, one thread)")
         ax.set_ylabel(f"{sym} [−]")
-        what = "number of peaks of the contact pressure" if key == "nop_p" else \
-            f"relative error of the {'contact pressure' if key == 'eps_p' else 'contact-node velocity'} (eq. 18)"
+        what = f"number of peaks of the {at}contact pressure" if key == "nop_p" else \
+            f"relative error of the {at}{'contact pressure' if key == 'eps_p' else 'contact-node velocity'} (eq. 18)"
         (band if np.any(bad) else ax).set_title(f"({'abc'[n]}) {sym}: {what}", fontsize=9.5)
     keys = [[Line2D([], [], color=c, lw=2.6, label=l) for c, l in zip(colors, labels)],
             [Line2D([], [], color="0.45", marker=mk, mec="white", ls="none", ms=6, label=f"Courant {num(c)}")
              for mk, c in zip(markers, C)],
             [Line2D([], [], color="0.45", lw=0.8, alpha=0.6,
-                    label=f"thin line: one Courant number, n = {num(E.min())} → {num(E.max())} elements, left to right"),
+                    label=f"thin line: one method, Courant {num(C.max())} → {num(C.min())}, left to right" if one_mesh
+                    else f"thin line: one Courant number, n = {num(E.min())} → {num(E.max())} elements, left to right"),
              Line2D([], [], color="0.45", lw=2.6, alpha=0.85,
                     label="thick line (ε panels): the method's frontier,\nthe smallest error reached in that time or less")]]
     if np.any(bad):
@@ -1709,11 +2067,14 @@ def fig_work_precision(results_dir, out_dir):
         timing = f"the fastest of {num(repeats)} runs{timing}"
     else:
         timing = "one run each" if repeats == 1 else "the fastest of the repeats"
-    fig.suptitle(f"Work–precision: wall time against accuracy, each method at its recommended parameters; {scene}, "
-                 f"n = {num(E.min())}–{num(E.max())}, Courant {num(C.min())}–{num(C.max())}\n"
+    if model:  # a long scene: a line of its own, and the reference under it
+        scene = f"\n{scene}, Courant {num(C.min())}–{num(C.max())}\nReference: {model_reference_text(r)}."
+    else:
+        scene = f" {scene}, {mesh_text}, Courant {num(C.min())}–{num(C.max())}"
+    fig.suptitle(f"{heading}: wall time against accuracy, each method at its recommended parameters;{scene}\n"
                  f"Lower left is better: at a time budget, the lowest curve is the most accurate method. Wall time: "
                  f"{timing}.", fontsize=10)
-    return [save(fig, out_dir, "fig_work_precision.png")]
+    return [save(fig, out_dir, png)]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1834,17 +2195,20 @@ FIGURES = [
     ("fig_two_rods.png", fig_two_rods),
     ("fig4_hht_delta_alpha.png", fig4),
     ("fig_hopkinson.png", fig_hopkinson),
+    ("block-hht-delta-alpha.png", fig_block_hht),
     ("fig_period_error_line.png", fig_period_error_line),
     ("fig5_pressure_history.png", fig5),
     ("fig6_velocity_history.png", fig6),
     ("fig_stepped_rod_pressure.png", fig_stepped_rod_pressure),
     ("fig_stepped_rod_velocity.png", fig_stepped_rod_velocity),
+    ("block-contact-force.png", fig_block_contact_force),
     ("fig7_compare_pressure.png", fig7),
     ("fig8_compare_velocity.png", fig8),
     ("fig_spectral.png", fig_spectral),
     ("fig_optimize.png", fig_optimize),
     ("fig_stability_map.png", fig_stability_map),
     ("fig_work_precision.png", fig_work_precision),
+    ("block-work-precision.png", fig_block_work_precision),
 ]
 
 

@@ -385,6 +385,7 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
     model->damping = r.matrix(*damping, prefix + ".matrices.damping", n);
   }
   model->source = r.path(*mass, "").string() + ", " + r.path(*stiffness, "").string();
+  model->omega_bound = gershgorin_omega(model->mass, model->stiffness);
 
   const toml::table* sets = nullptr;
   if (const toml::node* s = scene.get("dof_sets")) {

@@ -349,8 +349,19 @@ class PlanReader {
         }
       } else if (e.key == "description") {
         plan_->description = string(node, e.key);
+      } else if (e.key == "scene" && node.is_string()) {
+        // `scene = "FILE.toml"`: a scene file of its own (a model's, with its many contacts),
+        // relative to the plan.
+        const std::filesystem::path path =
+            std::filesystem::path(file_).parent_path() / node.as_string()->get();
+        try {
+          plan_->base = load_scene_file(path);
+        } catch (const PlanError& error) {
+          fail(node, e.key, error.what());
+        }
       } else if (e.key == "scene") {
-        const toml::table& scene = table(node, e.key, "must be a table ([scene])");
+        const toml::table& scene =
+            table(node, e.key, "must be a table ([scene]) or the name of a scene file");
         if (is_scene_of_bodies(scene)) {
           plan_->base.bodies =
               read_scene_of_bodies(scene, "scene",
@@ -1201,6 +1212,15 @@ class PlanReader {
       }
     }
     if (out.methods.empty()) out.methods = default_work_precision_methods();
+    if (plan_->base.model) {
+      // A model's mesh is fixed: its one "element count" is its DOF count.
+      if (elements_node_) {
+        fail(*elements_node_, "study.elements",
+             "does not apply to a model (kind = \"matrices\"): its mesh is the user's; vary "
+             "courant");
+      }
+      out.elements = {static_cast<long>(plan_->base.model->model->size())};
+    }
     if (out.elements.empty()) out.elements = {50, 100, 200, 400, 800};
     if (out.courant.empty()) out.courant = {0.25, 0.5, 1.0, 2.0, 4.0};
     const long points = static_cast<long>(out.methods.size() * out.elements.size() *

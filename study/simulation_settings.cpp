@@ -294,16 +294,23 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
                             "is a key of the one-body rod: a model (kind = \"matrices\") has its "
                             "matrices, initial state and contacts instead"};
     }
-    if (s.courant_given) {
-      return ParameterError{"courant", format_value(s.scene.courant),
-                            "does not apply to a model (kind = \"matrices\"): give dt"};
-    }
     ModelScene scene = *s.model;
-    if (!s.scene.dt) return ParameterError{"dt", "(missing)", "a model needs its time step dt"};
+    if (s.courant_given) {
+      // A model's Courant number is Δt·ω/2, ω the Gershgorin bound of its highest frequency
+      // (core/model_scene.hpp: gershgorin_omega).
+      if (!(s.scene.courant > 0.0 && std::isfinite(s.scene.courant))) {
+        return ParameterError{"courant", format_value(s.scene.courant),
+                              "must be positive and finite"};
+      }
+      scene.dt = 2.0 * s.scene.courant / scene.model->omega_bound;
+    } else if (!s.scene.dt) {
+      return ParameterError{"dt", "(missing)", "a model needs its time step dt (or courant)"};
+    } else {
+      scene.dt = *s.scene.dt;
+    }
     if (!s.scene.t_end) {
       return ParameterError{"t_end", "(missing)", "a model needs its end time t_end"};
     }
-    scene.dt = *s.scene.dt;
     scene.t_end = *s.scene.t_end;
     scene.rayleigh_mass = s.scene.rayleigh_mass;
     scene.rayleigh_stiffness = s.scene.rayleigh_stiffness;
@@ -352,6 +359,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
 std::optional<double> numeric_value(const Simulation& sim, std::string_view name) {
   if (sim.model) {
     if (name == "dt") return sim.model->dt;
+    if (name == "courant") return sim.model->dt * sim.model->model->omega_bound / 2.0;
     if (name == "t_end") return sim.model->t_end;
     if (name == "rayleigh_mass") return sim.model->rayleigh_mass;
     if (name == "rayleigh_stiffness") return sim.model->rayleigh_stiffness;

@@ -69,6 +69,51 @@ ResultColumn parameter_column(const std::string& name, std::size_t size) {
 
 }  // namespace
 
+void add_reference_columns(const SimulationSettings& base, std::size_t size, StudyResults& r) {
+  // A scene of bodies records its reference at every point: 0 refinements for the exact
+  // solution, k for a converged one at h/2^k and dt/2^k (a damped scene), with the change at
+  // the last.
+  if (base.bodies) {
+    r.indicators.push_back(
+        {"reference_refinements", "1", "reference_refinements",
+         "0: the exact solution of the chain (core/chain_exact.hpp); k >= 1: "
+         "a converged numerical solution at h/2^k and dt/2^k (core/scene_reference.hpp)",
+         std::vector<double>(size, kNaN)});
+    r.indicators.push_back({"reference_change", "1", "reference_change",
+                            "relative change of the converged reference's primary contact at its "
+                            "last halving of the mesh and the step; NaN for the exact solution",
+                            std::vector<double>(size, kNaN)});
+  }
+  // A user's model records its reference the same way (−1: the supplied history), with the
+  // reference's step; the model's units and files are attributes.
+  if (base.model) {
+    r.indicators.push_back(
+        {"reference_refinements", "1", "reference_refinements",
+         "-1: the reference history supplied with the model; k >= 1: a converged numerical "
+         "solution at dt/2^k (core/model_reference.hpp)",
+         std::vector<double>(size, kNaN)});
+    r.indicators.push_back({"reference_change", "1", "reference_change",
+                            "relative change of the converged reference's primary contact at its "
+                            "last halving of the step; NaN for a supplied history",
+                            std::vector<double>(size, kNaN)});
+    r.indicators.push_back({"reference_dt", "s", "reference_dt",
+                            "time step of the converged reference; NaN for a supplied history",
+                            std::vector<double>(size, kNaN)});
+    const Model& model = *base.model->model;
+    r.text_attributes.emplace_back("model_units", model.units);
+    r.text_attributes.emplace_back("model_files", model.source);
+    r.numeric_attributes.emplace_back("model_dofs", static_cast<double>(model.size()));
+  }
+}
+
+void store_reference_columns(StudyResults& results, std::size_t i, const Evaluation& evaluation) {
+  for (ResultColumn& column : results.indicators) {
+    if (column.name == "reference_refinements") column.values[i] = evaluation.reference_refinements;
+    if (column.name == "reference_change") column.values[i] = evaluation.reference_change;
+    if (column.name == "reference_dt") column.values[i] = evaluation.reference_dt;
+  }
+}
+
 StudyResults empty_results(const Plan& plan, const PointSet& points) {
   StudyResults r;
   r.plan_name = plan.name;
@@ -97,43 +142,10 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
   }
   for (const std::string& name : plan.output.indicators) {
     const IndicatorInfo* info = find_indicator(name);
-    r.indicators.push_back({name, info->units, name, info->definition,
-                            std::vector<double>(size, kNaN)});
-  }
-  // A scene of bodies records its reference at every point: 0 refinements for the exact
-  // solution, k for a converged one at h/2^k and dt/2^k (a damped scene), with the change at
-  // the last.
-  if (plan.base.bodies) {
     r.indicators.push_back(
-        {"reference_refinements", "1", "reference_refinements",
-         "0: the exact solution of the chain (core/chain_exact.hpp); k >= 1: "
-         "a converged numerical solution at h/2^k and dt/2^k (core/scene_reference.hpp)",
-         std::vector<double>(size, kNaN)});
-    r.indicators.push_back({"reference_change", "1", "reference_change",
-                            "relative change of the converged reference's primary contact at its "
-                            "last halving of the mesh and the step; NaN for the exact solution",
-                            std::vector<double>(size, kNaN)});
+        {name, info->units, name, info->definition, std::vector<double>(size, kNaN)});
   }
-  // A user's model records its reference the same way (−1: the supplied history), with the
-  // reference's step; the model's units and files are attributes.
-  if (plan.base.model) {
-    r.indicators.push_back(
-        {"reference_refinements", "1", "reference_refinements",
-         "-1: the reference history supplied with the model; k >= 1: a converged numerical "
-         "solution at dt/2^k (core/model_reference.hpp)",
-         std::vector<double>(size, kNaN)});
-    r.indicators.push_back({"reference_change", "1", "reference_change",
-                            "relative change of the converged reference's primary contact at its "
-                            "last halving of the step; NaN for a supplied history",
-                            std::vector<double>(size, kNaN)});
-    r.indicators.push_back({"reference_dt", "s", "reference_dt",
-                            "time step of the converged reference; NaN for a supplied history",
-                            std::vector<double>(size, kNaN)});
-    const Model& model = *plan.base.model->model;
-    r.text_attributes.emplace_back("model_units", model.units);
-    r.text_attributes.emplace_back("model_files", model.source);
-    r.numeric_attributes.emplace_back("model_dofs", static_cast<double>(model.size()));
-  }
+  add_reference_columns(plan.base, size, r);
   // A scene of several contacts: each contact's indicators beside the primary's, as
   // "<indicator>.<contact>" (the contacts are the same at every point: axes change numbers only).
   const std::vector<std::string> contacts = contact_names(plan.base);
@@ -165,24 +177,14 @@ void store_point(StudyResults& results, const PointSet& points, long index,
       column.values[i] = numeric_value(simulation, column.name).value_or(kNaN);
     }
   }
+  store_reference_columns(results, i, evaluation);
   const std::vector<std::string> contacts = contact_names(simulation);
   for (ResultColumn& column : results.indicators) {
     if (const IndicatorInfo* info = find_indicator(column.name)) {
       column.values[i] = info->value(evaluation);
       continue;
     }
-    if (column.name == "reference_refinements") {
-      column.values[i] = evaluation.reference_refinements;
-      continue;
-    }
-    if (column.name == "reference_change") {
-      column.values[i] = evaluation.reference_change;
-      continue;
-    }
-    if (column.name == "reference_dt") {
-      column.values[i] = evaluation.reference_dt;
-      continue;
-    }
+    if (column.name.starts_with("reference_")) continue;  // store_reference_columns
     // "<indicator>.<contact>" of a scene of bodies (empty_results).
     const std::size_t dot = column.name.find('.');
     const std::string contact = column.name.substr(dot + 1);

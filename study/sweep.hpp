@@ -58,6 +58,13 @@ struct SweepOutcome {
 /// The empty table of a grid or list plan: every point not done, every value NaN.
 StudyResults empty_results(const Plan& plan, const PointSet& points);
 
+/// The columns and attributes that record a scene's reference at every point (a scene of bodies'
+/// or a model's: reference_refinements, reference_change, and for a model reference_dt and the
+/// model_* attributes); nothing for the rod. Shared with the work-precision study.
+void add_reference_columns(const SimulationSettings& base, std::size_t size, StudyResults& r);
+/// Stores point i's reference into those columns.
+void store_reference_columns(StudyResults& results, std::size_t i, const Evaluation& evaluation);
+
 /// Stores one evaluated point (status, varied parameters, β, γ, indicators) at `index`.
 void store_point(StudyResults& results, const PointSet& points, long index,
                  const Simulation& simulation, const Evaluation& evaluation);

@@ -10,6 +10,7 @@
 #include "core/scene_assembly.hpp"
 #include "study/evaluation.hpp"
 #include "study/indicator_table.hpp"
+#include "study/sweep.hpp"
 
 namespace impactid {
 namespace {
@@ -45,7 +46,11 @@ std::optional<ParameterError> assign_work_precision_point(const Plan& plan, long
   settings = plan.base;
   settings.method = plan.work_precision.methods[static_cast<std::size_t>(method)].settings;
   std::optional<ParameterError> error;
-  if (settings.bodies) {
+  if (settings.model) {
+    // A model's mesh is the user's: `elements` is its DOF count (one value), and the Courant
+    // number sets the step in place of the scene file's dt.
+    settings.scene.dt.reset();
+  } else if (settings.bodies) {
     // A scene of bodies: `elements` is the whole scene's, and each segment keeps its share of
     // the [scene] mesh (rounded, at least one element).
     long total = 0;
@@ -127,6 +132,7 @@ StudyResults empty_work_precision_results(const Plan& plan) {
        "(steps - free-flight steps filled in rather than computed) * (elements + 1): the work "
        "of the run, independent of the machine; kept whatever the status",
        std::vector<double>(size, kNaN)});
+  add_reference_columns(plan.base, size, r);
 
   for (std::size_t m = 0; m < wp.methods.size(); ++m) {
     r.text_attributes.emplace_back("method_label_" + std::to_string(m), wp.methods[m].label);
@@ -190,7 +196,9 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
     const Evaluation evaluation = evaluate(simulation, workspace);
     double fastest = evaluation.summary.wall_time_s, slowest = fastest;
     const std::optional<AssembledScene> bodies =
-        simulation.bodies ? std::optional(assemble(*simulation.bodies)) : std::nullopt;
+        simulation.bodies  ? std::optional(assemble(*simulation.bodies))
+        : simulation.model ? std::optional(assemble(*simulation.model))
+                           : std::nullopt;
     for (int repeat = 1; repeat < wp.repeats; ++repeat) {
       const RunSummary again =
           bodies ? simulate(*bodies, simulation.method, simulation.run, workspace)
@@ -205,13 +213,15 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
       p.values[i] = numeric_value(simulation, p.name).value_or(kNaN);
     }
     for (const StoredIndicator& s : stored) s.column->values[i] = s.info->value(evaluation);
+    store_reference_columns(results, i, evaluation);
     wall_min->values[i] = fastest;
     wall_max->values[i] = slowest;
     steps->values[i] = static_cast<double>(evaluation.summary.steps);
     dof_steps->values[i] =
         static_cast<double>(evaluation.summary.steps - evaluation.summary.skipped_steps) *
-        static_cast<double>(simulation.bodies ? derive(*simulation.bodies).nodes
-                                              : simulation.scene.elements + 1);
+        static_cast<double>(simulation.bodies  ? derive(*simulation.bodies).nodes
+                            : simulation.model ? simulation.model->model->size()
+                                               : simulation.scene.elements + 1);
 
     ++done;
     if (evaluation.summary.status != RunStatus::ok) ++unstable;

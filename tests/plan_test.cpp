@@ -326,7 +326,7 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
             "bad.toml:2:8: method.name = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha");
-  EXPECT_EQ(error_of("scene = 3\n"), "bad.toml:1:9: scene = 3: must be a table ([scene])");
+  EXPECT_EQ(error_of("scene = 3\n"), "bad.toml:1:9: scene = 3: must be a table ([scene]) or the name of a scene file");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
   EXPECT_EQ(error_of("[study]\nkind = \"sweep\"\n"),
             "bad.toml:2:8: study.kind = \"sweep\": must be \"grid\", \"list\", \"optimize\", "
