@@ -18,7 +18,7 @@ Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
                            std::optional<SceneReference>& reference) {
   Evaluation out;
   out.summary = summary;
-  const ReferenceOptions options{.tolerance = sim.indicators.reference_tolerance};
+  const ReferenceOptions options = reference_options(sim);
   if (!reference || reference->scene != *sim.bodies || reference->options != options) {
     reference = scene_reference(*sim.bodies, options);
   }
@@ -41,8 +41,7 @@ Evaluation evaluate_model(const Simulation& sim, SimulationWorkspace& workspace)
   const ModelScene& scene = *sim.model;
   Evaluation out;
   out.summary = simulate(assemble(scene), sim.method, sim.run, workspace);
-  ReferenceOptions options = model_reference_defaults(*scene.model);
-  options.tolerance = sim.indicators.reference_tolerance;
+  const ReferenceOptions options = reference_options(sim);
   std::optional<ModelReference>& reference = workspace.model_reference;
   if (!reference || !(reference->scene == scene) || !(reference->options == options)) {
     reference = model_reference(scene, options);

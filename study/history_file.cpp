@@ -215,7 +215,7 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
   } else if (simulation.bodies) {
     columns =
         bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step,
-                               {.tolerance = simulation.indicators.reference_tolerance});
+                               reference_options(simulation));
   } else {
     columns = history_columns(simulation.scene, trace);
   }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/sparse_factorization.hpp"
+#include "study/hdf5_file.hpp"
 #include "study/matrix_market.hpp"
 #include "study/toml_reading.hpp"
 
@@ -331,6 +332,59 @@ ReferenceHistory read_reference_csv(const std::filesystem::path& file, const Mod
   return out;
 }
 
+// The reference history of an HDF5 file: a dataset t and, for any subset of the contacts, one
+// dataset per contact and quantity, named <contact>.pressure and <contact>.velocity as the CSV
+// file's columns are, or pressure.<contact> and velocity.<contact> as impactid's own history
+// files name them (`impactid simulate --history FILE.h5` of a finer run is a reference as it is).
+ReferenceHistory read_reference_hdf5(const std::filesystem::path& file, const Model& model) {
+  ReferenceHistory out;
+  out.source = file.string();
+  out.contacts.resize(model.contacts.size());
+  const auto error = [&](const std::string& what) {
+    throw MatrixMarketError(file.string() + ": " + what);
+  };
+  try {
+    const Hdf5Reader in(file);
+    if (!in.exists("t")) error("has no dataset t (the sample times)");
+    out.t = in.doubles("t");
+    if (out.t.empty()) error("t has no samples");
+    for (std::size_t i = 0; i < out.t.size(); ++i) {
+      if (!std::isfinite(out.t[i])) error("t[" + std::to_string(i) + "] is not finite");
+      if (i > 0 && !(out.t[i] > out.t[i - 1]))
+        error("t must increase: t[" + std::to_string(i) + "] = " + format_value(out.t[i]));
+    }
+    bool any = false;
+    for (std::size_t k = 0; k < model.contacts.size(); ++k) {
+      const std::string& name = model.contacts[k].name;
+      for (const char* what : {"pressure", "velocity"}) {
+        std::string dataset = name + "." + what;
+        if (!in.exists(dataset)) dataset = std::string(what) + "." + name;
+        if (!in.exists(dataset)) continue;
+        std::vector<double> values = in.doubles(dataset);
+        if (values.size() != out.t.size()) {
+          error(dataset + " has " + std::to_string(values.size()) + " samples, t has " +
+                std::to_string(out.t.size()));
+        }
+        for (std::size_t i = 0; i < values.size(); ++i) {
+          if (!std::isfinite(values[i]))
+            error(dataset + "[" + std::to_string(i) + "] = " + format_value(values[i]) +
+                  " is not a finite number");
+        }
+        (std::string_view(what) == "pressure" ? out.contacts[k].pressure
+                                              : out.contacts[k].velocity) = std::move(values);
+        any = true;
+      }
+    }
+    if (!any) {
+      error("has no dataset <contact>.pressure or <contact>.velocity (or pressure.<contact>, "
+            "velocity.<contact>) of a contact of the model");
+    }
+  } catch (const Hdf5Error& e) {
+    throw MatrixMarketError(e.what());
+  }
+  return out;
+}
+
 }  // namespace
 
 bool is_model_scene(const toml::table& scene) {
@@ -457,9 +511,18 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
       if (key != "file") r.fail(*node, prefix + ".reference." + key, "unknown key (file)");
     }
     const toml::node* file = t.get("file");
-    if (!file) r.fail(t, prefix + ".reference.file", "is missing: the reference history (CSV)");
+    if (!file) {
+      r.fail(t, prefix + ".reference.file", "is missing: the reference history (CSV or HDF5)");
+    }
+    const std::filesystem::path path = r.path(*file, prefix + ".reference.file");
+    const std::string ext = path.extension().string();
+    if (ext != ".csv" && ext != ".h5" && ext != ".hdf5") {
+      r.fail(*file, prefix + ".reference.file",
+             "unknown format (a reference history is a .csv, .h5 or .hdf5 file)");
+    }
     try {
-      model->reference = read_reference_csv(r.path(*file, prefix + ".reference.file"), *model);
+      model->reference = ext == ".csv" ? read_reference_csv(path, *model)
+                                       : read_reference_hdf5(path, *model);
     } catch (const MatrixMarketError& e) {
       r.fail(*file, prefix + ".reference.file", e.what());
     }

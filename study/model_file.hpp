@@ -29,7 +29,9 @@
 //   1               # default: dof, or the first of the pair
 //
 //   [scene.reference]              # optional: the history the runs are measured against
-//   file = "reference.csv"         #   columns t, <contact>.pressure, <contact>.velocity
+//   file = "reference.csv"         #   columns t, <contact>.pressure, <contact>.velocity;
+//                                  #   or .h5/.hdf5: datasets t and <contact>.pressure, … (or
+//                                  #   pressure.<contact>, …, as `simulate --history` writes)
 //
 // DOFs count from 0 (a Matrix Market row minus one). Without [scene.reference] the runs are
 // measured against a converged solution (core/model_reference.hpp).

@@ -15,7 +15,7 @@ namespace {
 using G = ParameterGroup;
 using K = ParameterKind;
 
-constexpr std::array<ParameterInfo, 25> kParameters{{
+constexpr std::array<ParameterInfo, 27> kParameters{{
     {"length", G::scene, K::real, "mm", "rod length L (default 20, > 0)", "", ""},
     {"elements", G::scene, K::integer, "", "number of 2-node truss elements n (default 200, >= 1)",
      "", ""},
@@ -66,7 +66,15 @@ constexpr std::array<ParameterInfo, 25> kParameters{{
      "", ""},
     {"reference_tolerance", G::output, K::real, "",
      "a scene of bodies with damping is measured against a numerical solution refined until "
-     "its primary contact changes by less than this (default 1e-2, > 0)",
+     "its primary contact changes by less than this (default 1e-2, > 0; a model's: 1e-3)",
+     "", ""},
+    {"reference_method", G::output, K::choice, "",
+     "method of a converged reference, at its default parameters (default auto: hht for a "
+     "scene of bodies; for a model cdm when M is diagonal, else hht)",
+     "auto|cdm|backward-euler|newmark|hht|generalized-alpha", ""},
+    {"reference_max_refinements", G::output, K::integer, "",
+     "most halvings of a converged reference's step (default 5 for a scene of bodies, which "
+     "also halves its mesh; 10 for a model), >= 1",
      "", ""},
     {"energy_growth_limit", G::output, K::real, "",
      "a run is unstable once its energy exceeds this multiple of the initial energy (default "
@@ -114,6 +122,14 @@ std::optional<ParameterError> assign_choice(SimulationSettings& s, const Paramet
     const auto v = contact_weighting_from_string(text);
     if (!v) return bad();
     s.method.hht_contact = *v;
+  } else if (name == "reference_method") {
+    if (text == "auto") {
+      s.reference.method.reset();
+    } else {
+      const auto v = method_kind_from_string(text);
+      if (!v) return bad();
+      s.reference.method = *v;
+    }
   }
   return std::nullopt;
 }
@@ -159,6 +175,8 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
   else if (name == "reference_tolerance") {
     s.indicators.reference_tolerance = v;
     s.reference_tolerance_given = true;
+  } else if (name == "reference_max_refinements") {
+    s.reference.max_refinements = static_cast<int>(v);
   } else if (name == "energy_growth_limit")
     s.run.energy_growth_limit = v;
   return std::nullopt;
@@ -250,7 +268,8 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     }
   }
 
-  Simulation out{s.scene, std::nullopt, std::nullopt, default_params(m.kind), s.indicators, s.run};
+  Simulation out{s.scene,      std::nullopt, std::nullopt, default_params(m.kind),
+                 s.indicators, s.run,        s.reference};
   switch (m.kind) {
     case MethodKind::central_difference:
       out.method = CentralDifferenceParams{m.cdm_velocity.value_or(CdmVelocity::central)};
@@ -349,6 +368,10 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     return ParameterError{"reference_tolerance", format_value(out.indicators.reference_tolerance),
                           "must be positive and finite"};
   }
+  if (s.reference.max_refinements && !(*s.reference.max_refinements >= 1)) {
+    return ParameterError{"reference_max_refinements",
+                          std::to_string(*s.reference.max_refinements), "must be >= 1"};
+  }
   if (!(out.run.energy_growth_limit > 1.0)) {
     return ParameterError{"energy_growth_limit", format_value(out.run.energy_growth_limit),
                           "must be > 1"};
@@ -364,6 +387,7 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
     if (name == "rayleigh_mass") return sim.model->rayleigh_mass;
     if (name == "rayleigh_stiffness") return sim.model->rayleigh_stiffness;
     if (name == "reference_tolerance") return sim.indicators.reference_tolerance;
+    if (name == "reference_max_refinements") return reference_options(sim).max_refinements;
     const ParameterInfo* info = find_parameter(name);
     if (info && info->group == ParameterGroup::scene) return std::nullopt;  // the rod's keys
   }
@@ -376,6 +400,7 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
     if (name == "rayleigh_mass") return sim.bodies->rayleigh_mass;
     if (name == "rayleigh_stiffness") return sim.bodies->rayleigh_stiffness;
     if (name == "reference_tolerance") return sim.indicators.reference_tolerance;
+    if (name == "reference_max_refinements") return reference_options(sim).max_refinements;
     for (const char* key : {"length", "elements", "youngs_modulus", "density", "area", "velocity",
                             "gap", "far_gap"}) {
       if (name == key) return std::nullopt;  // the rod's keys: not this scene's
@@ -397,7 +422,8 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
   if (name == "dt") return d.time_step;
   if (name == "t_end") return d.end_time;
   if (name == "peak_prominence") return sim.indicators.peak_prominence;
-  if (name == "reference_tolerance") return std::nullopt;  // the rod's reference is exact
+  // The rod's reference is exact.
+  if (name == "reference_tolerance" || name == "reference_max_refinements") return std::nullopt;
   if (name == "energy_growth_limit") return sim.run.energy_growth_limit;
   if (const auto* p = std::get_if<NewmarkParams>(&sim.method)) {
     if (name == "delta" && !p->coefficients) return p->delta;
@@ -414,6 +440,15 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
     if (name == "gamma") return bg->gamma;
   }
   return std::nullopt;
+}
+
+ReferenceOptions reference_options(const Simulation& sim) {
+  ReferenceOptions options = sim.model ? model_reference_defaults(*sim.model->model)
+                                       : ReferenceOptions{};
+  options.tolerance = sim.indicators.reference_tolerance;
+  if (sim.reference.method) options.method = default_params(*sim.reference.method);
+  if (sim.reference.max_refinements) options.max_refinements = *sim.reference.max_refinements;
+  return options;
 }
 
 }  // namespace impactid

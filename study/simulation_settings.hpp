@@ -25,6 +25,15 @@
 
 namespace impactid {
 
+/// How a converged reference is computed (a scene of bodies with damping, a user's model; the
+/// rod's reference is exact). Unset fields take the scene kind's defaults
+/// (core/scene_reference.hpp, core/model_reference.hpp); the tolerance is
+/// IndicatorOptions::reference_tolerance.
+struct ReferenceSettings {
+  std::optional<MethodKind> method;  ///< at its default parameters
+  std::optional<int> max_refinements;
+};
+
 /// Method parameters as given; unset ones take the method's defaults in build().
 struct MethodSettings {
   MethodKind kind = MethodKind::hht;
@@ -51,6 +60,7 @@ struct SimulationSettings {
   MethodSettings method;
   IndicatorOptions indicators;
   RunOptions run;
+  ReferenceSettings reference;
 };
 
 /// A complete, validated simulation.
@@ -64,6 +74,7 @@ struct Simulation {
   MethodParams method;
   IndicatorOptions indicators;
   RunOptions run;
+  ReferenceSettings reference;
 };
 
 enum class ParameterGroup { scene, method, output };
@@ -99,6 +110,10 @@ std::optional<ParameterError> assign_text(SimulationSettings& settings, std::str
 /// when only α was given, β and γ of every Newmark-family method); nothing for a choice
 /// parameter or one the method does not have.
 std::optional<double> numeric_value(const Simulation& simulation, std::string_view name);
+
+/// The options of the simulation's converged reference: the scene kind's defaults with what the
+/// settings give (reference_tolerance, reference_method, reference_max_refinements).
+ReferenceOptions reference_options(const Simulation& simulation);
 
 /// Checks every rule and range and builds the simulation, or names the first bad parameter.
 std::variant<Simulation, ParameterError> build(const SimulationSettings& settings);

@@ -15,6 +15,8 @@
 #include "core/sparse_integrators.hpp"
 #include "same_run.hpp"
 #include "study/evaluation.hpp"
+#include "study/hdf5_file.hpp"
+#include "study/history_file.hpp"
 #include "study/model_export.hpp"
 #include "study/plan.hpp"
 #include "study/point_set.hpp"
@@ -140,6 +142,120 @@ TEST(ModelFile, RefusesABadReferenceHistory) {
   const Evaluation e = evaluate(sim, ws);
   EXPECT_EQ(e.summary.status, RunStatus::failed);
   EXPECT_NE(e.summary.message.find("covers t ="), std::string::npos) << e.summary.message;
+}
+
+// A reference history in HDF5: the CSV's columns as datasets give the same indicators; a run's
+// own history file (`impactid simulate --history FILE.h5`, datasets pressure.<contact>) is a
+// reference too, against which the same run has no error; bad files are refused by name.
+TEST(ModelFile, ReadsAReferenceHistoryFromHdf5) {
+  const fs::path scene = model_folder("reference_h5", kGood + "[scene.reference]\nfile = \"r.csv\"\n");
+  const fs::path dir = scene.parent_path();
+  std::string csv = "t,wall.pressure,wall.velocity\n";
+  std::vector<double> t, p, v;
+  for (int i = 1; i <= 500; ++i) {
+    t.push_back(i * 1e-3);
+    p.push_back(i > 100 && i < 200 ? 1.0 + 1e-3 * i : 0.0);
+    v.push_back(i < 100 ? 1.0 : -0.5);
+    csv += std::to_string(t.back()) + "," + std::to_string(p.back()) + "," +
+           std::to_string(v.back()) + "\n";
+  }
+  write_file(dir / "r.csv", csv);
+  const Simulation from_csv = std::get<Simulation>(build(load_scene_file(scene)));
+  {  // the CSV's numbers as text, read back
+    std::vector<double> tc, pc, vc;
+    for (const auto& sample : from_csv.model->model->reference->t) tc.push_back(sample);
+    Hdf5Writer h5(dir / "r.h5");
+    h5.dataset("t", tc, Hdf5Dims{tc.size()});
+    h5.dataset("wall.pressure", from_csv.model->model->reference->contacts[0].pressure,
+               Hdf5Dims{tc.size()});
+    h5.dataset("wall.velocity", from_csv.model->model->reference->contacts[0].velocity,
+               Hdf5Dims{tc.size()});
+    h5.commit();
+  }
+  write_file(scene, kGood + "[scene.reference]\nfile = \"r.h5\"\n");
+  Simulation from_h5 = std::get<Simulation>(build(load_scene_file(scene)));
+  from_h5.run.record_history = true;  // as `impactid simulate --history` does
+  SimulationWorkspace wc, wh;
+  const Evaluation ec = evaluate(from_csv, wc), eh = evaluate(from_h5, wh);
+  ASSERT_EQ(eh.summary.status, RunStatus::ok) << eh.summary.message;
+  EXPECT_EQ(eh.reference_refinements, -1);
+  EXPECT_NE(eh.reference.find("r.h5"), std::string::npos) << eh.reference;
+  EXPECT_TRUE(testing::same(ec.indicators.eps_p, eh.indicators.eps_p));
+  EXPECT_TRUE(testing::same(ec.indicators.eps_v, eh.indicators.eps_v));
+  EXPECT_GT(eh.indicators.eps_p, 0.1);  // the made-up history is not the run
+
+  // The run's own history as its reference: no error.
+  write_history(dir / "own.h5", from_h5, wh.trace, &*wh.model_reference);
+  write_file(scene, kGood + "[scene.reference]\nfile = \"own.h5\"\n");
+  const Simulation own = std::get<Simulation>(build(load_scene_file(scene)));
+  SimulationWorkspace wo;
+  const Evaluation eo = evaluate(own, wo);
+  ASSERT_EQ(eo.summary.status, RunStatus::ok) << eo.summary.message;
+  EXPECT_EQ(eo.indicators.eps_p, 0.0);
+  EXPECT_EQ(eo.indicators.eps_v, 0.0);
+
+  // Refusals: no t, lengths that disagree, no contact's dataset, an unknown extension.
+  const auto refused = [&](const std::string& file, const std::string& expected) {
+    write_file(scene, kGood + "[scene.reference]\nfile = \"" + file + "\"\n");
+    try {
+      load_scene_file(scene);
+      ADD_FAILURE() << file << ": loaded";
+    } catch (const PlanError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("reference.file"), std::string::npos) << e.what();
+    }
+  };
+  const std::vector<double> three{1e-3, 2e-3, 3e-3}, two{1.0, 2.0};
+  {
+    Hdf5Writer h5(dir / "no_t.h5");
+    h5.dataset("wall.pressure", three, Hdf5Dims{3});
+    h5.commit();
+    Hdf5Writer short_h5(dir / "short.h5");
+    short_h5.dataset("t", three, Hdf5Dims{3});
+    short_h5.dataset("pressure.wall", two, Hdf5Dims{2});
+    short_h5.commit();
+    Hdf5Writer none(dir / "none.h5");
+    none.dataset("t", three, Hdf5Dims{3});
+    none.dataset("floor.pressure", three, Hdf5Dims{3});
+    none.commit();
+  }
+  refused("no_t.h5", "no_t.h5: has no dataset t");
+  refused("short.h5", "pressure.wall has 2 samples, t has 3");
+  refused("none.h5", "has no dataset <contact>.pressure");
+  refused("r.txt", "unknown format");
+  refused("missing.h5", "missing.h5: no such file");
+}
+
+// The converged reference's method and its number of halvings are settings
+// (reference_method, reference_max_refinements); the description says which method ran.
+TEST(ModelReference, ItsMethodAndHalvingsAreSettings) {
+  SimulationSettings settings = load_scene_file(model_folder("reference_method", kGood));
+  const Simulation automatic = std::get<Simulation>(build(settings));
+  EXPECT_EQ(kind_of(reference_options(automatic).method), MethodKind::central_difference);
+  EXPECT_EQ(reference_options(automatic).max_refinements, 10);
+  ASSERT_FALSE(assign_text(settings, "reference_method", "hht"));
+  ASSERT_FALSE(assign_text(settings, "reference_max_refinements", "2"));
+  ASSERT_FALSE(assign_text(settings, "reference_tolerance", "1e-9"));  // not reachable in 2
+  const Simulation hht = std::get<Simulation>(build(settings));
+  EXPECT_EQ(kind_of(reference_options(hht).method), MethodKind::hht);
+  SimulationWorkspace ws;
+  const Evaluation e = evaluate(hht, ws);
+  EXPECT_EQ(e.reference_refinements, 2);
+  EXPECT_EQ(e.reference.find("not converged: hht at dt/4"), 0U) << e.reference;
+  EXPECT_EQ(*numeric_value(hht, "reference_max_refinements"), 2.0);
+
+  ASSERT_FALSE(assign_text(settings, "reference_method", "auto"));
+  EXPECT_EQ(kind_of(reference_options(std::get<Simulation>(build(settings))).method),
+            MethodKind::central_difference);
+  const auto error = assign_text(settings, "reference_method", "rk4");
+  ASSERT_TRUE(error);
+  EXPECT_EQ(error->value, "rk4");
+  ASSERT_FALSE(assign_text(settings, "reference_max_refinements", "0"));
+  const auto built = build(settings);
+  const auto* bad = std::get_if<ParameterError>(&built);
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->field, "reference_max_refinements");
+  EXPECT_EQ(bad->value, "0");
 }
 
 // The rod exported as a model: the same run, bit for bit (lumped and consistent mass, with and

@@ -305,7 +305,7 @@ TEST(PlanErrors, UnknownKeys) {
       error_of("[output]\nfiel = \"a.h5\"\n"),
       "bad.toml:2:8: output.fiel = \"a.h5\": unknown key (output keys: file, "
       "indicators, checkpoint_seconds, histories, peak_prominence, reference_tolerance, "
-      "energy_growth_limit)");
+      "reference_method, reference_max_refinements, energy_growth_limit)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\nbogus = 2\n"),
             "bad.toml:3:9: study.bogus = 2: unknown key (grid keys: kind, axes, practical)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\n"
@@ -495,7 +495,8 @@ courant = 1
                 "length, elements, youngs_modulus, density, area, velocity, gap, far_gap, mass, "
                 "rayleigh_mass, rayleigh_stiffness, courant, dt, t_end, method, delta, alpha, "
                 "beta, gamma, rho_inf, cdm_velocity, hht_contact, peak_prominence, "
-                "reference_tolerance, energy_growth_limit)");
+                "reference_tolerance, reference_method, reference_max_refinements, "
+                "energy_growth_limit)");
   EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = []\n"),
             "bad.toml:3:10: study.points = []: must hold at least one point");
   EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = [{ elements = 2.5 }]\n"),

@@ -44,7 +44,8 @@ TEST(SimulationSettings, DocumentedDefaultsAreTheCodeDefaults) {
       const std::string first(methods.substr(0, methods.find('|')));
       settings.method.kind = *method_kind_from_string(first);
     }
-    if (std::string_view(info.name) == "reference_tolerance") {  // a scene of bodies' own
+    const std::string_view name = info.name;
+    if (name == "reference_tolerance" || name == "reference_max_refinements") {  // bodies' own
       Scene bodies;
       bodies.bodies = {Body{.name = "a", .velocity = 1.0, .segments = {Segment{}}},
                        Body{.name = "b", .gap = 0.1, .segments = {Segment{}}}};
