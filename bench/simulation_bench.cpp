@@ -217,8 +217,8 @@ void BM_Sweep(benchmark::State& state) {
 #pragma omp for schedule(dynamic, 1)
       for (int k = 0; k < kPoints; ++k) {
         SimulationSettings s;
-        s.method.alpha = -0.5 * (k % 8) / 7.0;
-        s.method.delta = 0.3 + 0.1 * (k / 8);
+        s.method.given.set("alpha", -0.5 * (k % 8) / 7.0);
+        s.method.given.set("delta", 0.3 + 0.1 * (k / 8));
         benchmark::DoNotOptimize(evaluate(std::get<Simulation>(build(s)), workspace));
       }
     }
@@ -278,8 +278,8 @@ void BM_BatchedSweep(benchmark::State& state) {
   std::vector<Simulation> simulations;
   for (int k = 0; k < kPoints; ++k) {
     SimulationSettings s;
-    s.method.alpha = -0.5 * (k % 8) / 7.0;
-    s.method.delta = 0.3 + 0.7 * (k / 8) / 64.0;
+    s.method.given.set("alpha", -0.5 * (k % 8) / 7.0);
+    s.method.given.set("delta", 0.3 + 0.7 * (k / 8) / 64.0);
     simulations.push_back(std::get<Simulation>(build(s)));
   }
   constexpr int kUnits = (kPoints + kBatchLanes - 1) / kBatchLanes;

@@ -8,14 +8,6 @@
 namespace impactid {
 namespace {
 
-constexpr std::array<std::pair<MethodKind, const char*>, 5> kMethodNames{{
-    {MethodKind::central_difference, "cdm"},
-    {MethodKind::backward_euler, "backward-euler"},
-    {MethodKind::newmark, "newmark"},
-    {MethodKind::hht, "hht"},
-    {MethodKind::generalized_alpha, "generalized-alpha"},
-}};
-
 constexpr double kMax = std::numeric_limits<double>::max();
 
 template <class... Ts>
@@ -28,20 +20,6 @@ template <class... Ts>
 Overloaded(Ts...) -> Overloaded<Ts...>;
 
 }  // namespace
-
-const char* to_string(MethodKind kind) {
-  for (const auto& [k, name] : kMethodNames) {
-    if (k == kind) return name;
-  }
-  return "unknown";
-}
-
-std::optional<MethodKind> method_kind_from_string(const std::string& name) {
-  for (const auto& [k, n] : kMethodNames) {
-    if (name == n) return k;
-  }
-  return std::nullopt;
-}
 
 const char* to_string(CdmVelocity kind) {
   return kind == CdmVelocity::central ? "central" : "backward";

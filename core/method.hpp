@@ -16,7 +16,7 @@ namespace impactid {
 
 enum class MethodKind { central_difference, backward_euler, newmark, hht, generalized_alpha };
 /// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha": the names used alike on the
-/// command line, in plan files and in HDF5 attributes.
+/// command line, in plan files and in HDF5 attributes (core/method_registry.hpp holds them).
 const char* to_string(MethodKind kind);
 std::optional<MethodKind> method_kind_from_string(const std::string& name);
 

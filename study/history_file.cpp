@@ -171,11 +171,10 @@ void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& co
         file.attribute("/", info.name, *value);
       }
     }
-    if (std::holds_alternative<GeneralizedAlphaParams>(simulation.method)) {
-      // Derived from rho_inf, as beta and gamma are (impactid simulate --json prints them too).
-      const ImplicitCoefficients c = implicit_coefficients(simulation.method);
-      file.attribute("/", "alpha_m", c.alpha_m);
-      file.attribute("/", "alpha_f", c.alpha_f);
+    // Derived coefficients that are no parameter (generalized-alpha's alpha_m and alpha_f), as
+    // impactid simulate --json prints them.
+    for (const ReportedValue& v : descriptor(simulation.method).values(simulation.method)) {
+      if (!find_parameter(v.name)) file.attribute("/", v.name, v.value);
     }
     const Hdf5Dims dims{columns[0].values.size()};
     for (const Column& c : columns) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "study/command_line.hpp"
+#include "study/methods_command.hpp"
 #include "study/model_export.hpp"
 #include "study/run_command.hpp"
 #include "study/simulate_command.hpp"
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
       impactid::add_simulate_command(app), impactid::add_compare_command(app),
       impactid::add_spectral_command(app), impactid::add_run_command(app),
       impactid::add_export_command(app),   impactid::add_export_model_command(app),
+      impactid::add_methods_command(app),
   };
   try {
     app.parse(argc, argv);

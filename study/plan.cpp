@@ -1137,8 +1137,7 @@ class PlanReader {
       }
       if (!method_node) {
         fail_missing(item, item_key + ".method",
-                     "each method needs method = \"cdm\", \"backward-euler\", \"newmark\", "
-                     "\"hht\" or \"generalized-alpha\"");
+                     "each method needs method = one of " + method_names());
       }
       auto built = build(settings);
       if (const auto* error = std::get_if<ParameterError>(&built)) {
@@ -1263,19 +1262,20 @@ class PlanReader {
   // The methods this project recommends (README.md, "Decisions and findings"; the spectral
   // plan's set): what a work-precision study compares unless the plan lists its own.
   static std::vector<SpectralMethod> default_work_precision_methods() {
-    const auto make = [](MethodSettings settings, std::string label) {
+    const auto make = [](MethodKind kind, std::vector<std::pair<const char*, double>> given,
+                         std::string label) {
       SimulationSettings simulation;
-      simulation.method = settings;
+      simulation.method.kind = kind;
+      for (const auto& [name, value] : given) simulation.method.given.set(name, value);
       return SpectralMethod{std::get<Simulation>(build(simulation)).method, std::move(label),
-                            settings};
+                            simulation.method};
     };
-    return {make({.kind = MethodKind::central_difference}, "cdm"),
-            make({.kind = MethodKind::backward_euler}, "backward-euler"),
-            make({.kind = MethodKind::newmark, .delta = 0.3}, "newmark delta=0.3"),
-            make({.kind = MethodKind::hht, .delta = 0.45, .alpha = -0.3},
-                 "hht alpha=-0.3 delta=0.45"),
-            make({.kind = MethodKind::generalized_alpha, .rho_inf = 0.8},
-                 "generalized-alpha rho_inf=0.8")};
+    return {
+        make(MethodKind::central_difference, {}, "cdm"),
+        make(MethodKind::backward_euler, {}, "backward-euler"),
+        make(MethodKind::newmark, {{"delta", 0.3}}, "newmark delta=0.3"),
+        make(MethodKind::hht, {{"delta", 0.45}, {"alpha", -0.3}}, "hht alpha=-0.3 delta=0.45"),
+        make(MethodKind::generalized_alpha, {{"rho_inf", 0.8}}, "generalized-alpha rho_inf=0.8")};
   }
 
   // The study sets the method, the mesh and the step: [method] would be ignored, and so would

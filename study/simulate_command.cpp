@@ -29,18 +29,12 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("parameters").begin_object();
   for_each_used_parameter(sim, [&](const char* name, double v) { json.key(name).value(v); });
   json.key("mass").value(to_string(sim.scene.mass));
-  if (const auto* p = std::get_if<CentralDifferenceParams>(&sim.method)) {
-    json.key("cdm_velocity").value(to_string(p->velocity));
-  }
-  if (const auto* p = std::get_if<HhtParams>(&sim.method)) {
-    json.key("hht_contact").value(to_string(p->contact));
-  }
-  if (const auto* p = std::get_if<GeneralizedAlphaParams>(&sim.method)) {
-    json.key("hht_contact").value(to_string(p->contact));
-    // Derived from rho_inf (Chung & Hulbert 1993), as beta and gamma are.
-    const ImplicitCoefficients c = implicit_coefficients(sim.method);
-    json.key("alpha_m").value(c.alpha_m);
-    json.key("alpha_f").value(c.alpha_f);
+  const MethodDescriptor& method = descriptor(sim.method);
+  for (const auto& [name, word] : method.choices(sim.method)) json.key(name).value(word);
+  // Derived coefficients that are no parameter of any method (generalized-alpha's alpha_m and
+  // alpha_f); beta and gamma are among the parameters above.
+  for (const ReportedValue& v : method.values(sim.method)) {
+    if (!find_parameter(v.name)) json.key(v.name).value(v.value);
   }
   json.end_object();
   json.key("dt").value(e.summary.dt);
@@ -137,19 +131,8 @@ void write_contacts(const std::vector<std::string>& names, int primary, bool mod
 
 void write_text(const Simulation& sim, const Evaluation& e) {
   const RodSceneDerived d = derive(sim.scene);
-  std::printf("method      %s", to_string(kind_of(sim.method)));
-  const char* sep = " (";
-  for (const char* name : {"delta", "alpha", "rho_inf", "beta", "gamma"}) {
-    if (const auto v = numeric_value(sim, name)) {
-      std::printf("%s%s = %.6g", sep, name, *v);
-      sep = ", ";
-    }
-  }
-  if (std::holds_alternative<GeneralizedAlphaParams>(sim.method)) {
-    const ImplicitCoefficients c = implicit_coefficients(sim.method);
-    std::printf(", alpha_m = %.6g, alpha_f = %.6g", c.alpha_m, c.alpha_f);
-  }
-  std::printf("%s\n", *sep == ',' ? ")" : "");
+  std::printf("method      %s%s\n", to_string(kind_of(sim.method)),
+              method_values_text(sim.method).c_str());
   if (sim.model) {
     const Model& model = *sim.model->model;
     std::printf("scene       model of %ld DOFs (%s), %zu contact(s)%s%s\n",
@@ -298,21 +281,20 @@ std::function<int()> add_compare_command(CLI::App& app) {
                 "status", "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0",
                 "time[ms]");
     SimulationWorkspace workspace;
-    for (const MethodKind kind :
-         {MethodKind::central_difference, MethodKind::backward_euler, MethodKind::newmark,
-          MethodKind::hht, MethodKind::generalized_alpha}) {
+    for (const MethodDescriptor& method : method_registry()) {
+      const MethodKind kind = method.kind;
       SimulationSettings settings = base;
       settings.method = MethodSettings{.kind = kind};
       const auto sim = build_or_report(settings, "compare");
       if (!sim) return kExitBadInput;
       const Evaluation e = evaluate(*sim, workspace);
       std::string params;
-      for (const char* name : {"delta", "alpha", "rho_inf"}) {
-        if (const auto v = numeric_value(*sim, name)) {
-          char buffer[48];
-          std::snprintf(buffer, sizeof buffer, "%s%s=%.3g", params.empty() ? "" : " ", name, *v);
-          params += buffer;
-        }
+      for (const ReportedValue& v : method.values(sim->method)) {
+        if (v.derived) continue;
+        char buffer[48];
+        std::snprintf(buffer, sizeof buffer, "%s%s=%.3g", params.empty() ? "" : " ", v.name,
+                      v.value);
+        params += buffer;
       }
       if (params.empty()) params = "-";
       const Indicators& i = e.indicators;

@@ -3,6 +3,8 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <deque>
 #include <string>
 #include <type_traits>
 
@@ -15,7 +17,10 @@ namespace {
 using G = ParameterGroup;
 using K = ParameterKind;
 
-constexpr std::array<ParameterInfo, 27> kParameters{{
+// The scene's keys (the one-body rod's, and those every scene takes), then the method and its
+// parameters (from core/method_registry.hpp), then the output's.
+constexpr ParameterInfo kSceneParameters[] = {
+
     {"length", G::scene, K::real, "mm", "rod length L (default 20, > 0)", "", ""},
     {"elements", G::scene, K::integer, "", "number of 2-node truss elements n (default 200, >= 1)",
      "", ""},
@@ -38,28 +43,9 @@ constexpr std::array<ParameterInfo, 27> kParameters{{
      ""},
     {"dt", G::scene, K::real, "s", "time step (default from courant); not with courant", "", ""},
     {"t_end", G::scene, K::real, "s", "end time (default t_impact + 1.5*2L/c)", "", ""},
-    {"method", G::method, K::choice, "", "time-stepping method (default hht)",
-     "cdm|backward-euler|newmark|hht|generalized-alpha", ""},
-    {"delta", G::method, K::real, "",
-     "delta of eq. 13: beta = (1+delta)^2/4, gamma = 1/2+delta (newmark: default 0.3; hht: default "
-     "-alpha), >= 0",
-     "", "newmark|hht"},
-    {"alpha", G::method, K::real, "", "HHT alpha of eq. 14 (default -0.3), in [-0.5, 0]", "",
-     "hht"},
-    {"beta", G::method, K::real, "", "Newmark beta, given with gamma instead of delta (> 0)", "",
-     "newmark"},
-    {"gamma", G::method, K::real, "", "Newmark gamma, given with beta instead of delta (>= 0)", "",
-     "newmark"},
-    {"rho_inf", G::method, K::real, "",
-     "generalized-alpha high-frequency spectral radius (default 0.8), in [0, 1]", "",
-     "generalized-alpha"},
-    {"cdm_velocity", G::method, K::choice, "",
-     "central difference velocity: eq. 3 central or eq. 6/7 backward (default central)",
-     "central|backward", "cdm"},
-    {"hht_contact", G::method, K::choice, "",
-     "where the contact force of an alpha-method acts: at t+dt (endpoint, default) or "
-     "alpha-weighted",
-     "endpoint|weighted", "hht|generalized-alpha"},
+};
+
+constexpr ParameterInfo kOutputParameters[] = {
     {"peak_prominence", G::output, K::real, "",
      "minimum prominence of a counted peak, as a fraction of rho*c*v0 (pressure) and |v0| "
      "(velocity) (default 1e-6, > 0)",
@@ -71,7 +57,7 @@ constexpr std::array<ParameterInfo, 27> kParameters{{
     {"reference_method", G::output, K::choice, "",
      "method of a converged reference, at its default parameters (default auto: hht for a "
      "scene of bodies; for a model cdm when M is diagonal, else hht)",
-     "auto|cdm|backward-euler|newmark|hht|generalized-alpha", ""},
+     "" /* "auto|" and the method names: table() */, ""},
     {"reference_max_refinements", G::output, K::integer, "",
      "most halvings of a converged reference's step (default 5 for a scene of bodies, which "
      "also halves its mesh; 10 for a model), >= 1",
@@ -80,16 +66,43 @@ constexpr std::array<ParameterInfo, 27> kParameters{{
      "a run is unstable once its energy exceeds this multiple of the initial energy (default "
      "1.5, > 1)",
      "", ""},
-}};
+};
 
-bool method_takes(const ParameterInfo& info, MethodKind kind) {
-  const std::string_view methods = info.methods;
-  if (methods.empty()) return true;
-  const std::string_view name = to_string(kind);
+// The table, built once: the method rows and choice lists come from the method registry, their
+// text kept in `text` (a deque: its strings do not move).
+struct ParameterTable {
+  std::deque<std::string> text;
+  std::vector<ParameterInfo> rows;
+};
+
+const ParameterTable& table() {
+  static const ParameterTable t = [] {
+    ParameterTable out;
+    const auto keep = [&](std::string s) { return out.text.emplace_back(std::move(s)).c_str(); };
+    for (const ParameterInfo& info : kSceneParameters) out.rows.push_back(info);
+    out.rows.push_back({"method", G::method, K::choice, "", "time-stepping method (default hht)",
+                        keep(method_names()), ""});
+    for (const MethodParameter& p : method_parameters()) {
+      out.rows.push_back({p.name, G::method, p.choice ? K::choice : K::real, "", p.description,
+                          p.choices, keep(methods_taking(p.name))});
+    }
+    for (ParameterInfo info : kOutputParameters) {
+      if (std::string_view(info.name) == "reference_method") {
+        info.choices = keep("auto|" + method_names());
+      }
+      out.rows.push_back(info);
+    }
+    return out;
+  }();
+  return t;
+}
+
+bool has_choice(const char* choices, std::string_view word) {
+  const std::string_view list = choices;
   std::size_t start = 0;
-  while (start <= methods.size()) {
-    const std::size_t end = std::min(methods.find('|', start), methods.size());
-    if (methods.substr(start, end - start) == name) return true;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find('|', start), list.size());
+    if (list.substr(start, end - start) == word) return true;
     start = end + 1;
   }
   return false;
@@ -114,14 +127,9 @@ std::optional<ParameterError> assign_choice(SimulationSettings& s, const Paramet
     const auto v = method_kind_from_string(text);
     if (!v) return bad();
     s.method.kind = *v;
-  } else if (name == "cdm_velocity") {
-    const auto v = cdm_velocity_from_string(text);
-    if (!v) return bad();
-    s.method.cdm_velocity = *v;
-  } else if (name == "hht_contact") {
-    const auto v = contact_weighting_from_string(text);
-    if (!v) return bad();
-    s.method.hht_contact = *v;
+  } else if (find_method_parameter(name)) {
+    if (!has_choice(info.choices, text)) return bad();
+    s.method.given.set(name, text);
   } else if (name == "reference_method") {
     if (text == "auto") {
       s.reference.method.reset();
@@ -166,11 +174,8 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
     }
     s.scene.dt = v;
   } else if (name == "t_end") s.scene.t_end = v;
-  else if (name == "delta") s.method.delta = v;
-  else if (name == "alpha") s.method.alpha = v;
-  else if (name == "beta") s.method.beta = v;
-  else if (name == "gamma") s.method.gamma = v;
-  else if (name == "rho_inf") s.method.rho_inf = v;
+  else if (find_method_parameter(name))
+    s.method.given.set(name, v);
   else if (name == "peak_prominence") s.indicators.peak_prominence = v;
   else if (name == "reference_tolerance") {
     s.indicators.reference_tolerance = v;
@@ -184,10 +189,12 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
 
 }  // namespace
 
-std::span<const ParameterInfo> parameter_table() { return kParameters; }
+std::span<const ParameterInfo> parameter_table() {
+  return table().rows;
+}
 
 const ParameterInfo* find_parameter(std::string_view name) {
-  for (const auto& info : kParameters) {
+  for (const auto& info : table().rows) {
     if (name == info.name) return &info;
   }
   return nullptr;
@@ -246,67 +253,10 @@ std::optional<ParameterError> assign_text(SimulationSettings& settings, std::str
 }
 
 std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
-  const MethodSettings& m = s.method;
-  // A parameter the method does not take is an error, not silently ignored.
-  const auto text = [](const auto& v) -> std::optional<std::string> {
-    if (!v) return std::nullopt;
-    if constexpr (std::is_same_v<std::decay_t<decltype(*v)>, double>) return format_value(*v);
-    else return std::string(to_string(*v));
-  };
-  const std::pair<const char*, std::optional<std::string>> given[] = {
-      {"delta", text(m.delta)},     {"alpha", text(m.alpha)},
-      {"beta", text(m.beta)},       {"gamma", text(m.gamma)},
-      {"rho_inf", text(m.rho_inf)}, {"cdm_velocity", text(m.cdm_velocity)},
-      {"hht_contact", text(m.hht_contact)},
-  };
-  for (const auto& [name, value] : given) {
-    const ParameterInfo* info = find_parameter(name);
-    if (value && !method_takes(*info, m.kind)) {
-      return ParameterError{info->name, *value,
-                            std::string("is not a parameter of method ") + to_string(m.kind) +
-                                " (it applies to " + info->methods + ")"};
-    }
-  }
-
-  Simulation out{s.scene,      std::nullopt, std::nullopt, default_params(m.kind),
+  auto method = build_method(s.method.kind, s.method.given);
+  if (const auto* e = std::get_if<ParameterError>(&method)) return *e;
+  Simulation out{s.scene,      std::nullopt, std::nullopt, std::get<MethodParams>(method),
                  s.indicators, s.run,        s.reference};
-  switch (m.kind) {
-    case MethodKind::central_difference:
-      out.method = CentralDifferenceParams{m.cdm_velocity.value_or(CdmVelocity::central)};
-      break;
-    case MethodKind::backward_euler: out.method = BackwardEulerParams{}; break;
-    case MethodKind::newmark: {
-      NewmarkParams p;
-      if (m.beta || m.gamma) {
-        if (m.delta) {
-          return ParameterError{"delta", format_value(*m.delta),
-                                "cannot be given with beta and gamma (eq. 13 derives them)"};
-        }
-        if (!m.beta) return ParameterError{"beta", "(missing)", "must be given with gamma"};
-        if (!m.gamma) return ParameterError{"gamma", "(missing)", "must be given with beta"};
-        p.coefficients = BetaGamma{*m.beta, *m.gamma};
-      } else if (m.delta) {
-        p.delta = *m.delta;
-      }
-      out.method = p;
-      break;
-    }
-    case MethodKind::hht: {
-      HhtParams p;
-      if (m.alpha) p.alpha = *m.alpha;
-      p.delta = m.delta;
-      if (m.hht_contact) p.contact = *m.hht_contact;
-      out.method = p;
-      break;
-    }
-    case MethodKind::generalized_alpha: {
-      GeneralizedAlphaParams p;
-      if (m.rho_inf) p.rho_inf = *m.rho_inf;
-      if (m.hht_contact) p.contact = *m.hht_contact;
-      out.method = p;
-      break;
-    }
-  }
   if (s.model) {
     if (!s.rod_keys.empty()) {
       return ParameterError{s.rod_keys.front().first, format_value(s.rod_keys.front().second),
@@ -425,21 +375,18 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
   // The rod's reference is exact.
   if (name == "reference_tolerance" || name == "reference_max_refinements") return std::nullopt;
   if (name == "energy_growth_limit") return sim.run.energy_growth_limit;
-  if (const auto* p = std::get_if<NewmarkParams>(&sim.method)) {
-    if (name == "delta" && !p->coefficients) return p->delta;
-  }
-  if (const auto* p = std::get_if<HhtParams>(&sim.method)) {
-    if (name == "alpha") return p->alpha;
-    if (name == "delta") return p->delta.value_or(-p->alpha);
-  }
-  if (const auto* p = std::get_if<GeneralizedAlphaParams>(&sim.method)) {
-    if (name == "rho_inf") return p->rho_inf;
-  }
-  if (const auto bg = reported_beta_gamma(sim.method)) {
-    if (name == "beta") return bg->beta;
-    if (name == "gamma") return bg->gamma;
-  }
+  if (find_method_parameter(name)) return reported_value(sim.method, name);
   return std::nullopt;
+}
+
+std::string method_values_text(const MethodParams& method) {
+  std::string out;
+  for (const ReportedValue& v : descriptor(method).values(method)) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%s%s = %.6g", out.empty() ? " (" : ", ", v.name, v.value);
+    out += buffer;
+  }
+  return out.empty() ? out : out + ")";
 }
 
 ReferenceOptions reference_options(const Simulation& sim) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/method.hpp"
+#include "core/method_registry.hpp"
 #include "core/model_scene.hpp"
 #include "core/parameter_error.hpp"
 #include "core/rod_scene.hpp"
@@ -34,12 +35,11 @@ struct ReferenceSettings {
   std::optional<int> max_refinements;
 };
 
-/// Method parameters as given; unset ones take the method's defaults in build().
+/// Method parameters as given; unset ones take the method's defaults in build()
+/// (core/method_registry.hpp: which method takes which key).
 struct MethodSettings {
   MethodKind kind = MethodKind::hht;
-  std::optional<double> delta, alpha, beta, gamma, rho_inf;
-  std::optional<CdmVelocity> cdm_velocity;
-  std::optional<ContactWeighting> hht_contact;
+  MethodArguments given;
 };
 
 struct SimulationSettings {
@@ -110,6 +110,10 @@ std::optional<ParameterError> assign_text(SimulationSettings& settings, std::str
 /// when only α was given, β and γ of every Newmark-family method); nothing for a choice
 /// parameter or one the method does not have.
 std::optional<double> numeric_value(const Simulation& simulation, std::string_view name);
+
+/// A method's numbers as reports print them: " (delta = 0.3, alpha = -0.3, beta = 0.4225,
+/// gamma = 0.8)", every parameter and derived coefficient (%.6g); "" for a method without.
+std::string method_values_text(const MethodParams& method);
 
 /// The options of the simulation's converged reference: the scene kind's defaults with what the
 /// settings give (reference_tolerance, reference_method, reference_max_refinements).

@@ -123,15 +123,8 @@ void write_method_json(const MethodReport& r) {
 }
 
 void write_method_text(const MethodReport& r) {
-  std::printf("method      %s", to_string(kind_of(r.simulation.method)));
-  const char* separator = " (";
-  for (const char* name : {"delta", "alpha", "rho_inf", "beta", "gamma"}) {
-    if (const auto v = numeric_value(r.simulation, name)) {
-      std::printf("%s%s = %.6g", separator, name, *v);
-      separator = ", ";
-    }
-  }
-  std::printf("%s\n", *separator == ',' ? ")" : "");
+  std::printf("method      %s%s\n", to_string(kind_of(r.simulation.method)),
+              method_values_text(r.simulation.method).c_str());
   std::printf("rho_inf     %.6g (spectral radius as omega*dt -> inf)\n", r.rho_inf);
   std::printf("period      (T_num - T)/T = c*(omega*dt)^2 as omega*dt -> 0, c = %.6g\n",
               r.period_error_coefficient);

@@ -22,9 +22,15 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kIndicators[] = {"eps_p",       "eps_v",        "nop_p",      "nop_v",
                                        "p_max_ratio", "energy_ratio", "wall_time_s"};
 
-/// Parameters stored per point: the step, and each method parameter (NaN where the method has
-/// none), with the derived β and γ of the Newmark family.
-constexpr const char* kParameters[] = {"dt", "delta", "alpha", "rho_inf", "beta", "gamma"};
+/// Parameters stored per point: the step, and each numeric method parameter (NaN where the
+/// method has none; β and γ, given or derived, for the Newmark family).
+std::vector<const char*> stored_parameters() {
+  std::vector<const char*> out{"dt"};
+  for (const MethodParameter& p : method_parameters()) {
+    if (!p.choice) out.push_back(p.name);
+  }
+  return out;
+}
 
 ResultColumn parameter_column(const char* name, std::size_t size) {
   const ParameterInfo* info = find_parameter(name);
@@ -106,7 +112,9 @@ StudyResults empty_work_precision_results(const Plan& plan) {
   r.dimensions.push_back({"courant", "1", wp.courant});
   const std::size_t size = wp.methods.size() * wp.elements.size() * wp.courant.size();
   r.status.assign(size, kStatusNotDone);
-  for (const char* name : kParameters) r.parameters.push_back(parameter_column(name, size));
+  for (const char* name : stored_parameters()) {
+    r.parameters.push_back(parameter_column(name, size));
+  }
   for (const char* name : kIndicators) {
     const IndicatorInfo* info = find_indicator(name);
     assert(info);

@@ -63,7 +63,7 @@ TEST(CommandLine, JsonCarriesTheLibraryNumbers) {
   ASSERT_EQ(out.status, 0) << out.text;
   SimulationSettings settings;
   settings.method.kind = MethodKind::newmark;
-  settings.method.delta = 0.4;
+  settings.method.given.set("delta", 0.4);
   settings.scene.elements = 40;
   SimulationWorkspace workspace;
   const Evaluation e = evaluate(std::get<Simulation>(build(settings)), workspace);

@@ -36,7 +36,7 @@ double eps_p_at(double delta) {
   SimulationSettings s;
   s.scene.elements = 40;
   s.method.kind = MethodKind::newmark;
-  s.method.delta = delta;
+  s.method.given.set("delta", delta);
   SimulationWorkspace workspace;
   return evaluate(std::get<Simulation>(build(s)), workspace).indicators.eps_p;
 }

@@ -102,8 +102,8 @@ delta = { values = [0.4, 0.5, 0.6, 0.7] }
     EXPECT_EQ(points.parameter_values(k), (std::vector<double>{alphas[a], deltas[d]}));
     const SimulationSettings s = points.settings(k);
     EXPECT_EQ(s.method.kind, MethodKind::hht);
-    EXPECT_EQ(s.method.alpha, alphas[a]);
-    EXPECT_EQ(s.method.delta, deltas[d]);
+    EXPECT_EQ(s.method.given.number("alpha"), alphas[a]);
+    EXPECT_EQ(s.method.given.number("delta"), deltas[d]);
     EXPECT_EQ(s.scene.elements, 40);  // the base is kept
     const Simulation sim = built(s);
     EXPECT_EQ(numeric_value(sim, "alpha"), alphas[a]);
@@ -148,8 +148,8 @@ delta = "-1.5*alpha"
     EXPECT_EQ(v[0], alpha);
     EXPECT_EQ(v[1], -1.5 * alpha);
     const SimulationSettings s = points.settings(k);
-    EXPECT_EQ(s.method.alpha, alpha);
-    EXPECT_EQ(s.method.delta, -1.5 * alpha);
+    EXPECT_EQ(s.method.given.number("alpha"), alpha);
+    EXPECT_EQ(s.method.given.number("delta"), -1.5 * alpha);
   }
   EXPECT_EQ(points.parameter_values(0)[1], 0.75);
   EXPECT_EQ(points.parameter_values(50)[1], 0.0);
@@ -210,13 +210,13 @@ points = [
 
   const SimulationSettings s0 = points.settings(0), s1 = points.settings(1),
                            s2 = points.settings(2);
-  EXPECT_EQ(s0.method.delta, 0.0);
+  EXPECT_EQ(s0.method.given.number("delta"), 0.0);
   EXPECT_EQ(s0.scene.courant, 0.25);
   EXPECT_EQ(s0.scene.mass, MassMatrix::lumped);
   EXPECT_EQ(s1.scene.mass, MassMatrix::consistent);
   EXPECT_EQ(s1.scene.courant, 0.5);
   EXPECT_FALSE(s1.courant_given);
-  EXPECT_EQ(s2.method.delta, 0.2);
+  EXPECT_EQ(s2.method.given.number("delta"), 0.2);
   for (const auto* s : {&s0, &s1, &s2}) {
     EXPECT_EQ(s->scene.elements, 60);
     EXPECT_EQ(s->method.kind, MethodKind::newmark);

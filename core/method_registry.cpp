@@ -1,0 +1,305 @@
+#include "core/method_registry.hpp"
+
+#include <array>
+
+namespace impactid {
+namespace {
+
+using Values = std::vector<ReportedValue>;
+using Choices = std::vector<std::pair<const char*, std::string>>;
+using Made = std::variant<MethodParams, ParameterError>;
+
+constexpr std::array<MethodParameter, 7> kParameters{{
+    {"delta", false,
+     "delta of eq. 13: beta = (1+delta)^2/4, gamma = 1/2+delta (newmark: default 0.3; hht: default "
+     "-alpha), >= 0",
+     ""},
+    {"alpha", false, "HHT alpha of eq. 14 (default -0.3), in [-0.5, 0]", ""},
+    {"beta", false, "Newmark beta, given with gamma instead of delta (> 0)", ""},
+    {"gamma", false, "Newmark gamma, given with beta instead of delta (>= 0)", ""},
+    {"rho_inf", false, "generalized-alpha high-frequency spectral radius (default 0.8), in [0, 1]",
+     ""},
+    {"cdm_velocity", true,
+     "central difference velocity: eq. 3 central or eq. 6/7 backward (default central)",
+     "central|backward"},
+    {"hht_contact", true,
+     "where the contact force of an alpha-method acts: at t+dt (endpoint, default) or "
+     "alpha-weighted",
+     "endpoint|weighted"},
+}};
+
+// β and γ of a member of the Newmark family, derived (from δ, α or ρ∞) unless given.
+void add_beta_gamma(const MethodParams& params, bool derived, Values& out) {
+  const BetaGamma bg = *reported_beta_gamma(params);
+  out.push_back({"beta", bg.beta, derived});
+  out.push_back({"gamma", bg.gamma, derived});
+}
+
+// --- central difference ---
+constexpr const char* kCdmParameters[] = {"cdm_velocity"};
+// A choice word given programmatically is checked here too (assign() checks the user's).
+ParameterError bad_choice(const char* name, const std::string& word) {
+  return ParameterError{name, word,
+                        std::string("must be one of ") + find_method_parameter(name)->choices};
+}
+
+Made make_cdm(const MethodArguments& given) {
+  CentralDifferenceParams p;
+  if (const auto word = given.choice("cdm_velocity")) {
+    const auto velocity = cdm_velocity_from_string(*word);
+    if (!velocity) return bad_choice("cdm_velocity", *word);
+    p.velocity = *velocity;
+  }
+  return p;
+}
+Values cdm_values(const MethodParams&) {
+  return {};
+}
+Choices cdm_choices(const MethodParams& params) {
+  return {{"cdm_velocity", to_string(std::get<CentralDifferenceParams>(params).velocity)}};
+}
+
+// --- backward Euler ---
+Made make_backward_euler(const MethodArguments&) {
+  return BackwardEulerParams{};
+}
+Values no_values(const MethodParams&) {
+  return {};
+}
+Choices no_choices(const MethodParams&) {
+  return {};
+}
+
+// --- Newmark ---
+constexpr const char* kNewmarkParameters[] = {"delta", "beta", "gamma"};
+Made make_newmark(const MethodArguments& given) {
+  NewmarkParams p;
+  const auto delta = given.number("delta"), beta = given.number("beta"),
+             gamma = given.number("gamma");
+  if (beta || gamma) {
+    if (delta) {
+      return ParameterError{"delta", format_value(*delta),
+                            "cannot be given with beta and gamma (eq. 13 derives them)"};
+    }
+    if (!beta) return ParameterError{"beta", "(missing)", "must be given with gamma"};
+    if (!gamma) return ParameterError{"gamma", "(missing)", "must be given with beta"};
+    p.coefficients = BetaGamma{*beta, *gamma};
+  } else if (delta) {
+    p.delta = *delta;
+  }
+  return p;
+}
+Values newmark_values(const MethodParams& params) {
+  const auto& p = std::get<NewmarkParams>(params);
+  Values out;
+  if (!p.coefficients) out.push_back({"delta", p.delta, false});
+  add_beta_gamma(params, !p.coefficients, out);
+  return out;
+}
+
+// --- HHT-α ---
+constexpr const char* kHhtParameters[] = {"delta", "alpha", "hht_contact"};
+Made make_hht(const MethodArguments& given) {
+  HhtParams p;
+  if (const auto alpha = given.number("alpha")) p.alpha = *alpha;
+  p.delta = given.number("delta");
+  if (const auto word = given.choice("hht_contact")) {
+    const auto contact = contact_weighting_from_string(*word);
+    if (!contact) return bad_choice("hht_contact", *word);
+    p.contact = *contact;
+  }
+  return p;
+}
+Values hht_values(const MethodParams& params) {
+  const auto& p = std::get<HhtParams>(params);
+  Values out{{"delta", p.delta.value_or(-p.alpha), false}, {"alpha", p.alpha, false}};
+  add_beta_gamma(params, true, out);
+  return out;
+}
+Choices hht_choices(const MethodParams& params) {
+  return {{"hht_contact", to_string(std::get<HhtParams>(params).contact)}};
+}
+
+// --- generalized-α ---
+constexpr const char* kGeneralizedAlphaParameters[] = {"rho_inf", "hht_contact"};
+Made make_generalized_alpha(const MethodArguments& given) {
+  GeneralizedAlphaParams p;
+  if (const auto rho_inf = given.number("rho_inf")) p.rho_inf = *rho_inf;
+  if (const auto word = given.choice("hht_contact")) {
+    const auto contact = contact_weighting_from_string(*word);
+    if (!contact) return bad_choice("hht_contact", *word);
+    p.contact = *contact;
+  }
+  return p;
+}
+Values generalized_alpha_values(const MethodParams& params) {
+  Values out{{"rho_inf", std::get<GeneralizedAlphaParams>(params).rho_inf, false}};
+  add_beta_gamma(params, true, out);
+  // Derived from ρ∞ (Chung & Hulbert 1993), as β and γ are.
+  const ImplicitCoefficients c = implicit_coefficients(params);
+  out.push_back({"alpha_m", c.alpha_m, true});
+  out.push_back({"alpha_f", c.alpha_f, true});
+  return out;
+}
+Choices generalized_alpha_choices(const MethodParams& params) {
+  return {{"hht_contact", to_string(std::get<GeneralizedAlphaParams>(params).contact)}};
+}
+
+// The registry: one entry per method, in MethodKind's order.
+const std::array<MethodDescriptor, 5> kMethods{{
+    {MethodKind::central_difference, "cdm",
+     "central difference with Carpenter's forward-increment multiplier (eqs 1-7; Carpenter, Taylor "
+     "& Katona 1991, doi:10.1002/nme.1620320107): explicit, second order, no numerical "
+     "dissipation, stable below Courant 1 with a lumped mass",
+     kCdmParameters, make_cdm, cdm_values, cdm_choices},
+    {MethodKind::backward_euler,
+     "backward-euler",
+     "backward Euler (eqs 8-10): implicit, first order, unconditionally stable, strongly "
+     "dissipative",
+     {},
+     make_backward_euler,
+     no_values,
+     no_choices},
+    {MethodKind::newmark, "newmark",
+     "Newmark (eqs 11-13; Newmark 1959, doi:10.1061/JMCEA3.0000098): implicit, second order only "
+     "at delta = 0 (trapezoidal rule), dissipative for delta > 0",
+     kNewmarkParameters, make_newmark, newmark_values, no_choices},
+    {MethodKind::hht, "hht",
+     "HHT-alpha (eq. 14; Hilber, Hughes & Taylor 1977, doi:10.1002/eqe.4290050306): implicit, "
+     "second order at delta = -alpha, high-frequency spectral radius (1+alpha)/(1-alpha) for alpha "
+     "in [-1/3, 0]",
+     kHhtParameters, make_hht, hht_values, hht_choices},
+    {MethodKind::generalized_alpha, "generalized-alpha",
+     "generalized-alpha (Chung & Hulbert 1993, doi:10.1115/1.2900803): implicit, second order, "
+     "high-frequency spectral radius rho_inf with least low-frequency dissipation",
+     kGeneralizedAlphaParameters, make_generalized_alpha, generalized_alpha_values,
+     generalized_alpha_choices},
+}};
+
+std::string join(const auto& items, const auto& name_of) {
+  std::string out;
+  for (const auto& item : items) {
+    if (!out.empty()) out += '|';
+    out += name_of(item);
+  }
+  return out;
+}
+
+}  // namespace
+
+void MethodArguments::set(std::string_view name, Value value) {
+  for (auto& [key, v] : values_) {
+    if (key == name) {
+      v = std::move(value);
+      return;
+    }
+  }
+  values_.emplace_back(std::string(name), std::move(value));
+}
+
+const MethodArguments::Value* MethodArguments::find(std::string_view name) const {
+  for (const auto& [key, v] : values_) {
+    if (key == name) return &v;
+  }
+  return nullptr;
+}
+
+std::optional<double> MethodArguments::number(std::string_view name) const {
+  const Value* v = find(name);
+  if (!v || !std::holds_alternative<double>(*v)) return std::nullopt;
+  return std::get<double>(*v);
+}
+
+std::optional<std::string> MethodArguments::choice(std::string_view name) const {
+  const Value* v = find(name);
+  if (!v || !std::holds_alternative<std::string>(*v)) return std::nullopt;
+  return std::get<std::string>(*v);
+}
+
+std::span<const MethodParameter> method_parameters() {
+  return kParameters;
+}
+
+const MethodParameter* find_method_parameter(std::string_view name) {
+  for (const MethodParameter& p : kParameters) {
+    if (name == p.name) return &p;
+  }
+  return nullptr;
+}
+
+std::span<const MethodDescriptor> method_registry() {
+  return kMethods;
+}
+
+const MethodDescriptor& descriptor(MethodKind kind) {
+  for (const MethodDescriptor& m : kMethods) {
+    if (m.kind == kind) return m;
+  }
+  return kMethods.front();  // unreachable: every MethodKind is registered (a test checks)
+}
+
+const MethodDescriptor& descriptor(const MethodParams& params) {
+  return descriptor(kind_of(params));
+}
+
+const char* to_string(MethodKind kind) {
+  return descriptor(kind).name;
+}
+
+std::optional<MethodKind> method_kind_from_string(const std::string& name) {
+  for (const MethodDescriptor& m : kMethods) {
+    if (name == m.name) return m.kind;
+  }
+  return std::nullopt;
+}
+
+bool method_takes(const MethodDescriptor& method, std::string_view parameter) {
+  for (const char* name : method.parameters) {
+    if (parameter == name) return true;
+  }
+  return false;
+}
+
+std::string methods_taking(std::string_view parameter) {
+  std::string out;
+  for (const MethodDescriptor& m : kMethods) {
+    if (!method_takes(m, parameter)) continue;
+    if (!out.empty()) out += '|';
+    out += m.name;
+  }
+  return out;
+}
+
+std::string method_names() {
+  return join(kMethods, [](const MethodDescriptor& m) { return m.name; });
+}
+
+std::variant<MethodParams, ParameterError> build_method(MethodKind kind,
+                                                        const MethodArguments& given) {
+  const MethodDescriptor& method = descriptor(kind);
+  for (const MethodParameter& p : kParameters) {
+    const auto* value = [&]() -> const MethodArguments::Value* {
+      for (const auto& [key, v] : given.values()) {
+        if (key == p.name) return &v;
+      }
+      return nullptr;
+    }();
+    if (!value || method_takes(method, p.name)) continue;
+    const std::string text = std::holds_alternative<double>(*value)
+                                 ? format_value(std::get<double>(*value))
+                                 : std::get<std::string>(*value);
+    return ParameterError{p.name, text,
+                          std::string("is not a parameter of method ") + method.name +
+                              " (it applies to " + methods_taking(p.name) + ")"};
+  }
+  return method.make(given);
+}
+
+std::optional<double> reported_value(const MethodParams& params, std::string_view name) {
+  for (const ReportedValue& v : descriptor(params).values(params)) {
+    if (name == v.name) return v.value;
+  }
+  return std::nullopt;
+}
+
+}  // namespace impactid

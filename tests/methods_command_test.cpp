@@ -1,0 +1,72 @@
+// `impactid methods` as a user drives it: every registered method with its parameters, their
+// defaults (the values a run with nothing given uses) and derived coefficients, as text and JSON.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "core/method_registry.hpp"
+
+namespace impactid {
+namespace {
+
+struct Output {
+  int status;
+  std::string text;
+};
+
+Output run(const std::string& arguments) {
+  const std::string command = std::string(IMPACTID_EXECUTABLE) + " " + arguments + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  std::string text;
+  std::array<char, 4096> buffer;
+  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) text += buffer.data();
+  const int raw = pclose(pipe.release());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
+  const Output o = run("methods");
+  ASSERT_EQ(o.status, 0) << o.text;
+  for (const MethodDescriptor& m : method_registry()) {
+    EXPECT_TRUE(contains(o.text, std::string(m.name) + "\n  " + m.summary)) << m.name;
+    for (const char* name : m.parameters) {
+      std::string option = name;
+      std::replace(option.begin(), option.end(), '_', '-');
+      EXPECT_TRUE(contains(o.text, "--" + option)) << m.name << " " << name;
+    }
+  }
+  // HHT's δ defaults to −α; generalized-α derives α_m and α_f.
+  EXPECT_TRUE(contains(o.text, "--delta          default 0.3 ")) << o.text;
+  EXPECT_TRUE(contains(o.text, "derived: beta, gamma, alpha_m, alpha_f")) << o.text;
+}
+
+TEST(MethodsCommand, JsonGivesTheSameList) {
+  const Output o = run("methods --json");
+  ASSERT_EQ(o.status, 0) << o.text;
+  EXPECT_EQ(o.text.front(), '[');
+  for (const MethodDescriptor& m : method_registry()) {
+    EXPECT_TRUE(contains(o.text, std::string("{\"name\":\"") + m.name + "\",\"summary\":"))
+        << m.name;
+  }
+  for (const char* part :
+       {"{\"name\":\"alpha\",\"kind\":\"real\",\"default\":-0.3,",
+        "{\"name\":\"hht_contact\",\"kind\":\"choice\",\"choices\":\"endpoint|weighted\","
+        "\"default\":\"endpoint\",",
+        "{\"name\":\"rho_inf\",\"kind\":\"real\",\"default\":0.8,",
+        "\"derived\":[\"beta\",\"gamma\",\"alpha_m\",\"alpha_f\"]"}) {
+    EXPECT_TRUE(contains(o.text, part)) << part << "\n" << o.text;
+  }
+  EXPECT_EQ(run("methods --bogus").status, 2);
+}
+
+}  // namespace
+}  // namespace impactid
