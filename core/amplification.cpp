@@ -60,6 +60,44 @@ Eigen::Matrix<Scalar, 3, 3> implicit_amplification(const ImplicitCoefficients& c
   return a / d;
 }
 
+// A composite scheme's step (core/bathe_composite.hpp) on x = (u, Δt·v, Δt²·a): the trapezoidal
+// sub-step over γ·Δt is the family's matrix at γ·Ω on its own scaled state D·x, D = diag(1, γ,
+// γ²), so x_γ = D⁻¹·A₁(γΩ)·D·x. The second sub-step, row by row over x:
+//   V* = V + q0·A + q1·A_γ,   u* = u + q0·V + q1·V_γ + q2·V*,
+//   u₁ = u*/(1 + q2²·Ω²),     A₁ = −Ω²·u₁,   V₁ = V* + q2·A₁,
+// with A₁ = −u*/(1/Ω² + q2²) past Ω = 1 so that no entry grows with Ω.
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 3> composite_amplification(const CompositeCoefficients& c,
+                                                    double omega_dt) {
+  using Matrix = Eigen::Matrix<Scalar, 3, 3>;
+  using Row = Eigen::Matrix<Scalar, 1, 3>;
+  const Scalar gamma = c.gamma, q0 = c.q0, q1 = c.q1, q2 = c.q2, omega = omega_dt;
+  const Eigen::Matrix<Scalar, 3, 1> d(1, gamma, gamma * gamma);
+  const Matrix first = d.cwiseInverse().asDiagonal() *
+                       implicit_amplification<Scalar>(c.first, c.gamma * omega_dt) * d.asDiagonal();
+  if (!first.allFinite()) return Matrix::Constant(Scalar(kNaN));
+  const Row e_u(1, 0, 0), e_v(0, 1, 0), e_a(0, 0, 1);
+  const Row v_star = e_v + q0 * e_a + q1 * first.row(2);
+  const Row u_star = e_u + q0 * e_v + q1 * first.row(1) + q2 * v_star;
+  const Row u1 = u_star / (1 + q2 * q2 * omega * omega);
+  const Row a1 =
+      omega_dt > 1.0 ? Row(-u_star / (1 / (omega * omega) + q2 * q2)) : Row(-omega * omega * u1);
+  Matrix a;
+  a.row(0) = u1;
+  a.row(1) = v_star + q2 * a1;
+  a.row(2) = a1;
+  return a;
+}
+
+// The one-step matrix of any method but central difference.
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 3> step_amplification(const MethodParams& params, double omega_dt) {
+  if (!is_single_step_implicit(params)) {
+    return composite_amplification<Scalar>(composite_coefficients(params), omega_dt);
+  }
+  return implicit_amplification<Scalar>(implicit_coefficients(params), omega_dt);
+}
+
 Eigen::Matrix2d central_difference_amplification(double omega_dt) {
   Eigen::Matrix2d a;
   a << 2.0 - omega_dt * omega_dt, -1.0, 1.0, 0.0;
@@ -152,7 +190,7 @@ std::vector<ComplexExtended> eigenvalues(const MethodParams& params, double omeg
     append_eigenvalues(std::move(b), lambda);
     return lambda;
   }
-  MatrixExtended b = implicit_amplification<Extended>(implicit_coefficients(params), omega_dt);
+  MatrixExtended b = step_amplification<Extended>(params, omega_dt);
   if (!b.allFinite()) return {};
   if (omega > 0 && omega < 1) {
     const Eigen::Matrix<Extended, 3, 1> d(1, omega, omega * omega);
@@ -248,7 +286,7 @@ Eigen::MatrixXd amplification_matrix(const MethodParams& params, double omega_dt
     return Eigen::MatrixXd::Constant(cdm ? 2 : 3, cdm ? 2 : 3, kNaN);
   }
   if (cdm) return central_difference_amplification(omega_dt);
-  return implicit_amplification<double>(implicit_coefficients(params), omega_dt);
+  return step_amplification<double>(params, omega_dt);
 }
 
 SpectralProperties spectral_properties(const MethodParams& params, double omega_dt) {
@@ -275,6 +313,10 @@ SpectralProperties spectral_properties(const MethodParams& params, double omega_
 double high_frequency_spectral_radius(const MethodParams& params) {
   if (validate(params)) return kNaN;
   if (is_central_difference(params)) return kInf;
+  if (!is_single_step_implicit(params)) {
+    // A composite scheme: ρ at Ω = 1e8, where its matrix differs from the limit by O(1/Ω²).
+    return spectral_properties(params, 1e8).spectral_radius;
+  }
   const ImplicitCoefficients c = implicit_coefficients(params);
   // Limit matrix singular: the update does not stay bounded as Ω → ∞.
   if (c.b1 <= 0.0 || c.alpha_f >= 1.0) return kInf;

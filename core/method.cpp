@@ -40,14 +40,17 @@ std::optional<ContactWeighting> contact_weighting_from_string(const std::string&
 }
 
 MethodKind kind_of(const MethodParams& params) {
-  return std::visit(Overloaded{
-                        [](const CentralDifferenceParams&) { return MethodKind::central_difference; },
-                        [](const BackwardEulerParams&) { return MethodKind::backward_euler; },
-                        [](const NewmarkParams&) { return MethodKind::newmark; },
-                        [](const HhtParams&) { return MethodKind::hht; },
-                        [](const GeneralizedAlphaParams&) { return MethodKind::generalized_alpha; },
-                    },
-                    params);
+  return std::visit(
+      Overloaded{
+          [](const CentralDifferenceParams&) { return MethodKind::central_difference; },
+          [](const BackwardEulerParams&) { return MethodKind::backward_euler; },
+          [](const NewmarkParams&) { return MethodKind::newmark; },
+          [](const HhtParams&) { return MethodKind::hht; },
+          [](const GeneralizedAlphaParams&) { return MethodKind::generalized_alpha; },
+          [](const BatheParams&) { return MethodKind::bathe; },
+          [](const RhoBatheParams&) { return MethodKind::rho_bathe; },
+      },
+      params);
 }
 
 MethodParams default_params(MethodKind kind) {
@@ -57,6 +60,10 @@ MethodParams default_params(MethodKind kind) {
     case MethodKind::newmark: return NewmarkParams{};
     case MethodKind::hht: return HhtParams{};
     case MethodKind::generalized_alpha: return GeneralizedAlphaParams{};
+    case MethodKind::bathe:
+      return BatheParams{};
+    case MethodKind::rho_bathe:
+      return RhoBatheParams{};
   }
   return CentralDifferenceParams{};
 }
@@ -91,6 +98,17 @@ std::optional<ParameterError> validate(const MethodParams& params) {
           },
           [](const GeneralizedAlphaParams& p) -> std::optional<ParameterError> {
             return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
+          },
+          [](const BatheParams&) -> std::optional<ParameterError> { return {}; },
+          [](const RhoBatheParams& p) -> std::optional<ParameterError> {
+            if (auto e = require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]")) {
+              return e;
+            }
+            if (p.gamma && !(*p.gamma > 0.0 && *p.gamma < 1.0)) {
+              return ParameterError{"substep_ratio", format_value(*p.gamma),
+                                    "must lie in (0, 1), both ends excluded"};
+            }
+            return std::nullopt;
           },
       },
       params);
@@ -153,14 +171,57 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
             const auto g = generalized_alpha_from_rho_inf(p.rho_inf);
             return newmark_family(g.bg, g.alpha_m, g.alpha_f, p.contact);
           },
+          // Not single-step: callers step the composite schemes by composite_coefficients().
+          [](const BatheParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
+          [](const RhoBatheParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
       },
       params);
+}
+
+bool is_single_step_implicit(const MethodParams& params) {
+  switch (kind_of(params)) {
+    case MethodKind::backward_euler:
+    case MethodKind::newmark:
+    case MethodKind::hht:
+    case MethodKind::generalized_alpha:
+      return true;
+    default:
+      return false;
+  }
+}
+
+double rho_bathe_default_gamma(double rho_inf) {
+  if (rho_inf >= 1.0) return 0.5;
+  return (2.0 - std::sqrt(2.0 + 2.0 * rho_inf)) / (1.0 - rho_inf);
+}
+
+CompositeCoefficients composite_coefficients(const MethodParams& params) {
+  double rho_inf = 0.0, gamma = 0.5;  // the original Bathe scheme
+  if (const auto* p = std::get_if<RhoBatheParams>(&params)) {
+    rho_inf = p->rho_inf;
+    gamma = p->gamma.value_or(rho_bathe_default_gamma(p->rho_inf));
+  }
+  CompositeCoefficients c{};
+  c.gamma = gamma;
+  c.q1 = (rho_inf + 1.0) / (2.0 * gamma * (rho_inf - 1.0) + 4.0);
+  c.q2 = 0.5 - gamma * c.q1;
+  c.q0 = 1.0 - c.q1 - c.q2;
+  c.first = {0.25, 0.25, 0.5, 0.5, 0.0, 0.0, 1.0};  // trapezoidal: β = 1/4, γ = 1/2
+  c.second = {0.0, c.q2 * c.q2, 0.0, c.q2, 0.0, 0.0, 1.0};
+  return c;
 }
 
 std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
   switch (kind_of(params)) {
     case MethodKind::central_difference:
-    case MethodKind::backward_euler: return std::nullopt;
+    case MethodKind::backward_euler:
+    case MethodKind::bathe:
+    case MethodKind::rho_bathe:
+      return std::nullopt;
     default: {
       const ImplicitCoefficients c = implicit_coefficients(params);
       return BetaGamma{c.b1, c.g1};

@@ -14,7 +14,15 @@
 
 namespace impactid {
 
-enum class MethodKind { central_difference, backward_euler, newmark, hht, generalized_alpha };
+enum class MethodKind {
+  central_difference,
+  backward_euler,
+  newmark,
+  hht,
+  generalized_alpha,
+  bathe,
+  rho_bathe
+};
 /// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha": the names used alike on the
 /// command line, in plan files and in HDF5 attributes (core/method_registry.hpp holds them).
 const char* to_string(MethodKind kind);
@@ -87,8 +95,27 @@ struct GeneralizedAlphaParams {
   ContactWeighting contact = ContactWeighting::endpoint;
 };
 
+/// The original Bathe composite scheme (Bathe & Baig 2005, doi:10.1016/j.compstruc.2005.08.001;
+/// Bathe 2007, doi:10.1016/j.compstruc.2006.09.004): a trapezoidal sub-step to t + Δt/2, then
+/// the 3-point backward Euler formula over t, t + Δt/2, t + Δt. Second order, ρ∞ = 0. It is
+/// ρ∞-Bathe with ρ∞ = 0 and γ = 1/2 (core/bathe_composite.hpp steps both).
+struct BatheParams {};
+
+/// The ρ∞-Bathe composite scheme (Noh & Bathe 2019, doi:10.1016/j.compstruc.2018.11.001): a
+/// trapezoidal sub-step to t + γ·Δt, then
+///   v₁ = v₀ + Δt·(q0·a₀ + q1·a_γ + q2·a₁),   u₁ = u₀ + Δt·(q0·v₀ + q1·v_γ + q2·v₁),
+/// with q1 = (ρ∞ + 1)/(2γ(ρ∞ − 1) + 4), q2 = ½ − γ·q1, q0 = 1 − q1 − q2: second order for every
+/// γ ∈ (0, 1), with the high-frequency spectral radius ρ∞.
+/// Default γ: γ₀ = (2 − √(2 + 2ρ∞))/(1 − ρ∞) (½ at ρ∞ = 1), where q2 = γ/2 and both sub-steps
+/// have the same effective matrix, the value the paper recommends; ρ∞ = 0 then gives
+/// γ = 2 − √2, TR-BDF2's. ρ∞ = 1 with γ = ½ is the trapezoidal rule applied twice with Δt/2.
+struct RhoBatheParams {
+  double rho_inf = 0.0;         ///< ρ∞ ∈ [0, 1]
+  std::optional<double> gamma;  ///< sub-step ratio γ ∈ (0, 1); default γ₀(ρ∞)
+};
+
 using MethodParams = std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams,
-                                  HhtParams, GeneralizedAlphaParams>;
+                                  HhtParams, GeneralizedAlphaParams, BatheParams, RhoBatheParams>;
 
 MethodKind kind_of(const MethodParams& params);
 /// Default parameters of a method.
@@ -113,8 +140,31 @@ struct ImplicitCoefficients {
   double contact_weight;
 };
 
-/// Coefficients of an implicit method (not central difference); derived here and only here.
+/// Whether a method's step is one step of the ImplicitCoefficients family (backward Euler,
+/// Newmark, HHT, generalized-α): what the batched kernels and ImplicitIntegrator step alone.
+/// Central difference and the composite schemes are not.
+bool is_single_step_implicit(const MethodParams& params);
+
+/// Coefficients of a single-step implicit method (is_single_step_implicit); derived here and only
+/// here.
 ImplicitCoefficients implicit_coefficients(const MethodParams& params);
+
+/// The composite schemes' two sub-steps, each a member of the ImplicitCoefficients family
+/// stepped by the same integrators (core/bathe_composite.hpp):
+/// - `first`: the trapezoidal rule over γ·Δt (step `first_dt_ratio`·Δt);
+/// - `second`: over Δt from the predictors u* = u₀ + Δt·(q0·v₀ + q1·v_γ) + q2·Δt·v*,
+///   v* = v₀ + Δt·(q0·a₀ + q1·a_γ): b0 = g0 = 0, b1 = q2², g1 = q2.
+struct CompositeCoefficients {
+  double gamma;       ///< sub-step ratio γ
+  double q0, q1, q2;  ///< the second sub-step's weights
+  ImplicitCoefficients first, second;
+};
+
+/// Coefficients of a composite method (Bathe, ρ∞-Bathe); derived here and only here.
+CompositeCoefficients composite_coefficients(const MethodParams& params);
+
+/// γ₀(ρ∞) = (2 − √(2 + 2ρ∞))/(1 − ρ∞), ½ at ρ∞ = 1: ρ∞-Bathe's default sub-step ratio.
+double rho_bathe_default_gamma(double rho_inf);
 
 /// β and γ a method uses, for reports; nothing for central difference and backward Euler.
 std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params);

@@ -9,7 +9,7 @@ using Values = std::vector<ReportedValue>;
 using Choices = std::vector<std::pair<const char*, std::string>>;
 using Made = std::variant<MethodParams, ParameterError>;
 
-constexpr std::array<MethodParameter, 7> kParameters{{
+constexpr std::array<MethodParameter, 8> kParameters{{
     {"delta", false,
      "delta of eq. 13: beta = (1+delta)^2/4, gamma = 1/2+delta (newmark: default 0.3; hht: default "
      "-alpha), >= 0",
@@ -17,7 +17,14 @@ constexpr std::array<MethodParameter, 7> kParameters{{
     {"alpha", false, "HHT alpha of eq. 14 (default -0.3), in [-0.5, 0]", ""},
     {"beta", false, "Newmark beta, given with gamma instead of delta (> 0)", ""},
     {"gamma", false, "Newmark gamma, given with beta instead of delta (>= 0)", ""},
-    {"rho_inf", false, "generalized-alpha high-frequency spectral radius (default 0.8), in [0, 1]",
+    {"rho_inf", false,
+     "high-frequency spectral radius (generalized-alpha: default 0.8; rho-bathe: default 0), in "
+     "[0, 1]",
+     ""},
+    {"substep_ratio", false,
+     "rho-bathe sub-step ratio gamma: the trapezoidal sub-step ends at t + gamma*dt (default "
+     "(2 - sqrt(2 + 2*rho_inf))/(1 - rho_inf), 1/2 at rho_inf = 1: equal effective matrices), "
+     "in (0, 1)",
      ""},
     {"cdm_velocity", true,
      "central difference velocity: eq. 3 central or eq. 6/7 backward (default central)",
@@ -145,8 +152,39 @@ Choices generalized_alpha_choices(const MethodParams& params) {
   return {{"hht_contact", to_string(std::get<GeneralizedAlphaParams>(params).contact)}};
 }
 
+// --- the Bathe family (composite: core/bathe_composite.hpp) ---
+// The second sub-step's weights q0, q1, q2 (derived), after the parameters.
+void add_composite_weights(const MethodParams& params, Values& out) {
+  const CompositeCoefficients c = composite_coefficients(params);
+  out.push_back({"q0", c.q0, true});
+  out.push_back({"q1", c.q1, true});
+  out.push_back({"q2", c.q2, true});
+}
+Made make_bathe(const MethodArguments&) {
+  return BatheParams{};
+}
+Values bathe_values(const MethodParams& params) {
+  Values out;
+  add_composite_weights(params, out);
+  return out;
+}
+constexpr const char* kRhoBatheParameters[] = {"rho_inf", "substep_ratio"};
+Made make_rho_bathe(const MethodArguments& given) {
+  RhoBatheParams p;
+  if (const auto rho_inf = given.number("rho_inf")) p.rho_inf = *rho_inf;
+  p.gamma = given.number("substep_ratio");
+  return p;
+}
+Values rho_bathe_values(const MethodParams& params) {
+  const auto& p = std::get<RhoBatheParams>(params);
+  Values out{{"rho_inf", p.rho_inf, false},
+             {"substep_ratio", composite_coefficients(params).gamma, false}};
+  add_composite_weights(params, out);
+  return out;
+}
+
 // The registry: one entry per method, in MethodKind's order.
-const std::array<MethodDescriptor, 5> kMethods{{
+const std::array<MethodDescriptor, 7> kMethods{{
     {MethodKind::central_difference, "cdm",
      "central difference with Carpenter's forward-increment multiplier (eqs 1-7; Carpenter, Taylor "
      "& Katona 1991, doi:10.1002/nme.1620320107): explicit, second order, no numerical "
@@ -174,6 +212,20 @@ const std::array<MethodDescriptor, 5> kMethods{{
      "high-frequency spectral radius rho_inf with least low-frequency dissipation",
      kGeneralizedAlphaParameters, make_generalized_alpha, generalized_alpha_values,
      generalized_alpha_choices},
+    {MethodKind::bathe,
+     "bathe",
+     "Bathe composite (Bathe & Baig 2005, doi:10.1016/j.compstruc.2005.08.001): a trapezoidal "
+     "sub-step to t + dt/2, then the 3-point backward Euler formula; implicit, second order, "
+     "rho_inf = 0; contact enforced at both sub-steps",
+     {},
+     make_bathe,
+     bathe_values,
+     no_choices},
+    {MethodKind::rho_bathe, "rho-bathe",
+     "rho_inf-Bathe composite (Noh & Bathe 2019, doi:10.1016/j.compstruc.2018.11.001): a "
+     "trapezoidal sub-step to t + gamma*dt, then a 3-point formula; implicit, second order, "
+     "high-frequency spectral radius rho_inf; contact enforced at both sub-steps",
+     kRhoBatheParameters, make_rho_bathe, rho_bathe_values, no_choices},
 }};
 
 std::string join(const auto& items, const auto& name_of) {

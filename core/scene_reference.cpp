@@ -65,6 +65,11 @@ bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
     return std::get<CentralDifferenceParams>(a.method).velocity ==
            std::get<CentralDifferenceParams>(b.method).velocity;
   }
+  if (!is_single_step_implicit(a.method)) {  // composite: compare both sub-steps' coefficients
+    const CompositeCoefficients x = composite_coefficients(a.method);
+    const CompositeCoefficients y = composite_coefficients(b.method);
+    return x.gamma == y.gamma && x.q0 == y.q0 && x.q1 == y.q1 && x.q2 == y.q2;
+  }
   const ImplicitCoefficients x = implicit_coefficients(a.method);
   const ImplicitCoefficients y = implicit_coefficients(b.method);
   return x.b0 == y.b0 && x.b1 == y.b1 && x.g0 == y.g0 && x.g1 == y.g1 && x.alpha_m == y.alpha_m &&

@@ -161,6 +161,14 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
       summary.status = RunStatus::failed;
       summary.message = "central difference: singular left-hand matrix";
     }
+  } else if (!is_single_step_implicit(method)) {
+    auto& stepper = ws.composite;
+    if (stepper.initialize(system, composite_coefficients(method), dt)) {
+      run([&](State& s) { stepper.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
+    }
   } else {
     ImplicitIntegrator& stepper = ws.implicit;
     if (stepper.initialize(system, implicit_coefficients(method), dt)) {
@@ -184,6 +192,16 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     } else {
       summary.status = RunStatus::failed;
       summary.message = "central difference: " + stepper.failure();
+    }
+  } else if (!is_single_step_implicit(method)) {
+    auto& stepper = ws.sparse_composite;
+    if (stepper.initialize(system, composite_coefficients(method), dt)) {
+      run([&](State& s) { stepper.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string(to_string(kind_of(method))) + ": " +
+                        (stepper.first().failure().empty() ? stepper.second().failure()
+                                                           : stepper.first().failure());
     }
   } else {
     SparseImplicitIntegrator& stepper = ws.sparse_implicit;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/bathe_composite.hpp"
 #include "core/central_difference.hpp"
 #include "core/implicit_integrator.hpp"
 #include "core/method.hpp"
@@ -50,9 +51,12 @@ struct RunOptions {
 /// runs of that size allocate nothing in the step loop.
 struct SimulationWorkspace {
   ImplicitIntegrator implicit;
+  BatheComposite<ImplicitIntegrator, SecondOrderSystem>
+      composite;  ///< the composite schemes (Bathe, ρ∞-Bathe)
   CentralDifference central_difference;
   SparseImplicitIntegrator sparse_implicit;  ///< for a model's sparse system
   SparseCentralDifference sparse_central_difference;
+  BatheComposite<SparseImplicitIntegrator, SparseSystem> sparse_composite;
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace (study/

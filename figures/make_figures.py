@@ -67,6 +67,8 @@ METHODS = {
     "newmark": ("Newmark", "#009E73"),
     "hht": ("HHT-α", "#0072B2"),
     "generalized-alpha": ("generalized-α", "#CC79A7"),
+    "bathe": ("Bathe", "#44AA99"),
+    "rho-bathe": ("ρ∞-Bathe", "#882255"),
 }
 UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
 EXACT_COLOR = "black"
@@ -607,6 +609,10 @@ def method_params(method, params, sep=", "):
         elif get("beta") is not None and get("gamma") is not None:
             parts.append(f"β = {num(round(get('beta'), 4))}")
             parts.append(f"γ = {num(round(get('gamma'), 4))}")
+    if method == "rho-bathe" and get("rho_inf") is not None:
+        parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")
+        if get("substep_ratio") is not None:
+            parts.append(f"γ = {num(round(get('substep_ratio'), 4))}")
     if method == "generalized-alpha" and get("rho_inf") is not None:
         parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")
     if method == "cdm" and get("cdm_velocity") not in (None, "central"):

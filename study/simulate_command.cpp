@@ -277,9 +277,8 @@ std::function<int()> add_compare_command(CLI::App& app) {
     if (!apply_scene_options(*scene, base, "compare") || !apply_options(*given, base, "compare")) {
       return kExitBadInput;
     }
-    std::printf("%-18s %-26s %-8s %9s %6s %9s %6s %8s %8s %9s\n", "method", "parameters",
-                "status", "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0",
-                "time[ms]");
+    std::printf("%-18s %-30s %-8s %9s %6s %9s %6s %8s %8s %9s\n", "method", "parameters", "status",
+                "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0", "time[ms]");
     SimulationWorkspace workspace;
     for (const MethodDescriptor& method : method_registry()) {
       const MethodKind kind = method.kind;
@@ -298,7 +297,7 @@ std::function<int()> add_compare_command(CLI::App& app) {
       }
       if (params.empty()) params = "-";
       const Indicators& i = e.indicators;
-      std::printf("%-18s %-26s %-8s %9.4g %6g %9.4g %6g %8.4g %8.4g %9.3g\n", to_string(kind),
+      std::printf("%-18s %-30s %-8s %9.4g %6g %9.4g %6g %8.4g %8.4g %9.3g\n", to_string(kind),
                   params.c_str(), to_string(e.summary.status), i.eps_p, i.nop_p, i.eps_v, i.nop_v,
                   i.p_max_ratio, i.energy_ratio, e.summary.wall_time_s * 1e3);
     }

@@ -11,9 +11,13 @@
 namespace impactid {
 namespace {
 
-constexpr MethodKind kEveryKind[] = {MethodKind::central_difference, MethodKind::backward_euler,
-                                     MethodKind::newmark, MethodKind::hht,
-                                     MethodKind::generalized_alpha};
+constexpr MethodKind kEveryKind[] = {MethodKind::central_difference,
+                                     MethodKind::backward_euler,
+                                     MethodKind::newmark,
+                                     MethodKind::hht,
+                                     MethodKind::generalized_alpha,
+                                     MethodKind::bathe,
+                                     MethodKind::rho_bathe};
 
 TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   ASSERT_EQ(method_registry().size(), std::size(kEveryKind));
@@ -26,7 +30,7 @@ TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
     EXPECT_EQ(std::string(to_string(kind)), m.name);
     EXPECT_EQ(descriptor(default_params(kind)).kind, kind);
   }
-  EXPECT_EQ(method_names(), "cdm|backward-euler|newmark|hht|generalized-alpha");
+  EXPECT_EQ(method_names(), "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe");
   EXPECT_FALSE(method_kind_from_string("rk4"));
 }
 
@@ -102,7 +106,7 @@ TEST(MethodRegistry, GivenParametersAreReportedBackUnchanged) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 9);
+  EXPECT_EQ(checked, 11);
 }
 
 TEST(MethodRegistry, RefusesAKeyTheMethodDoesNotTakeOrABadCombination) {
