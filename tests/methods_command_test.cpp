@@ -1,40 +1,24 @@
 // `impactid methods` as a user drives it: every registered method with its parameters, their
 // defaults (the values a run with nothing given uses) and derived coefficients, as text and JSON.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
-#include <array>
-#include <cstdio>
-#include <memory>
 #include <string>
 
+#include "cli_support.hpp"
 #include "core/method_registry.hpp"
 
 namespace impactid {
 namespace {
 
-struct Output {
-  int status;
-  std::string text;
-};
-
-Output run(const std::string& arguments) {
-  const std::string command = std::string(IMPACTID_EXECUTABLE) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string text;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) text += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
-}
+using testing::run_impactid;
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
 TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
-  const Output o = run("methods");
+  const auto o = run_impactid("methods");
   ASSERT_EQ(o.status, 0) << o.text;
   for (const MethodDescriptor& m : method_registry()) {
     EXPECT_TRUE(contains(o.text, std::string(m.name) + "\n  " + m.summary)) << m.name;
@@ -50,7 +34,7 @@ TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
 }
 
 TEST(MethodsCommand, JsonGivesTheSameList) {
-  const Output o = run("methods --json");
+  const auto o = run_impactid("methods --json");
   ASSERT_EQ(o.status, 0) << o.text;
   EXPECT_EQ(o.text.front(), '[');
   for (const MethodDescriptor& m : method_registry()) {
@@ -65,7 +49,7 @@ TEST(MethodsCommand, JsonGivesTheSameList) {
         "\"derived\":[\"beta\",\"gamma\",\"alpha_m\",\"alpha_f\"]"}) {
     EXPECT_TRUE(contains(o.text, part)) << part << "\n" << o.text;
   }
-  EXPECT_EQ(run("methods --bogus").status, 2);
+  EXPECT_EQ(run_impactid("methods --bogus").status, 2);
 }
 
 }  // namespace
