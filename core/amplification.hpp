@@ -30,6 +30,9 @@ namespace impactid {
 
 /// The one-step amplification matrix of the method on ü + ω²·u = 0 at Ω = ω·Δt (finite, ≥ 0).
 ///
+/// Composite schemes (Bathe, ρ∞-Bathe): 3×3 on the same state, the trapezoidal sub-step's matrix
+/// at γ·Ω composed with the second sub-step's (core/amplification.cpp).
+///
 /// Implicit family (everything but central difference): 3×3, x_{n+1} = A·x_n with the scaled
 /// state x = (u, Δt·v, Δt²·a), from the ImplicitCoefficients equations of method.hpp without
 /// damping and contact:
@@ -68,6 +71,8 @@ SpectralProperties spectral_properties(const MethodParams& params, double omega_
 /// double root (Newmark in the δ form, HHT with eq. 15, generalized-α) its modulus is only
 /// accurate to about √ε ≈ 1e-8, the sensitivity of a double root to rounded coefficients.
 /// +inf for central difference (ρ grows like Ω² past Ω = 2); NaN for invalid params.
+/// The composite schemes (Bathe, ρ∞-Bathe) are evaluated numerically instead, ρ(Ω = 1e8), within
+/// about 1e-7 of their limit.
 double high_frequency_spectral_radius(const MethodParams& params);
 
 /// The coefficient c of (T̄ − T)/T = c·Ω² + O(Ω⁴) as Ω → 0 (the period error is even in Ω),
