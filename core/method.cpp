@@ -49,6 +49,7 @@ MethodKind kind_of(const MethodParams& params) {
           [](const GeneralizedAlphaParams&) { return MethodKind::generalized_alpha; },
           [](const BatheParams&) { return MethodKind::bathe; },
           [](const RhoBatheParams&) { return MethodKind::rho_bathe; },
+          [](const TrBdf2Params&) { return MethodKind::tr_bdf2; },
       },
       params);
 }
@@ -64,6 +65,8 @@ MethodParams default_params(MethodKind kind) {
       return BatheParams{};
     case MethodKind::rho_bathe:
       return RhoBatheParams{};
+    case MethodKind::tr_bdf2:
+      return TrBdf2Params{};
   }
   return CentralDifferenceParams{};
 }
@@ -100,6 +103,7 @@ std::optional<ParameterError> validate(const MethodParams& params) {
             return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
           },
           [](const BatheParams&) -> std::optional<ParameterError> { return {}; },
+          [](const TrBdf2Params&) -> std::optional<ParameterError> { return {}; },
           [](const RhoBatheParams& p) -> std::optional<ParameterError> {
             if (auto e = require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]")) {
               return e;
@@ -175,6 +179,9 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
           [](const BatheParams&) {
             return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
           },
+          [](const TrBdf2Params&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
           [](const RhoBatheParams&) {
             return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
           },
@@ -204,6 +211,8 @@ CompositeCoefficients composite_coefficients(const MethodParams& params) {
   if (const auto* p = std::get_if<RhoBatheParams>(&params)) {
     rho_inf = p->rho_inf;
     gamma = p->gamma.value_or(rho_bathe_default_gamma(p->rho_inf));
+  } else if (std::holds_alternative<TrBdf2Params>(params)) {
+    gamma = rho_bathe_default_gamma(0.0);  // 2 − √2
   }
   CompositeCoefficients c{};
   c.gamma = gamma;
@@ -221,6 +230,7 @@ std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
     case MethodKind::backward_euler:
     case MethodKind::bathe:
     case MethodKind::rho_bathe:
+    case MethodKind::tr_bdf2:
       return std::nullopt;
     default: {
       const ImplicitCoefficients c = implicit_coefficients(params);

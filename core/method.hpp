@@ -21,7 +21,8 @@ enum class MethodKind {
   hht,
   generalized_alpha,
   bathe,
-  rho_bathe
+  rho_bathe,
+  tr_bdf2
 };
 /// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha": the names used alike on the
 /// command line, in plan files and in HDF5 attributes (core/method_registry.hpp holds them).
@@ -114,8 +115,17 @@ struct RhoBatheParams {
   std::optional<double> gamma;  ///< sub-step ratio γ ∈ (0, 1); default γ₀(ρ∞)
 };
 
-using MethodParams = std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams,
-                                  HhtParams, GeneralizedAlphaParams, BatheParams, RhoBatheParams>;
+/// TR-BDF2 (Bank, Coughran, Fichtner, Grosse, Rose & Smith 1985, doi:10.1109/T-ED.1985.22232),
+/// the γ = 2 − √2 variant: a trapezoidal sub-step to t + γΔt, then BDF2 over t, t + γΔt, t + Δt,
+/// applied to u̇ = v and v̇ = a. Second order, L-stable (ρ∞ = 0). It is ρ∞-Bathe with ρ∞ = 0 and
+/// γ = 2 − √2 (with ρ∞ = 0, q0 = q1 for every γ, which turns the three-point formula into
+/// BDF2 through the trapezoidal relation v₀ + v_γ = 2(u_γ − u₀)/(γΔt)), and so ρ∞-Bathe's
+/// default; stepped by the same code (core/bathe_composite.hpp).
+struct TrBdf2Params {};
+
+using MethodParams =
+    std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams, HhtParams,
+                 GeneralizedAlphaParams, BatheParams, RhoBatheParams, TrBdf2Params>;
 
 MethodKind kind_of(const MethodParams& params);
 /// Default parameters of a method.

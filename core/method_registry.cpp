@@ -163,6 +163,9 @@ void add_composite_weights(const MethodParams& params, Values& out) {
 Made make_bathe(const MethodArguments&) {
   return BatheParams{};
 }
+Made make_tr_bdf2(const MethodArguments&) {
+  return TrBdf2Params{};
+}
 Values bathe_values(const MethodParams& params) {
   Values out;
   add_composite_weights(params, out);
@@ -184,7 +187,7 @@ Values rho_bathe_values(const MethodParams& params) {
 }
 
 // The registry: one entry per method, in MethodKind's order.
-const std::array<MethodDescriptor, 7> kMethods{{
+const std::array<MethodDescriptor, 8> kMethods{{
     {MethodKind::central_difference, "cdm",
      "central difference with Carpenter's forward-increment multiplier (eqs 1-7; Carpenter, Taylor "
      "& Katona 1991, doi:10.1002/nme.1620320107): explicit, second order, no numerical "
@@ -226,6 +229,15 @@ const std::array<MethodDescriptor, 7> kMethods{{
      "trapezoidal sub-step to t + gamma*dt, then a 3-point formula; implicit, second order, "
      "high-frequency spectral radius rho_inf; contact enforced at both sub-steps",
      kRhoBatheParameters, make_rho_bathe, rho_bathe_values, no_choices},
+    {MethodKind::tr_bdf2,
+     "tr-bdf2",
+     "TR-BDF2 (Bank et al. 1985, doi:10.1109/T-ED.1985.22232), gamma = 2 - sqrt(2): a trapezoidal "
+     "sub-step, then BDF2; implicit, second order, L-stable; rho-bathe's default (rho_inf = 0); "
+     "contact enforced at both sub-steps",
+     {},
+     make_tr_bdf2,
+     bathe_values,
+     no_choices},
 }};
 
 std::string join(const auto& items, const auto& name_of) {

@@ -69,6 +69,7 @@ METHODS = {
     "generalized-alpha": ("generalized-α", "#CC79A7"),
     "bathe": ("Bathe", "#44AA99"),
     "rho-bathe": ("ρ∞-Bathe", "#882255"),
+    "tr-bdf2": ("TR-BDF2", "#332288"),
 }
 UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
 EXACT_COLOR = "black"

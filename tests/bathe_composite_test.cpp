@@ -105,6 +105,34 @@ TEST(BatheComposite, CoefficientsOfTheOriginalSchemeAndOfTheDefaultRatio) {
   }
 }
 
+// TR-BDF2 (γ = 2 − √2) is ρ∞-Bathe with ρ∞ = 0 at that γ: the same coefficients, and its
+// second sub-step is BDF2 over the unequal steps γΔt, (1 − γ)Δt: with the trapezoidal relation,
+// u₁ = (u_γ − (1−γ)²·u₀)/(γ(2−γ)) + (1−γ)/(2−γ)·Δt·v₁. Checked on the weights: q0 = q1 (the
+// v₀ + v_γ that the trapezoidal relation turns into u_γ − u₀), 2·q0/γ = 1/(γ(2−γ)) and
+// q2 = (1−γ)/(2−γ).
+TEST(BatheComposite, TrBdf2IsRhoBatheAtRhoInfZeroAndItsSecondSubStepIsBdf2) {
+  const CompositeCoefficients c = composite_coefficients(TrBdf2Params{});
+  const CompositeCoefficients r = composite_coefficients(RhoBatheParams{.rho_inf = 0.0});
+  const double g = 2.0 - std::sqrt(2.0);
+  EXPECT_NEAR(c.gamma, g, 1e-15);
+  EXPECT_EQ(c.gamma, r.gamma);
+  EXPECT_EQ(c.q0, r.q0);
+  EXPECT_EQ(c.q1, r.q1);
+  EXPECT_EQ(c.q2, r.q2);
+  EXPECT_NEAR(c.q0, c.q1, 1e-15);
+  EXPECT_NEAR(2.0 * c.q0 / g, 1.0 / (g * (2.0 - g)), 1e-14);
+  EXPECT_NEAR(c.q2, (1.0 - g) / (2.0 - g), 1e-15);
+  const RodScene rod;
+  SimulationWorkspace a, b;
+  simulate(rod, TrBdf2Params{}, RunOptions{}, a);
+  simulate(rod, RhoBatheParams{}, RunOptions{}, b);
+  ASSERT_EQ(a.trace.pressure.size(), b.trace.pressure.size());
+  for (std::size_t i = 0; i < a.trace.pressure.size(); ++i) {
+    ASSERT_EQ(a.trace.pressure[i], b.trace.pressure[i]) << i;
+  }
+  EXPECT_NEAR(high_frequency_spectral_radius(TrBdf2Params{}), 0.0, 1e-6);  // L-stable
+}
+
 TEST(BatheComposite, SpectralRadiusTendsToRhoInfAndNeverExceedsOne) {
   for (const double rho : {0.0, 0.3, 0.6, 0.9, 1.0}) {
     const MethodParams method = RhoBatheParams{.rho_inf = rho};

@@ -17,7 +17,8 @@ constexpr MethodKind kEveryKind[] = {MethodKind::central_difference,
                                      MethodKind::hht,
                                      MethodKind::generalized_alpha,
                                      MethodKind::bathe,
-                                     MethodKind::rho_bathe};
+                                     MethodKind::rho_bathe,
+                                     MethodKind::tr_bdf2};
 
 TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   ASSERT_EQ(method_registry().size(), std::size(kEveryKind));
@@ -30,7 +31,8 @@ TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
     EXPECT_EQ(std::string(to_string(kind)), m.name);
     EXPECT_EQ(descriptor(default_params(kind)).kind, kind);
   }
-  EXPECT_EQ(method_names(), "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe");
+  EXPECT_EQ(method_names(),
+            "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2");
   EXPECT_FALSE(method_kind_from_string("rk4"));
 }
 

@@ -325,7 +325,7 @@ TEST(PlanErrors, WrongTypes) {
             "bad.toml:2:8: scene.mass = 'heavy': must be one of lumped|consistent");
   EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
             "bad.toml:2:8: method.name = \"rk4\": must be one of "
-            "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe");
+            "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2");
   EXPECT_EQ(error_of("scene = 3\n"), "bad.toml:1:9: scene = 3: must be a table ([scene]) or the name of a scene file");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
   EXPECT_EQ(error_of("[study]\nkind = \"sweep\"\n"),
@@ -860,10 +860,10 @@ TEST(PlanSpectral, ErrorsAreLocated) {
                      "method, delta, alpha, ");
   EXPECT_EQ(error_of(head + omega + "methods = [{ delta = 0.3 }]\n"),
             "bad.toml:4:12: study.methods[0].method = (missing): each method needs method = "
-            "one of cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe");
+            "one of cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"rk4\" }]\n"),
             "bad.toml:4:23: study.methods[0].method = \"rk4\": must be one of "
-            "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe");
+            "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"cdm\" }, { method = \"cdm\" }]\n"),
             "bad.toml:4:32: study.methods[1] = { method = \"cdm\" }: repeats study.methods[0] "
             "(cdm)");
