@@ -104,17 +104,24 @@ Values newmark_values(const MethodParams& params) {
   return out;
 }
 
+// hht_contact of an α-method, when given.
+std::optional<ParameterError> read_contact(const MethodArguments& given,
+                                           ContactWeighting& contact) {
+  const auto word = given.choice("hht_contact");
+  if (!word) return std::nullopt;
+  const auto value = contact_weighting_from_string(*word);
+  if (!value) return bad_choice("hht_contact", *word);
+  contact = *value;
+  return std::nullopt;
+}
+
 // --- HHT-α ---
 constexpr const char* kHhtParameters[] = {"delta", "alpha", "hht_contact"};
 Made make_hht(const MethodArguments& given) {
   HhtParams p;
   if (const auto alpha = given.number("alpha")) p.alpha = *alpha;
   p.delta = given.number("delta");
-  if (const auto word = given.choice("hht_contact")) {
-    const auto contact = contact_weighting_from_string(*word);
-    if (!contact) return bad_choice("hht_contact", *word);
-    p.contact = *contact;
-  }
+  if (auto e = read_contact(given, p.contact)) return *e;
   return p;
 }
 Values hht_values(const MethodParams& params) {
@@ -132,11 +139,7 @@ constexpr const char* kGeneralizedAlphaParameters[] = {"rho_inf", "hht_contact"}
 Made make_generalized_alpha(const MethodArguments& given) {
   GeneralizedAlphaParams p;
   if (const auto rho_inf = given.number("rho_inf")) p.rho_inf = *rho_inf;
-  if (const auto word = given.choice("hht_contact")) {
-    const auto contact = contact_weighting_from_string(*word);
-    if (!contact) return bad_choice("hht_contact", *word);
-    p.contact = *contact;
-  }
+  if (auto e = read_contact(given, p.contact)) return *e;
   return p;
 }
 Values generalized_alpha_values(const MethodParams& params) {
@@ -342,16 +345,9 @@ std::variant<MethodParams, ParameterError> build_method(MethodKind kind,
                                                         const MethodArguments& given) {
   const MethodDescriptor& method = descriptor(kind);
   for (const MethodParameter& p : kParameters) {
-    const auto* value = [&]() -> const MethodArguments::Value* {
-      for (const auto& [key, v] : given.values()) {
-        if (key == p.name) return &v;
-      }
-      return nullptr;
-    }();
-    if (!value || method_takes(method, p.name)) continue;
-    const std::string text = std::holds_alternative<double>(*value)
-                                 ? format_value(std::get<double>(*value))
-                                 : std::get<std::string>(*value);
+    if (!given.has(p.name) || method_takes(method, p.name)) continue;
+    const auto number = given.number(p.name);
+    const std::string text = number ? format_value(*number) : *given.choice(p.name);
     return ParameterError{p.name, text,
                           std::string("is not a parameter of method ") + method.name +
                               " (it applies to " + methods_taking(p.name) + ")"};
