@@ -133,6 +133,20 @@ TEST(MethodRegistry, RefusesAKeyTheMethodDoesNotTakeOrABadCombination) {
   EXPECT_EQ(bad.constraint, "must be one of endpoint|weighted");
 }
 
+// ρ∞-Bathe's ranges: ρ∞ in [0, 1], the sub-step ratio in (0, 1) with both ends excluded.
+TEST(MethodRegistry, RhoBatheRangesAreCheckedByName) {
+  for (const double gamma : {0.0, 1.0, 1.2, -0.1}) {
+    const auto e = validate(RhoBatheParams{.rho_inf = 0.5, .gamma = gamma});
+    ASSERT_TRUE(e) << gamma;
+    EXPECT_EQ(e->field, "substep_ratio");
+    EXPECT_EQ(e->constraint, "must lie in (0, 1), both ends excluded");
+  }
+  const auto e = validate(RhoBatheParams{.rho_inf = 1.5});
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "rho_inf");
+  EXPECT_FALSE(validate(RhoBatheParams{.rho_inf = 1.0, .gamma = 0.5}));
+}
+
 // HHT's δ defaults to −α (eq. 15) and is reported so; β and γ follow eq. 13 and are derived.
 TEST(MethodRegistry, HhtReportsItsDefaultDeltaAndDerivedCoefficients) {
   MethodArguments given;
