@@ -1,9 +1,11 @@
 #include "core/central_difference.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
+#include "core/stable_step.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {
@@ -13,6 +15,7 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   velocity_ = velocity;
   dt_ = dt;
   t_ = initial.t;
+  within_limit_ = within_explicit_limit(dt, highest_frequency_squared_bound(system));
   const double damping_weight =
       (velocity == CdmVelocity::central && system.has_damping()) ? 0.5 / dt : 0.0;
   const Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, damping_weight);
@@ -104,6 +107,20 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
   u_.swap(u_next_);
   t_ += dt;
   return lambda > 0.0;
+}
+
+double CentralDifference::energy(const SecondOrderSystem& system, const State& at_t) {
+  if (!within_limit_) return system.energy(at_t.u, at_t.v);
+  // After step(): u_previous_ = u_t, u_ = u_{t+Δt}; scratch_ and u_next_ are free until the next.
+  scratch_ = (u_ - u_previous_) / dt_;
+  u_next_ = 0.5 * (u_ + u_previous_);
+  return central_difference_energy(system.mass.quadratic_form(scratch_),
+                                   system.stiffness.quadratic_form(scratch_),
+                                   system.stiffness.quadratic_form(u_next_), dt_);
+}
+
+double central_difference_energy(double mass_w, double stiffness_w, double stiffness_m, double dt) {
+  return std::abs(0.5 * (mass_w - 0.25 * dt * dt * stiffness_w)) + 0.5 * stiffness_m;
 }
 
 }  // namespace impactid

@@ -21,7 +21,9 @@ struct ContactTrace {
   std::vector<double> pressure;      ///< λ/A [MPa] (central difference: Carpenter's λ_t)
   std::vector<double> velocity;      ///< [mm/s]
   std::vector<double> displacement;  ///< [mm]; empty unless RunOptions::record_history
-  std::vector<double> energy;        ///< [mJ]; empty unless RunOptions::record_history
+  /// [mJ] the energy the `unstable` test checks (RunOptions::energy_growth_limit: central
+  /// difference's own); empty unless RunOptions::record_history
+  std::vector<double> energy;
   /// λ_0/A of the far wall [MPa]; empty unless the scene has one (RodScene::far_gap).
   std::vector<double> far_pressure;
   /// A scene of bodies (simulate(AssembledScene)): every contact's pressure λ_k/A_k [MPa] and

@@ -34,19 +34,21 @@ void reset_trace(ContactTrace& trace, long samples, bool history, bool far_wall)
   trace.contact_velocity.clear();
 }
 
-// The step loop shared by every method and scene, from sample `first` on. `advance` produces the
-// state at the next sample time, `record` stores sample i of the state's contacts, `finite` says
-// whether those contact values are finite; they are lambdas, so the calls are inlined: no virtual
-// dispatch inside the loop. Histories record the displacement of `history_dof`.
-template <class System, class Advance, class Record, class Finite>
-void run_steps(const System& system, const RunOptions& options, long first,
-               Eigen::Index history_dof, State& state, ContactTrace& trace, RunSummary& summary,
-               Advance&& advance, Record&& record, Finite&& finite) {
+// The step loop shared by every method and scene, from sample `first` on. `stepper.advance`
+// produces the state at the next sample time and `stepper.energy` the energy of that sample (the
+// method's own: RunOptions::energy_growth_limit); `record` stores sample i of the state's
+// contacts, `finite` says whether those contact values are finite. They are lambdas, so the calls
+// are inlined: no virtual dispatch inside the loop. Histories record the displacement of
+// `history_dof`.
+template <class Stepper, class Record, class Finite>
+void run_steps(const RunOptions& options, long first, Eigen::Index history_dof, State& state,
+               ContactTrace& trace, RunSummary& summary, Stepper&& stepper, Record&& record,
+               Finite&& finite) {
   const double energy_bound = options.energy_growth_limit * summary.initial_energy;
   const bool history = options.record_history;
   const long last = summary.planned_steps - 1;
   for (long i = first; i <= last; ++i) {
-    advance(state);
+    stepper.advance(state);
     record(i, state);
     summary.steps = i + 1;
     // The bound is checked at the same steps whether or not histories are recorded, so that
@@ -54,10 +56,10 @@ void run_steps(const System& system, const RunOptions& options, long first,
     const bool check = i == last || (i - first + 1) % options.energy_check_interval == 0;
     if (history) {
       trace.displacement[i] = state.u[history_dof];
-      trace.energy[i] = system.energy(state.u, state.v);
+      trace.energy[i] = stepper.energy(state);
     }
     if (check) {
-      const double energy = history ? trace.energy[i] : system.energy(state.u, state.v);
+      const double energy = history ? trace.energy[i] : stepper.energy(state);
       summary.final_energy = energy;
       if (!std::isfinite(energy)) {
         summary.status = RunStatus::unstable;
@@ -82,13 +84,13 @@ void run_steps(const System& system, const RunOptions& options, long first,
 
 // The rod's two named contacts: the main wall's pressure and node, and with kFarWall the far
 // wall's pressure and the largest penetration (the single-wall loop records nothing more).
-template <bool kFarWall, class Advance>
+template <bool kFarWall, class Stepper>
 void run_rod_steps(const SecondOrderSystem& system, double area, const RunOptions& options,
                    long first, State& state, ContactTrace& trace, RunSummary& summary,
-                   Advance&& advance) {
+                   Stepper&& stepper) {
   const Eigen::Index c = system.contact_dof;
   run_steps(
-      system, options, first, c, state, trace, summary, advance,
+      options, first, c, state, trace, summary, stepper,
       [&](long i, const State& s) {
         trace.pressure[i] = s.lambda / area;
         trace.velocity[i] = s.v[c];
@@ -116,14 +118,14 @@ double violation(const Constraint& c, const Eigen::VectorXd& u) {
 // A scene with a constraint list (of bodies, or a model's `system`): every contact's pressure and
 // velocity, the primary contact's also in the trace's main columns, and the largest penetration
 // of any constraint.
-template <class System, class Advance>
+template <class System, class Stepper>
 void run_listed_steps(const AssembledScene& scene, const System& system, const RunOptions& options,
                       long first, State& state, ContactTrace& trace, RunSummary& summary,
-                      Advance&& advance) {
+                      Stepper&& stepper) {
   const auto m = static_cast<Eigen::Index>(scene.probes.size());
   const auto primary = static_cast<std::size_t>(scene.primary);
   run_steps(
-      system, options, first, scene.probes[primary].velocity_dof, state, trace, summary, advance,
+      options, first, scene.probes[primary].velocity_dof, state, trace, summary, stepper,
       [&](long i, const State& s) {
         for (Eigen::Index k = 0; k < m; ++k) {
           const ContactProbe& probe = scene.probes[static_cast<std::size_t>(k)];
@@ -147,8 +149,22 @@ void run_listed_steps(const AssembledScene& scene, const System& system, const R
       });
 }
 
-// Initialises the method's stepper on the system from `state` and hands run() the step that
-// advances a state by one sample; a stepper that cannot start marks the run failed.
+// What run_steps() calls per sample: `advance` a state by one sample, and the `energy` of the
+// sample it produced.
+template <class Advance, class Energy>
+struct LoopStepper {
+  Advance advance;
+  Energy energy;
+};
+
+// The energy ½vᵀMv + ½uᵀKu of a state: every method's but central difference's.
+template <class System>
+auto plain_energy(const System& system) {
+  return [&system](const State& s) { return system.energy(s.u, s.v); };
+}
+
+// Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
+// stepper that cannot start marks the run failed.
 template <class Run>
 void run_method(const SecondOrderSystem& system, const MethodParams& method, double dt,
                 SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
@@ -156,7 +172,8 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
     CentralDifference& stepper = ws.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
       stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
-      run([&](State& s) { stepper.step(system, s); });
+      run(LoopStepper{[&](State& s) { stepper.step(system, s); },
+                      [&](const State& s) { return stepper.energy(system, s); }});
     } else {
       summary.status = RunStatus::failed;
       summary.message = "central difference: singular left-hand matrix";
@@ -164,7 +181,7 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
   } else if (!is_single_step_implicit(method)) {
     auto& stepper = ws.composite;
     if (stepper.initialize(system, composite_coefficients(method), dt)) {
-      run([&](State& s) { stepper.step(system, s); });
+      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
@@ -172,7 +189,7 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
   } else {
     ImplicitIntegrator& stepper = ws.implicit;
     if (stepper.initialize(system, implicit_coefficients(method), dt)) {
-      run([&](State& s) { stepper.step(system, s); });
+      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
@@ -188,7 +205,8 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     SparseCentralDifference& stepper = ws.sparse_central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
       stepper.step(system, state);  // the state at t_k
-      run([&](State& s) { stepper.step(system, s); });
+      run(LoopStepper{[&](State& s) { stepper.step(system, s); },
+                      [&](const State& s) { return stepper.energy(system, s); }});
     } else {
       summary.status = RunStatus::failed;
       summary.message = "central difference: " + stepper.failure();
@@ -196,7 +214,7 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
   } else if (!is_single_step_implicit(method)) {
     auto& stepper = ws.sparse_composite;
     if (stepper.initialize(system, composite_coefficients(method), dt)) {
-      run([&](State& s) { stepper.step(system, s); });
+      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": " +
@@ -206,7 +224,7 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
   } else {
     SparseImplicitIntegrator& stepper = ws.sparse_implicit;
     if (stepper.initialize(system, implicit_coefficients(method), dt)) {
-      run([&](State& s) { stepper.step(system, s); });
+      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": " + stepper.failure();
@@ -338,8 +356,8 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
 
   if (scene.sparse) {  // a user's model with sparse matrices
     const SparseSystem& sparse = *scene.sparse;
-    run_sparse_method(sparse, method, scene.dt, ws, state, summary, [&](const auto& advance) {
-      run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, advance);
+    run_sparse_method(sparse, method, scene.dt, ws, state, summary, [&](const auto& stepper) {
+      run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, stepper);
     });
     summary.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -347,15 +365,15 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   }
 
   // The step loop; the far wall's bookkeeping only when the system has the named one.
-  run_method(system, method, scene.dt, ws, state, summary, [&](const auto& advance) {
+  run_method(system, method, scene.dt, ws, state, summary, [&](const auto& stepper) {
     if (listed) {
-      run_listed_steps(scene, system, options, skipped, state, ws.trace, summary, advance);
+      run_listed_steps(scene, system, options, skipped, state, ws.trace, summary, stepper);
     } else if (far_wall) {
       run_rod_steps<true>(system, primary.area, options, skipped, state, ws.trace, summary,
-                          advance);
+                          stepper);
     } else {
       run_rod_steps<false>(system, primary.area, options, skipped, state, ws.trace, summary,
-                           advance);
+                           stepper);
     }
   });
   if (!listed && scene.contact_columns) {  // the one contact's samples are the main columns

@@ -3,8 +3,10 @@
 #include <cmath>
 #include <limits>
 
+#include "core/central_difference.hpp"
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
+#include "core/stable_step.hpp"
 
 namespace impactid {
 
@@ -163,6 +165,7 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
         "the diagonal: lump it (row sums) or choose an implicit method";
     return false;
   }
+  within_limit_ = within_explicit_limit(dt, highest_frequency_squared_bound(system));
   const bool damped = velocity == CdmVelocity::central && system.has_damping();
   SparseMatrix lhs = (1.0 / (dt * dt)) * system.mass;
   if (damped) lhs += (0.5 / dt) * system.damping;
@@ -218,6 +221,15 @@ bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
   u_.swap(u_next_);
   t_ += dt;
   return active;
+}
+
+double SparseCentralDifference::energy(const SparseSystem& system, const State& at_t) {
+  if (!within_limit_) return system.energy(at_t.u, at_t.v);
+  scratch_ = (u_ - u_previous_) / dt_;
+  u_next_ = 0.5 * (u_ + u_previous_);
+  return central_difference_energy(quadratic_form(system.mass, scratch_),
+                                   quadratic_form(system.stiffness, scratch_),
+                                   quadratic_form(system.stiffness, u_next_), dt_);
 }
 
 Eigen::VectorXd consistent_acceleration(const SparseSystem& system, const State& state) {

@@ -67,12 +67,16 @@ class SparseCentralDifference {
                   const State& initial);
   /// As CentralDifference::step: fills `at_t` with the state at the current t, moves to t + Δt.
   bool step(const SparseSystem& system, State& at_t);
+  /// As CentralDifference::energy (core/central_difference.hpp): the method's own energy at
+  /// t + Δt/2 after a step() within the explicit limit, the plain one of `at_t` otherwise.
+  double energy(const SparseSystem& system, const State& at_t);
   const std::string& failure() const { return failure_; }
 
  private:
   CdmVelocity velocity_ = CdmVelocity::central;
   double dt_ = 0.0;
   double t_ = 0.0;
+  bool within_limit_ = false;
   SparseFactorization factorization_;
   Eigen::VectorXd u_previous_, u_, u_next_, scratch_, correction_;
   Eigen::MatrixXd delassus_;

@@ -30,7 +30,9 @@ std::vector<Column> history_columns(const RodScene& scene, const ContactTrace& t
       {"pressure", "MPa", "contact pressure lambda/A", trace.pressure},
       {"velocity", "mm/s", "contact-node velocity, positive toward the wall", trace.velocity},
       {"displacement", "mm", "contact-node displacement", trace.displacement},
-      {"energy", "mJ", "kinetic + strain energy", trace.energy},
+      {"energy", "mJ",
+       "kinetic + strain energy (cdm within its explicit limit: its own discrete energy)",
+       trace.energy},
       {"exact_pressure", "MPa", "d'Alembert solution (mean of the limits on a jump)", {}},
       {"exact_velocity", "mm/s", "d'Alembert solution (mean of the limits on a jump)", {}},
       {"exact_displacement", "mm", "d'Alembert solution", {}},
@@ -66,7 +68,9 @@ std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrac
       {"pressure", "MPa", "primary contact's pressure lambda/A", trace.pressure},
       {"velocity", "mm/s", "primary contact's node velocity, +x positive", trace.velocity},
       {"displacement", "mm", "primary contact's node displacement", trace.displacement},
-      {"energy", "mJ", "kinetic + strain energy", trace.energy},
+      {"energy", "mJ",
+       "kinetic + strain energy (cdm within its explicit limit: its own discrete energy)",
+       trace.energy},
       {"exact_pressure", "MPa", reference, {}},
       {"exact_velocity", "mm/s", reference, {}},
       {"exact_displacement", "mm", reference, {}},
@@ -115,7 +119,9 @@ std::vector<Column> model_history_columns(const ModelScene& scene, const Contact
       {"pressure", "", "primary contact's pressure lambda/area (" + units + ")", trace.pressure},
       {"velocity", "", "primary contact's velocity DOF (" + units + ")", trace.velocity},
       {"displacement", "", "primary contact's velocity DOF's displacement", trace.displacement},
-      {"energy", "", "kinetic + strain energy", trace.energy},
+      {"energy", "",
+       "kinetic + strain energy (cdm within its explicit limit: its own discrete energy)",
+       trace.energy},
   };
   for (std::size_t i = 0; i < n; ++i)
     columns[0].values.push_back(static_cast<double>(i + 1) * scene.dt);
