@@ -609,7 +609,8 @@ bool same_tridiagonal(const Tridiagonal& a, const Tridiagonal& b) {
 bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
                      const RunOptions& options) {
   const SecondOrderSystem& system = scene.system;
-  if (!is_single_step_implicit(method) || options.record_history || !system.has_constraint_list() ||
+  if (!is_single_step_implicit(method) || options.record_history ||
+      options.contact.law != ContactLaw::lagrange || !system.has_constraint_list() ||
       system.has_contact() || system.has_far_contact() || !scene.contact_columns ||
       system.size() < 3 || scene.probes.size() != system.constraints.size() ||
       system.constraints.size() > static_cast<std::size_t>(kMaxConstraints)) {

@@ -519,8 +519,10 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
   // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
   // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
-  // single-step implicit family only (not central difference, not the composite schemes).
-  return is_single_step_implicit(method) && !scene.far_gap && !options.record_history;
+  // single-step implicit family only (not central difference, not the composite schemes), with
+  // Lagrange multipliers (not the penalty or augmented-Lagrangian contact laws).
+  return is_single_step_implicit(method) && !scene.far_gap && !options.record_history &&
+         options.contact.law == ContactLaw::lagrange;
 }
 
 bool same_batch(const RodScene& a, const RunOptions& options_a, const RodScene& b,

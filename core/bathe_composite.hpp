@@ -27,6 +27,7 @@
 // Thread safety: one object per thread (it holds the sub-step's state).
 #pragma once
 
+#include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/state.hpp"
 
@@ -38,11 +39,21 @@ class BatheComposite {
  public:
   /// Factors both sub-steps' effective matrices. False if either is singular (or not positive
   /// definite, for the sparse integrator, whose failure() then says why).
-  bool initialize(const System& system, const CompositeCoefficients& coefficients, double dt) {
+  /// `contact`: the contact law of both sub-steps (core/contact_treatment.hpp).
+  bool initialize(const System& system, const CompositeCoefficients& coefficients, double dt,
+                  const ContactPenalties& contact = {}) {
     c_ = coefficients;
     dt_ = dt;
-    return first_.initialize(system, c_.first, c_.gamma * dt) &&
-           second_.initialize(system, c_.second, dt);
+    return first_.initialize(system, c_.first, c_.gamma * dt, contact) &&
+           second_.initialize(system, c_.second, dt, contact);
+  }
+
+  /// Both sub-steps' augmented-Lagrangian iterations, and their steps that hit the cap.
+  long contact_iterations() const {
+    return first_.contact_iterations() + second_.contact_iterations();
+  }
+  long unconverged_contact_steps() const {
+    return first_.unconverged_contact_steps() + second_.unconverged_contact_steps();
   }
 
   /// Advances state from t to t + Δt; its acceleration must be consistent with u and v (as for

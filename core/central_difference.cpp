@@ -5,17 +5,22 @@
 
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
+#include "core/implicit_integrator.hpp"  // solve_listed_augmented
 #include "core/stable_step.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {
 
-bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity velocity,
-                                   double dt, const State& initial) {
+bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity velocity, double dt,
+                                   const State& initial, const ContactPenalties& contact) {
   velocity_ = velocity;
   dt_ = dt;
   t_ = initial.t;
-  within_limit_ = within_explicit_limit(dt, highest_frequency_squared_bound(system));
+  contact_ = contact;
+  iterations_ = unconverged_ = 0;
+  const double bound = highest_frequency_squared_bound(system, contact);
+  within_limit_ = within_explicit_limit(dt, bound);
+  stable_step_ = std::isfinite(bound) ? 2.0 / std::sqrt(bound) : 0.0;
   const double damping_weight =
       (velocity == CdmVelocity::central && system.has_damping()) ? 0.5 / dt : 0.0;
   const Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, damping_weight);
@@ -38,7 +43,23 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
                      delassus_);
   violation_.resize(static_cast<Eigen::Index>(system.constraints.size()));
   forces_.resize(violation_.size());
+  if (contact_.law == ContactLaw::augmented_lagrangian) {
+    const Eigen::Index m = violation_.size();
+    compliance_.resize(m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      compliance_[j] = 1.0 / contact_.listed[static_cast<std::size_t>(j)];
+    }
+    penalized_ = delassus_;
+    penalized_.diagonal() += compliance_;
+    shift_.resize(m);
+    shifted_.resize(m);
+  }
   return true;
+}
+
+void CentralDifference::count(const ContactIterations& iterations) {
+  iterations_ += iterations.iterations;
+  if (!iterations.converged) ++unconverged_;
 }
 
 bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
@@ -63,34 +84,74 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
   const Eigen::Index contact = system.contact_dof;
   if (system.has_constraint_list()) {
     const auto m = static_cast<int>(system.constraints.size());
+    // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
+    const Eigen::VectorXd& u_checked = contact_.law == ContactLaw::penalty ? u_ : u_next_;
     for (int j = 0; j < m; ++j) {
       const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
       double g = -con.gap;
-      if (con.plus >= 0) g += u_next_[con.plus];
-      if (con.minus >= 0) g -= u_next_[con.minus];
+      if (con.plus >= 0) g += u_checked[con.plus];
+      if (con.minus >= 0) g -= u_checked[con.minus];
       violation_[j] = g;
     }
-    solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
+    if (contact_.lagrange()) {
+      solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
+    } else if (contact_.law == ContactLaw::penalty) {
+      for (int j = 0; j < m; ++j) {
+        forces_[j] = contact_.listed[static_cast<std::size_t>(j)] * std::max(0.0, violation_[j]);
+      }
+    } else if (violation_.maxCoeff() > 0.0) {
+      count(solve_listed_augmented(delassus_, penalized_, compliance_, violation_, contact_,
+                                   forces_, shift_, shifted_));
+    } else {
+      forces_.setZero();
+    }
     apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, u_next_);
-    snap_walls(system.constraints, forces_, u_next_);
+    if (contact_.lagrange()) snap_walls(system.constraints, forces_, u_next_);
     at_t.multipliers = forces_;  // the same size: no allocation
     for (int j = 0; j < m; ++j) lambda = std::max(lambda, forces_[j]);
   } else if (system.has_far_contact()) {
     const Eigen::Index far = system.far_contact_dof;
-    const TwoWallForces forces = solve_two_wall_contact(
-        u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
-        contact_influence_[contact], far_influence_[far], far_influence_[contact],
-        contact_influence_[far]);
+    TwoWallForces forces;
+    if (contact_.lagrange()) {
+      forces = solve_two_wall_contact(u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
+                                      contact_influence_[contact], far_influence_[far],
+                                      far_influence_[contact], contact_influence_[far]);
+    } else if (contact_.law == ContactLaw::penalty) {
+      forces = {contact_.main * std::max(0.0, u_[contact] - system.gap),
+                contact_.far * std::max(0.0, -system.far_gap - u_[far])};
+    } else {
+      ContactIterations iterations;
+      forces = two_wall_contact_forces(
+          u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
+          contact_influence_[contact], far_influence_[far], far_influence_[contact],
+          contact_influence_[far], 1.0 / contact_.main, 1.0 / contact_.far, contact_, iterations);
+      count(iterations);
+    }
     if (forces.main > 0.0) u_next_ -= forces.main * contact_influence_;
     if (forces.far > 0.0) u_next_ += forces.far * far_influence_;
-    if (forces.main > 0.0) u_next_[contact] = system.gap;
-    if (forces.far > 0.0) u_next_[far] = -system.far_gap;
+    if (contact_.lagrange()) {
+      if (forces.main > 0.0) u_next_[contact] = system.gap;
+      if (forces.far > 0.0) u_next_[far] = -system.far_gap;
+    }
     lambda = forces.main;
     at_t.far_lambda = forces.far;
+  } else if (contact_.law == ContactLaw::penalty) {
+    if (system.has_contact() && u_[contact] > system.gap) {
+      lambda = contact_.main * (u_[contact] - system.gap);
+      u_next_ -= lambda * contact_influence_;
+    }
   } else if (system.has_contact() && u_next_[contact] > system.gap) {
-    lambda = (u_next_[contact] - system.gap) / contact_influence_[contact];
-    u_next_ -= lambda * contact_influence_;
-    u_next_[contact] = system.gap;  // exact, not a few ulps off
+    if (contact_.lagrange()) {
+      lambda = (u_next_[contact] - system.gap) / contact_influence_[contact];
+      u_next_ -= lambda * contact_influence_;
+      u_next_[contact] = system.gap;  // exact, not a few ulps off
+    } else {
+      ContactIterations iterations;
+      lambda = single_contact_force(u_next_[contact] - system.gap, contact_influence_[contact],
+                                    1.0 / contact_.main, contact_, iterations);
+      count(iterations);
+      u_next_ -= lambda * contact_influence_;
+    }
   }
 
   at_t.u = u_;

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
@@ -54,8 +55,11 @@ class CentralDifference {
  public:
   /// Factors the left-hand matrix and starts from `initial` at t₀ with u₋ = u₀ − Δt·v₀ +
   /// ½Δt²·a₀ (a₀ must be consistent). Returns false if the matrix is singular.
+  /// `contact` says how the constraints are enforced (core/contact_treatment.hpp): Lagrange's
+  /// forward increment (default), the explicit penalty force k·max(0, g(u_t)) at t, or Uzawa's
+  /// iterations on the forward increment's penalty problem.
   bool initialize(const SecondOrderSystem& system, CdmVelocity velocity, double dt,
-                  const State& initial);
+                  const State& initial, const ContactPenalties& contact = {});
 
   /// Computes λ_t and u_{t+Δt} and fills `at_t` with the state at the current time t
   /// (u, the velocity of the chosen variant, a = (u₊ − 2u + u₋)/Δt², λ_t, t), then moves on
@@ -70,8 +74,15 @@ class CentralDifference {
   /// that grows geometrically (central_difference_energy's absolute value lags it by up to
   /// 11 check intervals at Courant 1.0001). O(n), no allocation.
   double energy(const SecondOrderSystem& system, const State& at_t);
-  /// Whether Δt is within the explicit limit (core/stable_step.hpp) on this system.
+  /// Whether Δt is within the explicit limit (core/stable_step.hpp) on this system, with the
+  /// penalty's springs.
   bool within_stability_limit() const { return within_limit_; }
+  /// The largest step certified stable (core/stable_step.hpp: 2/ω_bound) [s], with the penalty's
+  /// springs; 0 when none can be certified (a mass that is not diagonal).
+  double stable_step() const { return stable_step_; }
+  /// As ImplicitIntegrator's: augmented-Lagrangian iterations, and steps that hit the cap.
+  long contact_iterations() const { return iterations_; }
+  long unconverged_contact_steps() const { return unconverged_; }
 
  private:
   CdmVelocity velocity_ = CdmVelocity::central;
@@ -87,6 +98,13 @@ class CentralDifference {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
   Eigen::MatrixXd delassus_;
   Eigen::VectorXd violation_, forces_;
+  // The contact law (as ImplicitIntegrator's, with weight 1).
+  ContactPenalties contact_;
+  Eigen::VectorXd compliance_, shift_, shifted_;
+  Eigen::MatrixXd penalized_;
+  double stable_step_ = 0.0;
+  long iterations_ = 0, unconverged_ = 0;
+  void count(const ContactIterations& iterations);
 };
 
 }  // namespace impactid

@@ -10,9 +10,12 @@
 namespace impactid {
 
 bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
-                                    const ImplicitCoefficients& coefficients, double dt) {
+                                    const ImplicitCoefficients& coefficients, double dt,
+                                    const ContactPenalties& contact) {
   c_ = coefficients;
   dt_ = dt;
+  contact_ = contact;
+  iterations_ = unconverged_ = 0;
   const double k_weight = (1.0 - c_.alpha_f) * c_.b1 * dt * dt;
   const double c_weight = (1.0 - c_.alpha_f) * c_.g1 * dt;
   Tridiagonal effective = system.mass.combined(1.0 - c_.alpha_m, system.stiffness, k_weight);
@@ -36,7 +39,26 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   const auto m = static_cast<Eigen::Index>(system.constraints.size());
   violation_.resize(m);
   forces_.resize(m);
+  if (!contact_.lagrange()) {
+    // The compliance of the weighted force w·λ: a spring k acting through the weight w.
+    const double w = c_.contact_weight;
+    main_compliance_ = 1.0 / (w * contact_.main);
+    far_compliance_ = 1.0 / (w * contact_.far);
+    compliance_.resize(m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      compliance_[j] = 1.0 / (w * contact_.listed[static_cast<std::size_t>(j)]);
+    }
+    penalized_ = delassus_;
+    penalized_.diagonal() += compliance_;
+    shift_.resize(m);
+    shifted_.resize(m);
+  }
   return true;
+}
+
+void ImplicitIntegrator::count(const ContactIterations& iterations) {
+  iterations_ += iterations.iterations;
+  if (!iterations.converged) ++unconverged_;
 }
 
 IMPACTID_FMA_VERSIONS
@@ -101,12 +123,18 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   const bool contact_is_last = contact == n - 1;
   if (!contact_is_last) factorization_.backward_in_place(rhs_);
   double lambda = 0.0;
+  ContactIterations iterations;
   if (system.has_contact()) {
     // With the contact dof last, rhs_[contact] is final after the forward sweep.
     const double u_free = std::fma(c_.b1 * dt2, rhs_[contact], u_predicted_[contact]);
     if (u_free > system.gap) {
-      // Force (w·λ) that moves the contact dof from u_free back onto the wall.
-      const double weighted = (u_free - system.gap) / (c_.b1 * dt2 * contact_influence_[contact]);
+      // Force (w·λ) that moves the contact dof from u_free back onto the wall (Lagrange), or
+      // the contact law's.
+      const double weighted =
+          contact_.lagrange()
+              ? (u_free - system.gap) / (c_.b1 * dt2 * contact_influence_[contact])
+              : single_contact_force(u_free - system.gap, c_.b1 * dt2 * contact_influence_[contact],
+                                     main_compliance_, contact_, iterations);
       if (contact_is_last) {
         rhs_[contact] -= weighted * contact_influence_[contact];
       } else {
@@ -118,7 +146,8 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   if (contact_is_last) factorization_.backward_in_place(rhs_);
   update(s);
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
-  if (lambda > 0.0) s.u[contact] = system.gap;
+  if (lambda > 0.0 && contact_.lagrange()) s.u[contact] = system.gap;
+  count(iterations);
   s.lambda = lambda;
   s.t += dt;
   return lambda > 0.0;
@@ -137,10 +166,17 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
   // The free positions as step() forms u_free (fused), so that the far wall idle changes no bit.
   const double p_main = std::fma(k, contact_free_[contact], u_predicted_[contact]) - system.gap;
   const double p_far = -system.far_gap - std::fma(k, contact_free_[far], u_predicted_[far]);
-  const TwoWallForces forces =
-      solve_two_wall_contact(p_main, p_far, k * contact_influence_[contact],
-                             k * far_influence_[far], k * far_influence_[contact],
-                             k * contact_influence_[far]);
+  const double d_main = k * contact_influence_[contact], d_far = k * far_influence_[far];
+  const double c_main_far = k * far_influence_[contact], c_far_main = k * contact_influence_[far];
+  TwoWallForces forces;
+  if (contact_.lagrange()) {
+    forces = solve_two_wall_contact(p_main, p_far, d_main, d_far, c_main_far, c_far_main);
+  } else {
+    ContactIterations iterations;
+    forces = two_wall_contact_forces(p_main, p_far, d_main, d_far, c_main_far, c_far_main,
+                                     main_compliance_, far_compliance_, contact_, iterations);
+    count(iterations);
+  }
   if (forces.far == 0.0 && contact == n - 1) {
     // The far wall idle: step()'s operations exactly, so that a far wall never reached changes
     // no bit of a run.
@@ -152,8 +188,8 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
     if (forces.far > 0.0) rhs_ += forces.far * far_influence_;
   }
   update(s);
-  if (forces.main > 0.0) s.u[contact] = system.gap;
-  if (forces.far > 0.0) s.u[far] = -system.far_gap;
+  if (forces.main > 0.0 && contact_.lagrange()) s.u[contact] = system.gap;
+  if (forces.far > 0.0 && contact_.lagrange()) s.u[far] = -system.far_gap;
   s.lambda = forces.main / c_.contact_weight;
   s.far_lambda = forces.far / c_.contact_weight;
   s.t += dt;
@@ -173,7 +209,7 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
     if (con.minus >= 0) g -= std::fma(k, rhs_[con.minus], u_predicted_[con.minus]);
     violation_[j] = g;
   }
-  solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
+  solve_listed_contacts();
   apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, rhs_);
   update(s);
   bool active = false;
@@ -182,9 +218,41 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
     s.multipliers[j] = weighted / c_.contact_weight;
     active = active || weighted > 0.0;
   }
-  snap_walls(system.constraints, forces_, s.u);
+  if (contact_.lagrange()) snap_walls(system.constraints, forces_, s.u);
   s.t += dt;
   return active;
+}
+
+void ImplicitIntegrator::solve_listed_contacts() {
+  const auto m = static_cast<int>(violation_.size());
+  if (contact_.lagrange()) {
+    solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
+  } else if (contact_.law == ContactLaw::penalty || !(violation_.maxCoeff() > 0.0)) {
+    solve_contact_lcp(penalized_.data(), violation_.data(), m, forces_.data());
+  } else {
+    count(solve_listed_augmented(delassus_, penalized_, compliance_, violation_, contact_, forces_,
+                                 shift_, shifted_));
+  }
+}
+
+ContactIterations solve_listed_augmented(const Eigen::MatrixXd& delassus,
+                                         const Eigen::MatrixXd& penalized,
+                                         const Eigen::VectorXd& compliance,
+                                         const Eigen::VectorXd& violation,
+                                         const ContactPenalties& contact, Eigen::VectorXd& forces,
+                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted) {
+  const auto m = static_cast<int>(violation.size());
+  return augmented_lagrangian(
+      m, compliance.data(), violation.maxCoeff(), contact, forces.data(), shift.data(),
+      [&](const double* sh, double* out) {
+        for (int j = 0; j < m; ++j) shifted[j] = violation[j] + sh[j];
+        solve_contact_lcp(penalized.data(), shifted.data(), m, out);
+      },
+      [&](const double* out, int j) {
+        double g = violation[j];
+        for (int i = 0; i < m; ++i) g -= delassus(j, i) * out[i];
+        return g;
+      });
 }
 
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state) {

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
@@ -42,8 +43,15 @@ class ImplicitIntegrator {
  public:
   /// Builds and factors the effective matrix. Returns false if it is singular (e.g. a
   /// non-positive mass), in which case step() must not be called.
+  /// `contact` says how the constraints are enforced (core/contact_treatment.hpp; default
+  /// Lagrange multipliers).
   bool initialize(const SecondOrderSystem& system, const ImplicitCoefficients& coefficients,
-                  double dt);
+                  double dt, const ContactPenalties& contact = {});
+
+  /// Augmented-Lagrangian iterations since initialize(), and the steps whose iterations reached
+  /// the cap before the tolerance (both 0 for the other laws).
+  long contact_iterations() const { return iterations_; }
+  long unconverged_contact_steps() const { return unconverged_; }
 
   /// Advances state from t to t + Δt. The state's acceleration must be consistent with its
   /// displacement and velocity (see consistent_acceleration). Returns true if the contact is
@@ -71,6 +79,9 @@ class ImplicitIntegrator {
   bool step_constraints(const SecondOrderSystem& system, State& state);
   /// a = rhs_, u = u* + b1·Δt²·a, v = v* + g1·Δt·a (fused multiply-adds), every dof.
   void update(State& state) const;
+  void count(const ContactIterations& iterations);
+  /// forces_ from violation_ under the contact law (a list of constraints).
+  void solve_listed_contacts();
 
   ImplicitCoefficients c_{};
   double dt_ = 0.0;
@@ -85,7 +96,24 @@ class ImplicitIntegrator {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
   Eigen::MatrixXd delassus_;
   Eigen::VectorXd violation_, forces_;
+  // The contact law, each listed constraint's compliance 1/(w·k), the Delassus matrix with the
+  // compliances on its diagonal (penalty, augmented Lagrangian), and scratch (m).
+  ContactPenalties contact_;
+  double main_compliance_ = 0.0, far_compliance_ = 0.0;
+  Eigen::VectorXd compliance_, shift_, shifted_;
+  Eigen::MatrixXd penalized_;
+  long iterations_ = 0, unconverged_ = 0;
 };
+
+/// The augmented-Lagrangian iterations of a list of m constraints (core/contact_treatment.hpp):
+/// Delassus matrix D, D + diag(compliance), the contact-free violations; writes the forces, and
+/// uses shift and shifted (m) as scratch. Central difference's forward increment uses it too.
+ContactIterations solve_listed_augmented(const Eigen::MatrixXd& delassus,
+                                         const Eigen::MatrixXd& penalized,
+                                         const Eigen::VectorXd& compliance,
+                                         const Eigen::VectorXd& violation,
+                                         const ContactPenalties& contact, Eigen::VectorXd& forces,
+                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted);
 
 /// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with
 /// the equation of motion.

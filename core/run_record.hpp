@@ -47,6 +47,16 @@ struct RunSummary {
   /// bodies) the largest violation of any of them. Tracked only with a far wall or a list (the
   /// single-wall step loop is kept as it was); NaN otherwise.
   double max_penetration = std::numeric_limits<double>::quiet_NaN();
+  /// The contact law's counters (core/contact_treatment.hpp): augmented-Lagrangian iterations
+  /// over the run, and the steps whose iterations reached the cap before the tolerance.
+  long contact_iterations = 0;
+  long unconverged_contact_steps = 0;
+  /// Central difference: the largest step certified stable with the penalty's springs
+  /// (core/stable_step.hpp) [s]; NaN for the other methods, 0 when none can be certified.
+  double stable_dt = std::numeric_limits<double>::quiet_NaN();
+  /// Something the user should know about an `ok` run: a step above stable_dt, or augmented-
+  /// Lagrangian steps that did not reach the tolerance. Empty otherwise.
+  std::string warning;
   double wall_time_s = 0;  ///< set-up and stepping [s]
 };
 

@@ -83,8 +83,10 @@ void run_steps(const RunOptions& options, long first, Eigen::Index history_dof, 
 }
 
 // The rod's two named contacts: the main wall's pressure and node, and with kFarWall the far
-// wall's pressure and the largest penetration (the single-wall loop records nothing more).
-template <bool kFarWall, class Stepper>
+// wall's pressure and the largest penetration; with kMainPenetration (a contact law that lets the
+// node penetrate) the single wall's largest penetration (the Lagrange single-wall loop records
+// nothing more).
+template <bool kFarWall, bool kMainPenetration, class Stepper>
 void run_rod_steps(const SecondOrderSystem& system, double area, const RunOptions& options,
                    long first, State& state, ContactTrace& trace, RunSummary& summary,
                    Stepper&& stepper) {
@@ -99,6 +101,8 @@ void run_rod_steps(const SecondOrderSystem& system, double area, const RunOption
           const double penetration =
               std::max(s.u[c] - system.gap, -system.far_gap - s.u[system.far_contact_dof]);
           summary.max_penetration = std::max(summary.max_penetration, penetration);
+        } else if constexpr (kMainPenetration) {
+          summary.max_penetration = std::max(summary.max_penetration, s.u[c] - system.gap);
         }
       },
       [&](const State& s) {
@@ -165,35 +169,60 @@ auto plain_energy(const System& system) {
 
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
 // stepper that cannot start marks the run failed.
+// Copies a stepper's contact-law counters into the summary.
+template <class Stepper>
+void count_contact_iterations(const Stepper& stepper, RunSummary& summary) {
+  summary.contact_iterations = stepper.contact_iterations();
+  summary.unconverged_contact_steps = stepper.unconverged_contact_steps();
+}
+
 template <class Run>
 void run_method(const SecondOrderSystem& system, const MethodParams& method, double dt,
-                SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
+                const ContactPenalties& contact, SimulationWorkspace& ws, State& state,
+                RunSummary& summary, Run&& run) {
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     CentralDifference& stepper = ws.central_difference;
-    if (stepper.initialize(system, cdm->velocity, dt, state)) {
+    if (stepper.initialize(system, cdm->velocity, dt, state, contact)) {
+      summary.stable_dt = stepper.stable_step();
+      if (contact.law == ContactLaw::penalty && !stepper.within_stability_limit()) {
+        summary.warning =
+            "dt = " + format_value(dt) +
+            " s exceeds central difference's stable step with the penalty springs, " +
+            (stepper.stable_step() > 0.0 ? format_value(stepper.stable_step()) + " s"
+                                         : std::string("which needs a diagonal mass")) +
+            ": lower the step or the penalty stiffness";
+      }
       stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
       run(LoopStepper{[&](State& s) { stepper.step(system, s); },
                       [&](const State& s) { return stepper.energy(system, s); }});
+      count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = "central difference: singular left-hand matrix";
     }
   } else if (!is_single_step_implicit(method)) {
     auto& stepper = ws.composite;
-    if (stepper.initialize(system, composite_coefficients(method), dt)) {
+    if (stepper.initialize(system, composite_coefficients(method), dt, contact)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+      count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
     }
   } else {
     ImplicitIntegrator& stepper = ws.implicit;
-    if (stepper.initialize(system, implicit_coefficients(method), dt)) {
+    if (stepper.initialize(system, implicit_coefficients(method), dt, contact)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+      count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
     }
+  }
+  if (summary.unconverged_contact_steps > 0 && summary.warning.empty()) {
+    summary.warning = std::to_string(summary.unconverged_contact_steps) +
+                      " step(s) ended the augmented-Lagrangian iterations at the cap before the "
+                      "tolerance: raise augmented_max_iterations or the penalty stiffness";
   }
 }
 
@@ -273,6 +302,12 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
       trace.contact_velocity[k].assign(static_cast<std::size_t>(scene.step_count), kNaN);
     }
   }
+  if (const auto error = validate(options.contact)) {
+    summary.status = RunStatus::failed;
+    summary.message =
+        "run options: " + error->field + " = " + error->value + ": " + error->constraint;
+    return false;
+  }
   if (options.energy_check_interval < 1 || !(options.energy_growth_limit > 1.0)) {
     summary.status = RunStatus::failed;
     summary.message = "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
@@ -305,7 +340,8 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
   const long skipped = free_flight_samples(scene.first_contact_time, dt, scene.step_count,
                                            scene.rigid_flight, options);
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
-  if (listed || far_wall) summary.max_penetration = -kInf;
+  const bool main_penetration = !listed && !far_wall && options.contact.law != ContactLaw::lagrange;
+  if (listed || far_wall || main_penetration) summary.max_penetration = -kInf;
   for (long i = 0; i < skipped; ++i) {
     const double t = (i + 1) * dt;
     if (far_wall) {
@@ -325,6 +361,10 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
         if (c.minus >= 0) g -= scene.initial_velocity[c.minus] * t;
         summary.max_penetration = std::max(summary.max_penetration, g);
       }
+    }
+    if (main_penetration) {
+      summary.max_penetration = std::max(
+          summary.max_penetration, scene.initial_velocity[system.contact_dof] * t - system.gap);
     }
     trace.pressure[i] = 0.0;
     trace.velocity[i] = scene.initial_velocity[primary.velocity_dof];
@@ -356,6 +396,12 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
 
   if (scene.sparse) {  // a user's model with sparse matrices
     const SparseSystem& sparse = *scene.sparse;
+    if (options.contact.law != ContactLaw::lagrange) {
+      summary.status = RunStatus::failed;
+      summary.message = std::string("contact = ") + to_string(options.contact.law) +
+                        ": a model of sparse matrices is solved with Lagrange multipliers only";
+      return summary;
+    }
     run_sparse_method(sparse, method, scene.dt, ws, state, summary, [&](const auto& stepper) {
       run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, stepper);
     });
@@ -365,15 +411,19 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   }
 
   // The step loop; the far wall's bookkeeping only when the system has the named one.
-  run_method(system, method, scene.dt, ws, state, summary, [&](const auto& stepper) {
+  const ContactPenalties contact = resolve_contact(options.contact, system);
+  run_method(system, method, scene.dt, contact, ws, state, summary, [&](const auto& stepper) {
     if (listed) {
       run_listed_steps(scene, system, options, skipped, state, ws.trace, summary, stepper);
     } else if (far_wall) {
-      run_rod_steps<true>(system, primary.area, options, skipped, state, ws.trace, summary,
-                          stepper);
+      run_rod_steps<true, false>(system, primary.area, options, skipped, state, ws.trace, summary,
+                                 stepper);
+    } else if (!contact.lagrange()) {
+      run_rod_steps<false, true>(system, primary.area, options, skipped, state, ws.trace, summary,
+                                 stepper);
     } else {
-      run_rod_steps<false>(system, primary.area, options, skipped, state, ws.trace, summary,
-                           stepper);
+      run_rod_steps<false, false>(system, primary.area, options, skipped, state, ws.trace, summary,
+                                  stepper);
     }
   });
   if (!listed && scene.contact_columns) {  // the one contact's samples are the main columns

@@ -48,6 +48,10 @@ struct RunOptions {
   /// mass-proportional damping), the steps up to shortly before the impact are filled in rather
   /// than computed; the results differ from stepped ones by round-off only.
   bool skip_free_flight = true;
+  /// How every contact is enforced (core/contact_treatment.hpp): Lagrange multipliers by
+  /// default; penalty and augmented Lagrangian for scenes of tridiagonal systems (the rod, scenes
+  /// of bodies, a model of tridiagonal matrices), not yet for a model of sparse matrices.
+  ContactTreatment contact;
 };
 
 /// Per-thread storage reused from run to run: after the first run of a given size, further

@@ -87,10 +87,16 @@ bool contact_forces(const std::vector<Constraint>& constraints, const Eigen::Mat
 }  // namespace
 
 bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
-                                          const ImplicitCoefficients& coefficients, double dt) {
+                                          const ImplicitCoefficients& coefficients, double dt,
+                                          const ContactPenalties& contact) {
   c_ = coefficients;
   dt_ = dt;
   failure_.clear();
+  if (!contact.lagrange()) {
+    failure_ = std::string("contact = ") + to_string(contact.law) +
+               ": a model of sparse matrices is solved with Lagrange multipliers only";
+    return false;
+  }
   const double k_weight = (1.0 - c_.alpha_f) * c_.b1 * dt * dt;
   const double c_weight = (1.0 - c_.alpha_f) * c_.g1 * dt;
   SparseMatrix effective = (1.0 - c_.alpha_m) * system.mass + k_weight * system.stiffness;

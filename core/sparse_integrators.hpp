@@ -30,6 +30,7 @@
 #include <string>
 
 #include "core/contact_lcp.hpp"
+#include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/sparse_factorization.hpp"
 #include "core/sparse_system.hpp"
@@ -41,7 +42,9 @@ class SparseImplicitIntegrator {
  public:
   /// Builds and factors the effective matrix. Returns false (with failure() saying why, naming
   /// the DOF of the failed pivot) when it is not positive definite.
-  bool initialize(const SparseSystem& system, const ImplicitCoefficients& coefficients, double dt);
+  /// The constraints are Lagrange's: another `contact` law fails here, with failure() saying so.
+  bool initialize(const SparseSystem& system, const ImplicitCoefficients& coefficients, double dt,
+                  const ContactPenalties& contact = {});
   /// Advances state from t to t + Δt (its acceleration consistent: consistent_acceleration).
   /// Returns true if a constraint is active at t + Δt.
   bool step(const SparseSystem& system, State& state);

@@ -10,14 +10,33 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 }
 
 double highest_frequency_squared_bound(const SecondOrderSystem& system) {
+  return highest_frequency_squared_bound(system, ContactPenalties{});
+}
+
+double highest_frequency_squared_bound(const SecondOrderSystem& system,
+                                       const ContactPenalties& contact) {
   if (!system.mass.is_diagonal()) return kInf;
   const Eigen::Index n = system.size();
   const Tridiagonal& m = system.mass;
   const Tridiagonal& k = system.stiffness;
+  Eigen::VectorXd springs = Eigen::VectorXd::Zero(n);
+  if (contact.law == ContactLaw::penalty) {
+    if (system.has_constraint_list()) {
+      for (std::size_t j = 0; j < system.constraints.size(); ++j) {
+        const Constraint& c = system.constraints[j];
+        const double per_dof = (c.plus >= 0 && c.minus >= 0 ? 2.0 : 1.0) * contact.listed[j];
+        if (c.plus >= 0) springs[c.plus] += per_dof;
+        if (c.minus >= 0) springs[c.minus] += per_dof;
+      }
+    } else {
+      if (system.has_contact()) springs[system.contact_dof] += contact.main;
+      if (system.has_far_contact()) springs[system.far_contact_dof] += contact.far;
+    }
+  }
   double bound = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!(m.diag[i] > 0.0)) return kInf;
-    double row = std::abs(k.diag[i]);
+    double row = std::abs(k.diag[i]) + springs[i];
     if (i > 0) row += std::abs(k.lower[i]);
     if (i + 1 < n) row += std::abs(k.upper[i]);
     bound = std::max(bound, row / m.diag[i]);

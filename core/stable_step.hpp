@@ -13,6 +13,7 @@
 // Thread safety: free functions of values.
 #pragma once
 
+#include "core/contact_treatment.hpp"
 #include "core/second_order_system.hpp"
 #include "core/sparse_system.hpp"
 
@@ -22,6 +23,11 @@ namespace impactid {
 /// non-positive entry (no explicit limit can be certified then).
 double highest_frequency_squared_bound(const SecondOrderSystem& system);
 double highest_frequency_squared_bound(const SparseSystem& system);
+/// The same bound with the penalty law's springs (core/contact_treatment.hpp) added to K: a
+/// spring k on a wall's dof adds k to its row sum, one between two dofs 2·k to each. Other laws
+/// add nothing (their forces are implicit).
+double highest_frequency_squared_bound(const SecondOrderSystem& system,
+                                       const ContactPenalties& contact);
 
 /// Whether Δt·ω_bound <= 2 up to round-off (relative 1e-12 on Δt²·ω², so that Courant 1 computed
 /// as h/c counts as within): an explicit step that certainly does not excite a growing mode.

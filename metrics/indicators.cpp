@@ -67,7 +67,8 @@ Indicators finish(const RodScene& scene, const RodSceneDerived& derived, const C
       summary.initial_energy > 0.0 ? summary.final_energy / summary.initial_energy : nan;
   out.far_contact_episodes = nan;
   out.impacts = nan;
-  out.max_penetration = nan;
+  // Tracked with a far wall, or with a contact law that lets the node penetrate.
+  out.max_penetration = summary.max_penetration;
   if (scene.far_gap) {
     // The wall that alone held the rod last. A sample where both walls push is a hand-over (or a
     // rod pressed between them): it does not change `last`, so it never counts an impact, except
@@ -93,7 +94,6 @@ Indicators finish(const RodScene& scene, const RodSceneDerived& derived, const C
     }
     out.far_contact_episodes = static_cast<double>(far_episodes);
     out.impacts = static_cast<double>(impacts);
-    out.max_penetration = summary.max_penetration;
   }
   return out;
 }

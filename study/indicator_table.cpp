@@ -39,8 +39,9 @@ constexpr std::array<IndicatorInfo, 12> kIndicators{{
      "contact; NaN without one",
      [](Evaluation& e) -> double& { return e.indicators.impacts; }},
     {"max_penetration", "mm",
-     "with a far wall (far_gap): largest penetration of either wall by its contact node over the "
-     "samples (<= 0: none); NaN without one",
+     "largest penetration of a wall by its contact node over the samples (<= 0: none), tracked "
+     "with a far wall (far_gap), on a scene of bodies, and with contact = penalty or "
+     "augmented-lagrangian; NaN otherwise",
      [](Evaluation& e) -> double& { return e.indicators.max_penetration; }},
     {"wall_time_s", "s",
      "wall-clock time of the simulation (set-up and stepping); points run together in the "

@@ -1,5 +1,6 @@
 #include "study/simulate_command.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -19,6 +20,28 @@ void for_each_used_parameter(const Simulation& sim, Emit&& emit) {
     if (info.kind == ParameterKind::choice) continue;
     if (const auto value = numeric_value(sim, info.name)) emit(info.name, *value);
   }
+}
+
+// The contact law's line of the text report, when it is not Lagrange's, and a run's warning.
+void write_contact_law(const Simulation& sim, const Evaluation& e) {
+  const ContactTreatment& c = sim.run.contact;
+  if (c.law != ContactLaw::lagrange) {
+    std::string stiffness = c.penalty_stiffness
+                                ? "k = " + format_value(*c.penalty_stiffness) + " N/mm"
+                                : "k = " + format_value(c.penalty_factor) + " x K_cc";
+    std::printf("contact law %s, %s; largest penetration = %.4g mm", to_string(c.law),
+                stiffness.c_str(), e.indicators.max_penetration);
+    if (c.law == ContactLaw::augmented_lagrangian) {
+      std::printf("; %ld iteration(s), %ld step(s) at the cap of %d", e.summary.contact_iterations,
+                  e.summary.unconverged_contact_steps, c.augmented_max_iterations);
+    }
+    std::printf("\n");
+  }
+  if (std::isfinite(e.summary.stable_dt) && c.law == ContactLaw::penalty) {
+    std::printf("stable dt   %.6g s (central difference with the penalty springs)\n",
+                e.summary.stable_dt);
+  }
+  if (!e.summary.warning.empty()) std::printf("warning     %s\n", e.summary.warning.c_str());
 }
 
 void write_json(const Simulation& sim, const Evaluation& e) {
@@ -42,6 +65,16 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("planned_steps").value(e.summary.planned_steps);
   json.key("status").value(to_string(e.summary.status));
   json.key("message").value(e.summary.message);
+  json.key("warning").value(e.summary.warning);
+  json.key("contact").value(to_string(sim.run.contact.law));
+  if (sim.run.contact.law != ContactLaw::lagrange) {
+    json.key("contact_iterations").value(e.summary.contact_iterations);
+    json.key("unconverged_contact_steps").value(e.summary.unconverged_contact_steps);
+    json.key("stable_dt").value(e.summary.stable_dt);
+    if (!sim.scene.far_gap && !sim.bodies && !sim.model) {
+      json.key("max_penetration").value(e.indicators.max_penetration);
+    }
+  }
   json.key("eps_p").value(e.indicators.eps_p);
   json.key("eps_v").value(e.indicators.eps_v);
   json.key("nop_p").value(e.indicators.nop_p);
@@ -154,6 +187,7 @@ void write_text(const Simulation& sim, const Evaluation& e) {
   }
   std::printf("status      %s%s%s\n", to_string(e.summary.status),
               e.summary.message.empty() ? "" : ": ", e.summary.message.c_str());
+  write_contact_law(sim, e);
   if (e.summary.status != RunStatus::ok) {
     // The indicators of a run that did not finish are not results (NaN in JSON and in files).
     std::printf("indicators  none: the run is %s after %ld of %ld steps\n",

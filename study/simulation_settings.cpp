@@ -35,6 +35,24 @@ constexpr ParameterInfo kSceneParameters[] = {
      "none: the paper's single wall; >= 0)",
      "", ""},
     {"mass", G::scene, K::choice, "", "mass matrix (default lumped)", "lumped|consistent", ""},
+    {"contact", G::scene, K::choice, "",
+     "how contacts are enforced: Lagrange multipliers (default), penalty springs, or augmented "
+     "Lagrangian (Uzawa) iterations on the penalty",
+     "lagrange|penalty|augmented-lagrangian", ""},
+    {"penalty_stiffness", G::scene, K::real, "N/mm",
+     "penalty stiffness k of every contact (penalty, augmented-lagrangian; default "
+     "penalty_factor times each contact dof's stiffness), > 0",
+     "", ""},
+    {"penalty_factor", G::scene, K::real, "",
+     "k as a multiple of the contact dof's stiffness K_cc (E*A/h for the rod) when "
+     "penalty_stiffness is not given (default 1), > 0",
+     "", ""},
+    {"augmented_tolerance", G::scene, K::real, "",
+     "augmented-lagrangian: iterate until the penetration is at most this fraction of the step's "
+     "contact-free one (default 1e-6), in (0, 1)",
+     "", ""},
+    {"augmented_max_iterations", G::scene, K::integer, "",
+     "augmented-lagrangian: iterations per step at most (default 100), >= 1", "", ""},
     {"rayleigh_mass", G::scene, K::real, "1/s", "Rayleigh a0 in C = a0*M + a1*K (default 0)", "",
      ""},
     {"rayleigh_stiffness", G::scene, K::real, "s", "Rayleigh a1 in C = a0*M + a1*K (default 0)", "",
@@ -123,6 +141,10 @@ std::optional<ParameterError> assign_choice(SimulationSettings& s, const Paramet
     const auto v = mass_matrix_from_string(text);
     if (!v) return bad();
     s.scene.mass = *v;
+  } else if (name == "contact") {
+    const auto v = contact_law_from_string(text);
+    if (!v) return bad();
+    s.run.contact.law = *v;
   } else if (name == "method") {
     const auto v = method_kind_from_string(text);
     if (!v) return bad();
@@ -184,6 +206,24 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
     s.reference.max_refinements = static_cast<int>(v);
   } else if (name == "energy_growth_limit")
     s.run.energy_growth_limit = v;
+  else if (name == "penalty_stiffness")
+    s.run.contact.penalty_stiffness = v;
+  else if (name == "penalty_factor")
+    s.run.contact.penalty_factor = v;
+  else if (name == "augmented_tolerance")
+    s.run.contact.augmented_tolerance = v;
+  else if (name == "augmented_max_iterations")
+    s.run.contact.augmented_max_iterations = static_cast<int>(v);
+  return std::nullopt;
+}
+
+// The contact treatment's numbers by key (NaN: penalty_stiffness not given); nothing for other
+// keys.
+std::optional<double> contact_value(const ContactTreatment& c, std::string_view name) {
+  if (name == "penalty_stiffness") return c.penalty_stiffness.value_or(NAN);
+  if (name == "penalty_factor") return c.penalty_factor;
+  if (name == "augmented_tolerance") return c.augmented_tolerance;
+  if (name == "augmented_max_iterations") return c.augmented_max_iterations;
   return std::nullopt;
 }
 
@@ -322,6 +362,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     return ParameterError{"reference_max_refinements",
                           std::to_string(*s.reference.max_refinements), "must be >= 1"};
   }
+  if (auto e = validate(out.run.contact)) return *e;
   if (!(out.run.energy_growth_limit > 1.0)) {
     return ParameterError{"energy_growth_limit", format_value(out.run.energy_growth_limit),
                           "must be > 1"};
@@ -330,6 +371,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
 }
 
 std::optional<double> numeric_value(const Simulation& sim, std::string_view name) {
+  if (const auto contact = contact_value(sim.run.contact, name)) return *contact;
   if (sim.model) {
     if (name == "dt") return sim.model->dt;
     if (name == "courant") return sim.model->dt * sim.model->model->omega_bound / 2.0;

@@ -170,6 +170,12 @@ TEST(BatchedSimulation, WhatMayShareABatch) {
   EXPECT_TRUE(batchable(RodScene{}, HhtParams{}, options));
   EXPECT_FALSE(batchable(RodScene{}, CentralDifferenceParams{}, options));
   EXPECT_FALSE(batchable(RodScene{}, HhtParams{}, RunOptions{.record_history = true}));
+  // The kernel solves Lagrange multipliers only: another contact law runs in simulate().
+  for (ContactLaw law : {ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+    RunOptions penalty;
+    penalty.contact.law = law;
+    EXPECT_FALSE(batchable(RodScene{}, HhtParams{}, penalty)) << to_string(law);
+  }
   RodScene two_walls;
   two_walls.far_gap = 0.1;
   EXPECT_FALSE(batchable(two_walls, HhtParams{}, options));

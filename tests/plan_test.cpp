@@ -290,7 +290,9 @@ TEST(PlanErrors, TomlSyntaxError) {
 TEST(PlanErrors, UnknownKeys) {
   EXPECT_EQ(error_of("[scene]\nelements = 50\nbogus = 1\n"),
             "bad.toml:3:9: scene.bogus = 1: unknown key (scene keys: length, elements, "
-            "youngs_modulus, density, area, velocity, gap, far_gap, mass, rayleigh_mass, "
+            "youngs_modulus, density, area, velocity, gap, far_gap, mass, contact, "
+            "penalty_stiffness, penalty_factor, "
+            "augmented_tolerance, augmented_max_iterations, rayleigh_mass, "
             "rayleigh_stiffness, courant, dt, t_end)");
   EXPECT_EQ(error_of("nmae = \"x\"\n"),
             "bad.toml:1:8: nmae = \"x\": unknown key (top-level keys: name, description, scene, "
@@ -326,7 +328,8 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
             "bad.toml:2:8: method.name = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2");
-  EXPECT_EQ(error_of("scene = 3\n"), "bad.toml:1:9: scene = 3: must be a table ([scene]) or the name of a scene file");
+  EXPECT_EQ(error_of("scene = 3\n"),
+            "bad.toml:1:9: scene = 3: must be a table ([scene]) or the name of a scene file");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
   EXPECT_EQ(error_of("[study]\nkind = \"sweep\"\n"),
             "bad.toml:2:8: study.kind = \"sweep\": must be \"grid\", \"list\", \"optimize\", "
@@ -493,6 +496,8 @@ courant = 1
             std::string("bad.toml:3:38: study.points[1].bogus = 1: unknown key (point keys are "
                         "parameters: ") +
                 "length, elements, youngs_modulus, density, area, velocity, gap, far_gap, mass, "
+                "contact, penalty_stiffness, penalty_factor, "
+                "augmented_tolerance, augmented_max_iterations, "
                 "rayleigh_mass, rayleigh_stiffness, courant, dt, t_end, method, delta, alpha, "
                 "beta, gamma, rho_inf, substep_ratio, cdm_velocity, hht_contact, peak_prominence, "
                 "reference_tolerance, reference_method, reference_max_refinements, "
@@ -591,7 +596,9 @@ TEST(PlanErrors, ColumnsCountCharactersNotBytes) {
   // "é" is two bytes; toml++ and the message count it as one column.
   EXPECT_EQ(error_of("description = \"é\"\n[scene]\n\"café\" = 1\n"),
             "bad.toml:3:10: scene.café = 1: unknown key (scene keys: length, elements, "
-            "youngs_modulus, density, area, velocity, gap, far_gap, mass, rayleigh_mass, "
+            "youngs_modulus, density, area, velocity, gap, far_gap, mass, contact, "
+            "penalty_stiffness, penalty_factor, "
+            "augmented_tolerance, augmented_max_iterations, rayleigh_mass, "
             "rayleigh_stiffness, courant, dt, t_end)");
 }
 
@@ -681,9 +688,10 @@ TEST(PlanOutput, HistoriesFolder) {
   ASSERT_TRUE(plan.output.histories.has_value());
   EXPECT_EQ(*plan.output.histories, "results/h");
   try {
-    parse_plan("[output]\nhistories = \"results/h\"\n[method]\nname = \"newmark\"\n[study]\n"
-               "kind = \"optimize\"\n[study.parameters]\ndelta = { from = 0.1, to = 1.0 }\n",
-               "o.toml");
+    parse_plan(
+        "[output]\nhistories = \"results/h\"\n[method]\nname = \"newmark\"\n[study]\n"
+        "kind = \"optimize\"\n[study.parameters]\ndelta = { from = 0.1, to = 1.0 }\n",
+        "o.toml");
     ADD_FAILURE() << "optimize with histories accepted";
   } catch (const PlanError& e) {
     EXPECT_NE(std::string(e.what()).find("o.toml:2:13: output.histories"), std::string::npos)
@@ -699,8 +707,9 @@ namespace {
 
 // ---- [study.practical] ----------------------------------------------------------------------
 
-const char* kGridHead = "[method]\nname = \"newmark\"\n[study]\nkind = \"grid\"\n[study.axes]\n"
-                        "delta = { from = 0.0, to = 1.0, partitions = 4 }\n";
+const char* kGridHead =
+    "[method]\nname = \"newmark\"\n[study]\nkind = \"grid\"\n[study.axes]\n"
+    "delta = { from = 0.0, to = 1.0, partitions = 4 }\n";
 
 TEST(PlanPractical, ThresholdsOfGridAndListStudies) {
   const Plan grid = plan_of(std::string(kGridHead) +
@@ -815,8 +824,9 @@ TEST(PlanSpectral, ParsesToItsContent) {
 }
 
 TEST(PlanSpectral, Defaults) {
-  const Plan plan = plan_of("[study]\nkind = \"spectral\"\nomega_dt = { values = [1, 0.5] }\n"
-                            "methods = [{ method = \"hht\" }]\n");
+  const Plan plan = plan_of(
+      "[study]\nkind = \"spectral\"\nomega_dt = { values = [1, 0.5] }\n"
+      "methods = [{ method = \"hht\" }]\n");
   const SpectralStudy& s = plan.spectral;
   EXPECT_EQ(s.omega_dt, (std::vector<double>{1.0, 0.5}));
   EXPECT_EQ(s.alpha.size(), 21u);
@@ -851,8 +861,9 @@ TEST(PlanSpectral, ErrorsAreLocated) {
             "points, values)");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"hht\", alpha = -0.7 }]\n"),
             "bad.toml:4:38: study.methods[0].alpha = -0.7: must lie in [-0.5, 0]");
-  EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"cdm\" }, { method = \"cdm\", "
-                                    "delta = 0.3 }]\n"),
+  EXPECT_EQ(error_of(head + omega +
+                     "methods = [{ method = \"cdm\" }, { method = \"cdm\", "
+                     "delta = 0.3 }]\n"),
             "bad.toml:4:58: study.methods[1].delta = 0.3: is not a parameter of method cdm (it "
             "applies to newmark|hht)");
   EXPECT_STARTS_WITH(error_of(head + omega + "methods = [{ method = \"cdm\", elements = 3 }]\n"),
