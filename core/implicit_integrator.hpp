@@ -52,6 +52,15 @@ class ImplicitIntegrator {
   /// return value still tells the main wall's contact only).
   bool step(const SecondOrderSystem& system, State& state);
 
+  /// Shifts of the constraints' gaps for the following steps, zero after initialize(): each
+  /// constraint is then kept at G_k·u <= gap_k + offset_k (the far wall at −u_0 <= far_gap +
+  /// offset), and its dof snapped there. Indexed as the system's constraint list when it has one;
+  /// otherwise [0] is the wall (gap), [1] the far wall (far_gap). For a method that enforces its
+  /// constraints on an affine image of the step's end (Wilson-θ, core/wilson_theta.hpp: the
+  /// constraint at t + Δt seen from the step to t + θΔt). At zero every bit of a step is as
+  /// without them: gap + 0.0 is gap, bit for bit, for every gap but −0.0.
+  Eigen::VectorXd& gap_offsets() { return gap_offsets_; }
+
   /// What initialize() set up, for the batched chain kernel (core/batched_chain.cpp), which
   /// repeats step_constraints() lane by lane with these numbers: the factorisation of the
   /// effective matrix, the constraint columns A⁻¹·G_kᵀ with the rows where each is non-zero,
@@ -85,6 +94,7 @@ class ImplicitIntegrator {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
   Eigen::MatrixXd delassus_;
   Eigen::VectorXd violation_, forces_;
+  Eigen::VectorXd gap_offsets_;  // gap_offsets()
 };
 
 /// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with
