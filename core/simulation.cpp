@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
+#include <string>
+#include <type_traits>
 
 #include "core/second_order_system.hpp"
 
@@ -147,11 +150,52 @@ void run_listed_steps(const AssembledScene& scene, const System& system, const R
       });
 }
 
+// The failure message of a stepper of several integrators (the sparse ones say why).
+template <class Integrator>
+std::string first_failure(std::initializer_list<const Integrator*> integrators) {
+  if constexpr (std::is_same_v<Integrator, SparseImplicitIntegrator>) {
+    for (const Integrator* i : integrators) {
+      if (!i->failure().empty()) return i->failure();
+    }
+    return "the effective matrix cannot be factored";
+  } else {
+    return "singular effective matrix";
+  }
+}
+
+// Houbolt and Wilson-θ on either kind of system, with the workspace's steppers for it: true if
+// the method is one of them (the run done, or the summary failed when the stepper cannot start).
+template <class HouboltStepper, class WilsonStepper, class System, class Run>
+bool run_multistep(const System& system, const MethodParams& method, double dt,
+                   HouboltStepper& houbolt, WilsonStepper& wilson, RunSummary& summary, Run&& run) {
+  if (std::holds_alternative<HouboltParams>(method)) {
+    if (houbolt.initialize(system, dt)) {
+      run([&](State& s) { houbolt.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string("houbolt: ") +
+                        first_failure({&houbolt.first(), &houbolt.second(), &houbolt.steady()});
+    }
+    return true;
+  }
+  if (const auto* p = std::get_if<WilsonThetaParams>(&method)) {
+    if (wilson.initialize(system, wilson_theta_coefficients(*p), dt)) {
+      run([&](State& s) { wilson.step(system, s); });
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string("wilson-theta: ") + first_failure({&wilson.extended()});
+    }
+    return true;
+  }
+  return false;
+}
+
 // Initialises the method's stepper on the system from `state` and hands run() the step that
 // advances a state by one sample; a stepper that cannot start marks the run failed.
 template <class Run>
 void run_method(const SecondOrderSystem& system, const MethodParams& method, double dt,
                 SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
+  if (run_multistep(system, method, dt, ws.houbolt, ws.wilson_theta, summary, run)) return;
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     CentralDifference& stepper = ws.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
@@ -161,7 +205,7 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
       summary.status = RunStatus::failed;
       summary.message = "central difference: singular left-hand matrix";
     }
-  } else if (!is_single_step_implicit(method)) {
+  } else if (is_composite(method)) {
     auto& stepper = ws.composite;
     if (stepper.initialize(system, composite_coefficients(method), dt)) {
       run([&](State& s) { stepper.step(system, s); });
@@ -184,6 +228,9 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
 template <class Run>
 void run_sparse_method(const SparseSystem& system, const MethodParams& method, double dt,
                        SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
+  if (run_multistep(system, method, dt, ws.sparse_houbolt, ws.sparse_wilson_theta, summary, run)) {
+    return;
+  }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     SparseCentralDifference& stepper = ws.sparse_central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
@@ -193,7 +240,7 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
       summary.status = RunStatus::failed;
       summary.message = "central difference: " + stepper.failure();
     }
-  } else if (!is_single_step_implicit(method)) {
+  } else if (is_composite(method)) {
     auto& stepper = ws.sparse_composite;
     if (stepper.initialize(system, composite_coefficients(method), dt)) {
       run([&](State& s) { stepper.step(system, s); });
