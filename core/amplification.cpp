@@ -89,11 +89,47 @@ Eigen::Matrix<Scalar, 3, 3> composite_amplification(const CompositeCoefficients&
   return a;
 }
 
-// The one-step matrix of any method but central difference.
+// Wilson-θ's step (core/wilson_theta.hpp) on x = (u, Δt·v, Δt²·a): equilibrium at t + θΔt,
+//   A_θ = −s·(u + θ·V + θ²/3·A)/(t + s·θ²/6)   ((s, t) as in implicit_amplification),
+// then A₁ = (1 − 1/θ)·A + A_θ/θ, V₁ = V + (A + A₁)/2, u₁ = u + V + (2A + A₁)/6.
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 3> wilson_theta_amplification(double theta_value, double omega_dt) {
+  using Row = Eigen::Matrix<Scalar, 1, 3>;
+  const Scalar theta = theta_value, omega = omega_dt, one = 1;
+  const Scalar s = omega_dt > 1.0 ? one : omega * omega;
+  const Scalar t = omega_dt > 1.0 ? one / (omega * omega) : one;
+  const Row e_u(1, 0, 0), e_v(0, 1, 0), e_a(0, 0, 1);
+  const Row a_theta = Row(1, theta, theta * theta / 3) * (-s / (t + s * theta * theta / 6));
+  const Row a1 = (one - one / theta) * e_a + a_theta / theta;
+  Eigen::Matrix<Scalar, 3, 3> a;
+  a.row(0) = e_u + e_v + e_a / 3 + a1 / 6;
+  a.row(1) = e_v + e_a / 2 + a1 / 2;
+  a.row(2) = a1;
+  return a;
+}
+
+// Houbolt's recurrence (2 + Ω²)·u_{n+1} = 5u_n − 4u_{n−1} + u_{n−2} (core/houbolt.hpp without
+// damping and contact) as the companion matrix on y_n = (u_n, u_{n−1}, u_{n−2}).
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 3> houbolt_companion(double omega_dt) {
+  const Scalar omega = omega_dt, d = 2 + omega * omega;
+  Eigen::Matrix<Scalar, 3, 3> a;
+  // clang-format off
+  a << 5 / d, -4 / d, 1 / d,
+       1,     0,      0,
+       0,     1,      0;
+  // clang-format on
+  return a;
+}
+
+// The one-step matrix of any method but central difference and Houbolt, on (u, Δt·v, Δt²·a).
 template <class Scalar>
 Eigen::Matrix<Scalar, 3, 3> step_amplification(const MethodParams& params, double omega_dt) {
-  if (!is_single_step_implicit(params)) {
+  if (is_composite(params)) {
     return composite_amplification<Scalar>(composite_coefficients(params), omega_dt);
+  }
+  if (const auto* wilson = std::get_if<WilsonThetaParams>(&params)) {
+    return wilson_theta_amplification<Scalar>(wilson->theta, omega_dt);
   }
   return implicit_amplification<Scalar>(implicit_coefficients(params), omega_dt);
 }
@@ -187,6 +223,19 @@ std::vector<ComplexExtended> eigenvalues(const MethodParams& params, double omeg
     if (sigma == 0) return {1, 1};
     MatrixExtended b(2, 2);
     b << 1 - omega * omega, sigma, -omega * omega / sigma, 1;
+    append_eigenvalues(std::move(b), lambda);
+    return lambda;
+  }
+  if (kind_of(params) == MethodKind::houbolt) {
+    const Extended sigma = std::min<Extended>(omega, 1), w2 = omega * omega, d = 2 + w2;
+    if (sigma == 0) return {1, 1, 0.5L};
+    MatrixExtended b(3, 3);
+    // clang-format off
+    b << 2,              2 * sigma,   sigma * sigma,
+         -w2 / sigma,    2,           sigma,
+         -w2 / (sigma * sigma), -w2 / sigma, 1;
+    // clang-format on
+    b /= d;
     append_eigenvalues(std::move(b), lambda);
     return lambda;
   }
@@ -286,6 +335,7 @@ Eigen::MatrixXd amplification_matrix(const MethodParams& params, double omega_dt
     return Eigen::MatrixXd::Constant(cdm ? 2 : 3, cdm ? 2 : 3, kNaN);
   }
   if (cdm) return central_difference_amplification(omega_dt);
+  if (kind_of(params) == MethodKind::houbolt) return houbolt_companion<double>(omega_dt);
   return step_amplification<double>(params, omega_dt);
 }
 
@@ -313,7 +363,25 @@ SpectralProperties spectral_properties(const MethodParams& params, double omega_
 double high_frequency_spectral_radius(const MethodParams& params) {
   if (validate(params)) return kNaN;
   if (is_central_difference(params)) return kInf;
-  if (!is_single_step_implicit(params)) {
+  // Houbolt: past Ω = 1 the backward-difference form of eigenvalues() tends to the strictly lower
+  // triangular [[0, 0, 0], [−1, 0, 0], [−1, −1, 0]], nilpotent: ρ∞ = 0 exactly (ρ falls like
+  // Ω^(−2/3): (2 + Ω²)·λ³ ≈ 1).
+  if (kind_of(params) == MethodKind::houbolt) return 0.0;
+  if (const auto* wilson = std::get_if<WilsonThetaParams>(&params)) {
+    // The limit of wilson_theta_amplification as Ω → ∞ (s = 1, t = 0), in closed form; its
+    // eigenvalues are distinct for θ >= (1 + √3)/2, so accurate to rounding.
+    const Extended theta = wilson->theta, t2 = theta * theta, t3 = t2 * theta;
+    MatrixExtended b(3, 3);
+    // clang-format off
+    b << 1 - 1 / t3,  1 - 1 / t2,  (theta - 1) / (2 * theta),
+         -3 / t3,     1 - 3 / t2,  (theta - Extended(1.5)) / theta,
+         -6 / t3,     -6 / t2,     (theta - 3) / theta;
+    // clang-format on
+    std::vector<ComplexExtended> lambda;
+    append_eigenvalues(std::move(b), lambda);
+    return static_cast<double>(largest_modulus(lambda));
+  }
+  if (is_composite(params)) {
     // A composite scheme: ρ at Ω = 1e8, within about 1e-7 of the limit (the original Bathe
     // scheme gives 5e-8 for its ρ∞ = 0: its spurious roots fall to 0 like 1/Ω).
     return spectral_properties(params, 1e8).spectral_radius;

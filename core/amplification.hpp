@@ -33,6 +33,13 @@ namespace impactid {
 /// Composite schemes (Bathe, ρ∞-Bathe): 3×3 on the same state, the trapezoidal sub-step's matrix
 /// at γ·Ω composed with the second sub-step's (core/amplification.cpp).
 ///
+/// Wilson-θ: 3×3 on the same state, the linear-acceleration step over θ·Δt followed by the
+/// return to t + Δt (core/wilson_theta.hpp).
+///
+/// Houbolt: 3×3, the companion matrix of its three-step recurrence
+/// (2 + Ω²)·u_{n+1} = 5u_n − 4u_{n−1} + u_{n−2} on y_n = (u_n, u_{n−1}, u_{n−2}), y_{n+1} = A·y_n.
+/// Its start-up (core/houbolt.hpp) is not part of it.
+///
 /// Implicit family (everything but central difference): 3×3, x_{n+1} = A·x_n with the scaled
 /// state x = (u, Δt·v, Δt²·a), from the ImplicitCoefficients equations of method.hpp without
 /// damping and contact:
@@ -58,7 +65,8 @@ struct SpectralProperties {
 /// Properties at Ω = omega_dt (finite, > 0); all NaN and oscillatory = false for invalid
 /// params or Ω. The eigenvalues are computed in long double from a balanced matrix similar to A
 /// (for Ω < 1 first scaled to the state (u, v/ω, a/ω²); for central difference the leapfrog
-/// state (u_n, (u_n − u_{n−1})/Ω)) that stays well conditioned as Ω → 0 and Ω → ∞. Measured
+/// state (u_n, (u_n − u_{n−1})/Ω); for Houbolt the backward differences (u_n, ∇u_n/σ, ∇²u_n/σ²),
+/// σ = min(Ω, 1)) that stays well conditioned as Ω → 0 and Ω → ∞. Measured
 /// on x86-64 against closed forms: relative error of Ω̄ <= 1e-16 for Ω in [1e-3, 1e3], 1e-14 at
 /// Ω = 1e-4.
 SpectralProperties spectral_properties(const MethodParams& params, double omega_dt);
@@ -72,7 +80,9 @@ SpectralProperties spectral_properties(const MethodParams& params, double omega_
 /// accurate to about √ε ≈ 1e-8, the sensitivity of a double root to rounded coefficients.
 /// +inf for central difference (ρ grows like Ω² past Ω = 2); NaN for invalid params.
 /// The composite schemes (Bathe, ρ∞-Bathe) are evaluated numerically instead, ρ(Ω = 1e8), within
-/// about 1e-7 of their limit.
+/// about 1e-7 of their limit. Houbolt: 0 exactly (its limit matrix is nilpotent; ρ(Ω) falls only
+/// like Ω^(−2/3)). Wilson-θ: the largest eigenvalue modulus of its limit matrix in closed form,
+/// e.g. 0.77844 at θ = 1.4 and 1 at θ = (1 + √3)/2.
 double high_frequency_spectral_radius(const MethodParams& params);
 
 /// The coefficient c of (T̄ − T)/T = c·Ω² + O(Ω⁴) as Ω → 0 (the period error is even in Ω),
@@ -80,7 +90,8 @@ double high_frequency_spectral_radius(const MethodParams& params);
 /// the Ω² … Ω⁸ terms of PE(Ω)/Ω². Accurate to about 1e-11 (measured <= 4e-12 against closed
 /// forms in tests/amplification_test.cpp: 1/12 for the trapezoidal rule, −1/24 for central
 /// difference, 1/3 for backward Euler, α²/8 + 3αδ/4 − α/4 + δ²/4 + 1/12 for HHT with (α, δ),
-/// (11ρ∞² − 14ρ∞ + 11)/(24(1+ρ∞)²) for generalized-α).
+/// (11ρ∞² − 14ρ∞ + 11)/(24(1+ρ∞)²) for generalized-α, 11/24 for Houbolt,
+/// (6θ² − 6θ + 1)/24 for Wilson-θ).
 /// NaN for invalid params or if the principal pair is not oscillatory at those Ω.
 double period_error_coefficient(const MethodParams& params);
 

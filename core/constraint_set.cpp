@@ -55,4 +55,16 @@ void snap_walls(const std::vector<Constraint>& constraints, const Eigen::VectorX
   }
 }
 
+void snap_walls(const std::vector<Constraint>& constraints, const Eigen::VectorXd& forces,
+                Eigen::VectorXd& u, const Eigen::VectorXd& gap_offsets) {
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const auto j = static_cast<Eigen::Index>(k);
+    if (!(forces[j] > 0.0)) continue;
+    const Constraint& c = constraints[k];
+    const double gap = c.gap + gap_offsets[j];
+    if (c.minus < 0) u[c.plus] = gap;
+    if (c.plus < 0) u[c.minus] = -gap;
+  }
+}
+
 }  // namespace impactid

@@ -31,5 +31,9 @@ void apply_constraint_forces(const Eigen::MatrixXd& influence,
 /// ulps off); a constraint between two bodies is left as computed (neither dof is fixed).
 void snap_walls(const std::vector<Constraint>& constraints, const Eigen::VectorXd& forces,
                 Eigen::VectorXd& u);
+/// The same with each wall's gap shifted by gap_offsets[k] (ImplicitIntegrator::gap_offsets());
+/// zero offsets snap to the same bits.
+void snap_walls(const std::vector<Constraint>& constraints, const Eigen::VectorXd& forces,
+                Eigen::VectorXd& u, const Eigen::VectorXd& gap_offsets);
 
 }  // namespace impactid

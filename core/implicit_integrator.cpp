@@ -1,5 +1,6 @@
 #include "core/implicit_integrator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/constraint_set.hpp"
@@ -53,6 +54,7 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
     shift_.resize(m);
     shifted_.resize(m);
   }
+  gap_offsets_.setZero(std::max<Eigen::Index>(m, 2));
   return true;
 }
 
@@ -122,18 +124,19 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
 
   const bool contact_is_last = contact == n - 1;
   if (!contact_is_last) factorization_.backward_in_place(rhs_);
+  const double gap = system.gap + gap_offsets_[0];
   double lambda = 0.0;
   ContactIterations iterations;
   if (system.has_contact()) {
     // With the contact dof last, rhs_[contact] is final after the forward sweep.
     const double u_free = std::fma(c_.b1 * dt2, rhs_[contact], u_predicted_[contact]);
-    if (u_free > system.gap) {
+    if (u_free > gap) {
       // Force (w·λ) that moves the contact dof from u_free back onto the wall (Lagrange), or
       // the contact law's.
       const double weighted =
           contact_.lagrange()
-              ? (u_free - system.gap) / (c_.b1 * dt2 * contact_influence_[contact])
-              : single_contact_force(u_free - system.gap, c_.b1 * dt2 * contact_influence_[contact],
+              ? (u_free - gap) / (c_.b1 * dt2 * contact_influence_[contact])
+              : single_contact_force(u_free - gap, c_.b1 * dt2 * contact_influence_[contact],
                                      main_compliance_, contact_, iterations);
       if (contact_is_last) {
         rhs_[contact] -= weighted * contact_influence_[contact];
@@ -146,7 +149,7 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   if (contact_is_last) factorization_.backward_in_place(rhs_);
   update(s);
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
-  if (lambda > 0.0 && contact_.lagrange()) s.u[contact] = system.gap;
+  if (lambda > 0.0 && contact_.lagrange()) s.u[contact] = gap;
   count(iterations);
   s.lambda = lambda;
   s.t += dt;
@@ -164,8 +167,9 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
   // Penetrations of the contact-free prediction, and what a unit weighted force does to them.
   const double k = c_.b1 * dt2;
   // The free positions as step() forms u_free (fused), so that the far wall idle changes no bit.
-  const double p_main = std::fma(k, contact_free_[contact], u_predicted_[contact]) - system.gap;
-  const double p_far = -system.far_gap - std::fma(k, contact_free_[far], u_predicted_[far]);
+  const double gap = system.gap + gap_offsets_[0], far_gap = system.far_gap + gap_offsets_[1];
+  const double p_main = std::fma(k, contact_free_[contact], u_predicted_[contact]) - gap;
+  const double p_far = -far_gap - std::fma(k, contact_free_[far], u_predicted_[far]);
   const double d_main = k * contact_influence_[contact], d_far = k * far_influence_[far];
   const double c_main_far = k * far_influence_[contact], c_far_main = k * contact_influence_[far];
   TwoWallForces forces;
@@ -188,8 +192,8 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
     if (forces.far > 0.0) rhs_ += forces.far * far_influence_;
   }
   update(s);
-  if (forces.main > 0.0 && contact_.lagrange()) s.u[contact] = system.gap;
-  if (forces.far > 0.0 && contact_.lagrange()) s.u[far] = -system.far_gap;
+  if (forces.main > 0.0 && contact_.lagrange()) s.u[contact] = gap;
+  if (forces.far > 0.0 && contact_.lagrange()) s.u[far] = -far_gap;
   s.lambda = forces.main / c_.contact_weight;
   s.far_lambda = forces.far / c_.contact_weight;
   s.t += dt;
@@ -204,7 +208,7 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
   // Violations of the contact-free prediction, with u_free formed as the single wall forms it.
   for (int j = 0; j < m; ++j) {
     const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
-    double g = -con.gap;
+    double g = -(con.gap + gap_offsets_[j]);
     if (con.plus >= 0) g += std::fma(k, rhs_[con.plus], u_predicted_[con.plus]);
     if (con.minus >= 0) g -= std::fma(k, rhs_[con.minus], u_predicted_[con.minus]);
     violation_[j] = g;
@@ -218,7 +222,7 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
     s.multipliers[j] = weighted / c_.contact_weight;
     active = active || weighted > 0.0;
   }
-  if (contact_.lagrange()) snap_walls(system.constraints, forces_, s.u);
+  if (contact_.lagrange()) snap_walls(system.constraints, forces_, s.u, gap_offsets_);
   s.t += dt;
   return active;
 }

@@ -60,6 +60,15 @@ class ImplicitIntegrator {
   /// return value still tells the main wall's contact only).
   bool step(const SecondOrderSystem& system, State& state);
 
+  /// Shifts of the constraints' gaps for the following steps, zero after initialize(): each
+  /// constraint is then kept at G_k·u <= gap_k + offset_k (the far wall at −u_0 <= far_gap +
+  /// offset), and its dof snapped there. Indexed as the system's constraint list when it has one;
+  /// otherwise [0] is the wall (gap), [1] the far wall (far_gap). For a method that enforces its
+  /// constraints on an affine image of the step's end (Wilson-θ, core/wilson_theta.hpp: the
+  /// constraint at t + Δt seen from the step to t + θΔt). At zero every bit of a step is as
+  /// without them: gap + 0.0 is gap, bit for bit, for every gap but −0.0.
+  Eigen::VectorXd& gap_offsets() { return gap_offsets_; }
+
   /// What initialize() set up, for the batched chain kernel (core/batched_chain.cpp), which
   /// repeats step_constraints() lane by lane with these numbers: the factorisation of the
   /// effective matrix, the constraint columns A⁻¹·G_kᵀ with the rows where each is non-zero,
@@ -103,6 +112,7 @@ class ImplicitIntegrator {
   Eigen::VectorXd compliance_, shift_, shifted_;
   Eigen::MatrixXd penalized_;
   long iterations_ = 0, unconverged_ = 0;
+  Eigen::VectorXd gap_offsets_;  // gap_offsets()
 };
 
 /// The augmented-Lagrangian iterations of a list of m constraints (core/contact_treatment.hpp):

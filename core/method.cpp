@@ -50,6 +50,8 @@ MethodKind kind_of(const MethodParams& params) {
           [](const BatheParams&) { return MethodKind::bathe; },
           [](const RhoBatheParams&) { return MethodKind::rho_bathe; },
           [](const TrBdf2Params&) { return MethodKind::tr_bdf2; },
+          [](const HouboltParams&) { return MethodKind::houbolt; },
+          [](const WilsonThetaParams&) { return MethodKind::wilson_theta; },
       },
       params);
 }
@@ -67,6 +69,10 @@ MethodParams default_params(MethodKind kind) {
       return RhoBatheParams{};
     case MethodKind::tr_bdf2:
       return TrBdf2Params{};
+    case MethodKind::houbolt:
+      return HouboltParams{};
+    case MethodKind::wilson_theta:
+      return WilsonThetaParams{};
   }
   return CentralDifferenceParams{};
 }
@@ -113,6 +119,12 @@ std::optional<ParameterError> validate(const MethodParams& params) {
                                     "must lie in (0, 1), both ends excluded"};
             }
             return std::nullopt;
+          },
+          [](const HouboltParams&) -> std::optional<ParameterError> { return {}; },
+          [](const WilsonThetaParams& p) -> std::optional<ParameterError> {
+            return require_in_range(
+                "theta", p.theta, kWilsonThetaMinimum, kMax,
+                "must be >= (1+sqrt(3))/2 = 1.3660254 (unconditional stability) and finite");
           },
       },
       params);
@@ -185,6 +197,13 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
           [](const RhoBatheParams&) {
             return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
           },
+          // Not single-step: stepped by houbolt_coefficients(), wilson_theta_coefficients().
+          [](const HouboltParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
+          [](const WilsonThetaParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
       },
       params);
 }
@@ -224,6 +243,35 @@ CompositeCoefficients composite_coefficients(const MethodParams& params) {
   return c;
 }
 
+bool is_composite(const MethodParams& params) {
+  switch (kind_of(params)) {
+    case MethodKind::bathe:
+    case MethodKind::rho_bathe:
+    case MethodKind::tr_bdf2:
+      return true;
+    default:
+      return false;
+  }
+}
+
+namespace {
+// The linear-acceleration member (Newmark β = 1/6, γ = ½): Houbolt's first step, Wilson-θ's
+// extended step.
+constexpr ImplicitCoefficients kLinearAcceleration{1.0 / 3.0, 1.0 / 6.0, 0.5, 0.5, 0.0, 0.0, 1.0};
+}  // namespace
+
+HouboltCoefficients houbolt_coefficients() {
+  HouboltCoefficients c{};
+  c.first = kLinearAcceleration;
+  c.second = {0.0, 2.0 / 5.0, 0.0, 4.0 / 5.0, 0.0, 0.0, 1.0};
+  c.steady = {0.0, 0.5, 0.0, 11.0 / 12.0, 0.0, 0.0, 1.0};
+  return c;
+}
+
+WilsonThetaCoefficients wilson_theta_coefficients(const WilsonThetaParams& params) {
+  return {params.theta, kLinearAcceleration};
+}
+
 std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
   switch (kind_of(params)) {
     case MethodKind::central_difference:
@@ -231,6 +279,8 @@ std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
     case MethodKind::bathe:
     case MethodKind::rho_bathe:
     case MethodKind::tr_bdf2:
+    case MethodKind::houbolt:
+    case MethodKind::wilson_theta:
       return std::nullopt;
     default: {
       const ImplicitCoefficients c = implicit_coefficients(params);

@@ -22,9 +22,11 @@ enum class MethodKind {
   generalized_alpha,
   bathe,
   rho_bathe,
-  tr_bdf2
+  tr_bdf2,
+  houbolt,
+  wilson_theta
 };
-/// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha": the names used alike on the
+/// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha", …: the names used alike on the
 /// command line, in plan files and in HDF5 attributes (core/method_registry.hpp holds them).
 const char* to_string(MethodKind kind);
 std::optional<MethodKind> method_kind_from_string(const std::string& name);
@@ -123,9 +125,39 @@ struct RhoBatheParams {
 /// default; stepped by the same code (core/bathe_composite.hpp).
 struct TrBdf2Params {};
 
-using MethodParams =
-    std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams, HhtParams,
-                 GeneralizedAlphaParams, BatheParams, RhoBatheParams, TrBdf2Params>;
+/// Houbolt's method (Houbolt 1950, J. Aeronaut. Sci. 17(9):540–550, doi:10.2514/8.1722): the
+/// cubic through u_{n−2}, u_{n−1}, u_n, u_{n+1} differentiated at t_{n+1},
+///   a_{n+1} = (2u_{n+1} − 5u_n + 4u_{n−1} − u_{n−2})/Δt²,
+///   v_{n+1} = (11u_{n+1} − 18u_n + 9u_{n−1} − 2u_{n−2})/(6Δt),
+/// with equilibrium (and the contact) at t_{n+1}. A three-step method: implicit, second order,
+/// unconditionally stable, ρ∞ = 0, and dissipative at every Ω (ξ̄ ≈ Ω³/2; period error
+/// 11/24·Ω²). No parameter. Its start-up and its steps as members of the one-step family:
+/// core/houbolt.hpp.
+struct HouboltParams {};
+
+/// θ of Wilson-θ below which it is not unconditionally stable: (1 + √3)/2 = 1.3660…, the root of
+/// 2θ² − 2θ − 1 = 0 at which the limit Ω → ∞ of its amplification matrix has the eigenvalue −1
+/// (the usual "θ >= 1.37" rounds it up; tests/wilson_theta_test.cpp measures both sides).
+inline constexpr double kWilsonThetaMinimum = 1.3660254037844386;
+
+/// Wilson-θ (Wilson, Farhoomand & Bathe 1972, Earthquake Eng. Struct. Dyn. 1:241–252,
+/// doi:10.1002/eqe.4290010305): equilibrium at t + θΔt with the linear-acceleration step
+/// (Newmark β = 1/6, γ = ½) of length θΔt, then back to t + Δt along the same linear
+/// acceleration:
+///   a_{n+1} = a_n + (a_θ − a_n)/θ,  v_{n+1} = v_n + Δt(a_n + a_{n+1})/2,
+///   u_{n+1} = u_n + Δt·v_n + Δt²(2a_n + a_{n+1})/6.
+/// Implicit, second order (period error (6θ² − 6θ + 1)/24·Ω², ξ̄ ≈ θ(θ−1)(2θ−1)/12·Ω³), stable
+/// for every Δt exactly when θ >= (1 + √3)/2 (kWilsonThetaMinimum; the tests scan θ up to 3, a
+/// scan to θ = 100 found no instability either). ρ∞ at the default θ = 1.4 is 0.7784 (a real root:
+/// the high frequencies alternate in sign), not monotone in θ (0.53 at 1.5, 0.63 at 2). Where the
+/// contact holds and which multiplier is reported: core/wilson_theta.hpp.
+struct WilsonThetaParams {
+  double theta = 1.4;  ///< θ >= (1 + √3)/2 and finite; 1.4, the value in common use
+};
+
+using MethodParams = std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams,
+                                  HhtParams, GeneralizedAlphaParams, BatheParams, RhoBatheParams,
+                                  TrBdf2Params, HouboltParams, WilsonThetaParams>;
 
 MethodKind kind_of(const MethodParams& params);
 /// Default parameters of a method.
@@ -152,7 +184,7 @@ struct ImplicitCoefficients {
 
 /// Whether a method's step is one step of the ImplicitCoefficients family (backward Euler,
 /// Newmark, HHT, generalized-α): what the batched kernels and ImplicitIntegrator step alone.
-/// Central difference and the composite schemes are not.
+/// Central difference, the composite schemes, Houbolt and Wilson-θ are not.
 bool is_single_step_implicit(const MethodParams& params);
 
 /// Coefficients of a single-step implicit method (is_single_step_implicit); derived here and only
@@ -170,13 +202,37 @@ struct CompositeCoefficients {
   ImplicitCoefficients first, second;
 };
 
-/// Coefficients of a composite method (Bathe, ρ∞-Bathe); derived here and only here.
+/// Coefficients of a composite method (Bathe, ρ∞-Bathe, TR-BDF2); derived here and only here.
 CompositeCoefficients composite_coefficients(const MethodParams& params);
+
+/// Whether a method is stepped as a composite scheme (core/bathe_composite.hpp).
+bool is_composite(const MethodParams& params);
+
+/// Houbolt's steps, each a member of the ImplicitCoefficients family stepped from predictors
+/// u*, v* written into the state (b0 = g0 = α_m = α_f = 0, so u₁ = u* + b1·Δt²·a₁,
+/// v₁ = v* + g1·Δt·a₁; core/houbolt.hpp forms u* and v*):
+/// - `steady`: b1 = ½, g1 = 11/12, Houbolt's formulas solved for u_{n+1} and v_{n+1};
+/// - `first`, `second`: the start-up (core/houbolt.hpp): the cubic through u₀, v₀, a₀ and u₁ is
+///   the linear-acceleration step (b1 = 1/6, g1 = ½, from u₀, v₀, a₀ with b0 = 1/3, g0 = ½), and
+///   the cubic through u₀, v₀, u₁, u₂ gives b1 = 2/5, g1 = 4/5.
+struct HouboltCoefficients {
+  ImplicitCoefficients first, second, steady;
+};
+HouboltCoefficients houbolt_coefficients();
+
+/// Wilson-θ's step: θ and the linear-acceleration member of the family (b0 = 1/3, b1 = 1/6,
+/// g0 = g1 = ½) taken over θ·Δt (core/wilson_theta.hpp).
+struct WilsonThetaCoefficients {
+  double theta;
+  ImplicitCoefficients extended;
+};
+WilsonThetaCoefficients wilson_theta_coefficients(const WilsonThetaParams& params);
 
 /// γ₀(ρ∞) = (2 − √(2 + 2ρ∞))/(1 − ρ∞), ½ at ρ∞ = 1: ρ∞-Bathe's default sub-step ratio.
 double rho_bathe_default_gamma(double rho_inf);
 
-/// β and γ a method uses, for reports; nothing for central difference and backward Euler.
+/// β and γ a method of the Newmark family uses, for reports; nothing for the others (central
+/// difference, backward Euler, the composite schemes, Houbolt, Wilson-θ).
 std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params);
 
 }  // namespace impactid

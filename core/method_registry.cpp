@@ -9,7 +9,7 @@ using Values = std::vector<ReportedValue>;
 using Choices = std::vector<std::pair<const char*, std::string>>;
 using Made = std::variant<MethodParams, ParameterError>;
 
-constexpr std::array<MethodParameter, 8> kParameters{{
+constexpr std::array<MethodParameter, 9> kParameters{{
     {"delta", false,
      "delta of eq. 13: beta = (1+delta)^2/4, gamma = 1/2+delta (newmark: default 0.3; hht: default "
      "-alpha), >= 0",
@@ -25,6 +25,10 @@ constexpr std::array<MethodParameter, 8> kParameters{{
      "rho-bathe sub-step ratio gamma: the trapezoidal sub-step ends at t + gamma*dt (default "
      "(2 - sqrt(2 + 2*rho_inf))/(1 - rho_inf), 1/2 at rho_inf = 1: equal effective matrices), "
      "in (0, 1)",
+     ""},
+    {"theta", false,
+     "wilson-theta theta: equilibrium at t + theta*dt (default 1.4), >= (1+sqrt(3))/2 = 1.3660254 "
+     "(unconditionally stable from there on)",
      ""},
     {"cdm_velocity", true,
      "central difference velocity: eq. 3 central or eq. 6/7 backward (default central)",
@@ -189,8 +193,22 @@ Values rho_bathe_values(const MethodParams& params) {
   return out;
 }
 
+// --- Houbolt and Wilson-θ (core/houbolt.hpp, core/wilson_theta.hpp) ---
+Made make_houbolt(const MethodArguments&) {
+  return HouboltParams{};
+}
+constexpr const char* kWilsonThetaParameters[] = {"theta"};
+Made make_wilson_theta(const MethodArguments& given) {
+  WilsonThetaParams p;
+  if (const auto theta = given.number("theta")) p.theta = *theta;
+  return p;
+}
+Values wilson_theta_values(const MethodParams& params) {
+  return {{"theta", std::get<WilsonThetaParams>(params).theta, false}};
+}
+
 // The registry: one entry per method, in MethodKind's order.
-const std::array<MethodDescriptor, 8> kMethods{{
+const std::array<MethodDescriptor, 10> kMethods{{
     {MethodKind::central_difference, "cdm",
      "central difference with Carpenter's forward-increment multiplier (eqs 1-7; Carpenter, Taylor "
      "& Katona 1991, doi:10.1002/nme.1620320107): explicit, second order, no numerical "
@@ -241,6 +259,21 @@ const std::array<MethodDescriptor, 8> kMethods{{
      make_tr_bdf2,
      bathe_values,
      no_choices},
+    {MethodKind::houbolt,
+     "houbolt",
+     "Houbolt (Houbolt 1950, doi:10.2514/8.1722): backward differences of the cubic through four "
+     "displacements; implicit, three-step, second order, rho_inf = 0, dissipative at every "
+     "frequency; started by the same cubic on the initial velocity and acceleration",
+     {},
+     make_houbolt,
+     no_values,
+     no_choices},
+    {MethodKind::wilson_theta, "wilson-theta",
+     "Wilson-theta (Wilson, Farhoomand & Bathe 1972, doi:10.1002/eqe.4290010305): linear "
+     "acceleration extended to t + theta*dt, equilibrium there; implicit, second order, "
+     "unconditionally stable for theta >= 1.366, rho_inf 0.78 at theta = 1.4; contact enforced "
+     "at t + dt",
+     kWilsonThetaParameters, make_wilson_theta, wilson_theta_values, no_choices},
 }};
 
 std::string join(const auto& items, const auto& name_of) {

@@ -65,7 +65,11 @@ bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
     return std::get<CentralDifferenceParams>(a.method).velocity ==
            std::get<CentralDifferenceParams>(b.method).velocity;
   }
-  if (!is_single_step_implicit(a.method)) {  // composite: compare both sub-steps' coefficients
+  if (kind_of(a.method) == MethodKind::houbolt) return true;  // no parameter
+  if (const auto* wilson = std::get_if<WilsonThetaParams>(&a.method)) {
+    return wilson->theta == std::get<WilsonThetaParams>(b.method).theta;
+  }
+  if (is_composite(a.method)) {  // compare both sub-steps' coefficients
     const CompositeCoefficients x = composite_coefficients(a.method);
     const CompositeCoefficients y = composite_coefficients(b.method);
     return x.gamma == y.gamma && x.q0 == y.q0 && x.q1 == y.q1 && x.q2 == y.q2;

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
+#include <string>
+#include <type_traits>
 
 #include "core/second_order_system.hpp"
 
@@ -167,8 +170,6 @@ auto plain_energy(const System& system) {
   return [&system](const State& s) { return system.energy(s.u, s.v); };
 }
 
-// Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
-// stepper that cannot start marks the run failed.
 // Copies a stepper's contact-law counters into the summary.
 template <class Stepper>
 void count_contact_iterations(const Stepper& stepper, RunSummary& summary) {
@@ -176,10 +177,65 @@ void count_contact_iterations(const Stepper& stepper, RunSummary& summary) {
   summary.unconverged_contact_steps = stepper.unconverged_contact_steps();
 }
 
+// The failure message of a stepper of several integrators (the sparse ones say why).
+template <class Integrator>
+std::string first_failure(std::initializer_list<const Integrator*> integrators) {
+  if constexpr (std::is_same_v<Integrator, SparseImplicitIntegrator>) {
+    for (const Integrator* i : integrators) {
+      if (!i->failure().empty()) return i->failure();
+    }
+    return "the effective matrix cannot be factored";
+  } else {
+    return "singular effective matrix";
+  }
+}
+
+// Houbolt and Wilson-θ on either kind of system, with the workspace's steppers for it: true if
+// the method is one of them (the run done, or the summary failed when the stepper cannot start).
+template <class HouboltStepper, class WilsonStepper, class System, class Run>
+bool run_multistep(const System& system, const MethodParams& method, double dt,
+                   const ContactPenalties& contact, HouboltStepper& houbolt, WilsonStepper& wilson,
+                   RunSummary& summary, Run&& run) {
+  const bool houbolt_method = std::holds_alternative<HouboltParams>(method);
+  if ((houbolt_method || std::holds_alternative<WilsonThetaParams>(method)) &&
+      !contact.lagrange()) {
+    summary.status = RunStatus::failed;
+    summary.message = std::string(to_string(kind_of(method))) +
+                      ": contact = " + to_string(contact.law) +
+                      " is not available; it takes Lagrange multipliers";
+    return true;
+  }
+  if (houbolt_method) {
+    if (houbolt.initialize(system, dt)) {
+      run(LoopStepper{[&](State& s) { houbolt.step(system, s); }, plain_energy(system)});
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string("houbolt: ") +
+                        first_failure({&houbolt.first(), &houbolt.second(), &houbolt.steady()});
+    }
+    return true;
+  }
+  if (const auto* p = std::get_if<WilsonThetaParams>(&method)) {
+    if (wilson.initialize(system, wilson_theta_coefficients(*p), dt)) {
+      run(LoopStepper{[&](State& s) { wilson.step(system, s); }, plain_energy(system)});
+    } else {
+      summary.status = RunStatus::failed;
+      summary.message = std::string("wilson-theta: ") + first_failure({&wilson.extended()});
+    }
+    return true;
+  }
+  return false;
+}
+
+// Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
+// stepper that cannot start marks the run failed.
 template <class Run>
 void run_method(const SecondOrderSystem& system, const MethodParams& method, double dt,
                 const ContactPenalties& contact, SimulationWorkspace& ws, State& state,
                 RunSummary& summary, Run&& run) {
+  if (run_multistep(system, method, dt, contact, ws.houbolt, ws.wilson_theta, summary, run)) {
+    return;
+  }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     CentralDifference& stepper = ws.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state, contact)) {
@@ -200,7 +256,7 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
       summary.status = RunStatus::failed;
       summary.message = "central difference: singular left-hand matrix";
     }
-  } else if (!is_single_step_implicit(method)) {
+  } else if (is_composite(method)) {
     auto& stepper = ws.composite;
     if (stepper.initialize(system, composite_coefficients(method), dt, contact)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
@@ -230,6 +286,10 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
 template <class Run>
 void run_sparse_method(const SparseSystem& system, const MethodParams& method, double dt,
                        SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
+  if (run_multistep(system, method, dt, ContactPenalties{}, ws.sparse_houbolt,
+                    ws.sparse_wilson_theta, summary, run)) {
+    return;
+  }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     SparseCentralDifference& stepper = ws.sparse_central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
@@ -240,7 +300,7 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
       summary.status = RunStatus::failed;
       summary.message = "central difference: " + stepper.failure();
     }
-  } else if (!is_single_step_implicit(method)) {
+  } else if (is_composite(method)) {
     auto& stepper = ws.sparse_composite;
     if (stepper.initialize(system, composite_coefficients(method), dt)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});

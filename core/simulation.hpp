@@ -13,6 +13,7 @@
 
 #include "core/bathe_composite.hpp"
 #include "core/central_difference.hpp"
+#include "core/houbolt.hpp"
 #include "core/implicit_integrator.hpp"
 #include "core/method.hpp"
 #include "core/model_reference.hpp"
@@ -22,6 +23,7 @@
 #include "core/scene_reference.hpp"
 #include "core/sparse_integrators.hpp"
 #include "core/state.hpp"
+#include "core/wilson_theta.hpp"
 
 namespace impactid {
 
@@ -64,6 +66,10 @@ struct SimulationWorkspace {
   SparseImplicitIntegrator sparse_implicit;  ///< for a model's sparse system
   SparseCentralDifference sparse_central_difference;
   BatheComposite<SparseImplicitIntegrator, SparseSystem> sparse_composite;
+  Houbolt<ImplicitIntegrator, SecondOrderSystem> houbolt;  ///< with its past displacements
+  Houbolt<SparseImplicitIntegrator, SparseSystem> sparse_houbolt;
+  WilsonTheta<ImplicitIntegrator, SecondOrderSystem> wilson_theta;
+  WilsonTheta<SparseImplicitIntegrator, SparseSystem> sparse_wilson_theta;
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace (study/

@@ -58,17 +58,18 @@ std::string pivot_failure(const char* what, const SparseFactorization& f) {
 
 // The contact forces of a step from the free prediction `free` (u at t + Δt without new forces,
 // read through `position`): violations, the complementarity problem, and the correction
-// scale·A⁻¹·Gᵀ·μ subtracted from `x` by one solve. Returns whether a force acts.
-template <class Position>
+// scale·A⁻¹·Gᵀ·μ subtracted from `x` by one solve. Returns whether a force acts. `gap` gives
+// constraint j's gap (shifted or not).
+template <class Position, class Gap>
 bool contact_forces(const std::vector<Constraint>& constraints, const Eigen::MatrixXd& delassus,
-                    const SparseFactorization& a, Position&& position, Eigen::VectorXd& violation,
-                    Eigen::VectorXd& forces, ContactLcpWorkspace& lcp, Eigen::VectorXd& correction,
-                    Eigen::VectorXd& x) {
+                    const SparseFactorization& a, Position&& position, Gap&& gap,
+                    Eigen::VectorXd& violation, Eigen::VectorXd& forces, ContactLcpWorkspace& lcp,
+                    Eigen::VectorXd& correction, Eigen::VectorXd& x) {
   const auto m = static_cast<int>(constraints.size());
   if (m == 0) return false;
   for (int j = 0; j < m; ++j) {
     const Constraint& c = constraints[static_cast<std::size_t>(j)];
-    double g = -c.gap;
+    double g = -gap(j);
     if (c.plus >= 0) g += position(c.plus);
     if (c.minus >= 0) g -= position(c.minus);
     violation[j] = g;
@@ -114,6 +115,7 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
   const auto m = static_cast<int>(system.constraints.size());
   violation_.resize(m);
   forces_.setZero(m);
+  gap_offsets_.setZero(m);
   lcp_.resize(m);
   return true;
 }
@@ -143,8 +145,9 @@ bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
   const double k = c_.b1 * dt2;
   const bool active = contact_forces(
       system.constraints, delassus_, factorization_,
-      [&](Eigen::Index i) { return std::fma(k, rhs_[i], u_predicted_[i]); }, violation_, forces_,
-      lcp_, correction_, rhs_);
+      [&](Eigen::Index i) { return std::fma(k, rhs_[i], u_predicted_[i]); },
+      [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap + gap_offsets_[j]; },
+      violation_, forces_, lcp_, correction_, rhs_);
   const double g1_dt = c_.g1 * dt;
   for (Eigen::Index i = 0; i < n; ++i) {
     s.a[i] = rhs_[i];
@@ -154,7 +157,7 @@ bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
   for (Eigen::Index j = 0; j < forces_.size(); ++j) {
     s.multipliers[j] = active ? forces_[j] / c_.contact_weight : 0.0;
   }
-  if (active) snap_walls(system.constraints, forces_, s.u);
+  if (active) snap_walls(system.constraints, forces_, s.u, gap_offsets_);
   s.t += dt;
   return active;
 }
@@ -210,7 +213,8 @@ bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
   factorization_.solve_in_place(u_next_);
   const bool active = contact_forces(
       system.constraints, delassus_, factorization_, [&](Eigen::Index i) { return u_next_[i]; },
-      violation_, forces_, lcp_, correction_, u_next_);
+      [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; }, violation_,
+      forces_, lcp_, correction_, u_next_);
   if (active) snap_walls(system.constraints, forces_, u_next_);
 
   at_t.u = u_;

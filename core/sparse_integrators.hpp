@@ -48,6 +48,9 @@ class SparseImplicitIntegrator {
   /// Advances state from t to t + Δt (its acceleration consistent: consistent_acceleration).
   /// Returns true if a constraint is active at t + Δt.
   bool step(const SparseSystem& system, State& state);
+  /// Shifts of the constraints' gaps, one per constraint, zero after initialize(): as
+  /// ImplicitIntegrator::gap_offsets() (Wilson-θ's constraint at t + Δt).
+  Eigen::VectorXd& gap_offsets() { return gap_offsets_; }
   const std::string& failure() const { return failure_; }
   const SparseFactorization& factorization() const { return factorization_; }
 
@@ -58,6 +61,7 @@ class SparseImplicitIntegrator {
   Eigen::VectorXd u_predicted_, v_predicted_, u_alpha_, v_alpha_, rhs_, correction_;
   Eigen::MatrixXd delassus_;
   Eigen::VectorXd violation_, forces_;
+  Eigen::VectorXd gap_offsets_;  // gap_offsets()
   ContactLcpWorkspace lcp_;
   std::string failure_;
 };

@@ -38,6 +38,13 @@ TEST(CommandLine, BadValuesExitTwoNamingOptionAndValue) {
   expect_bad_input("simulate --method backward-euler --alpha -0.1",
                    "--alpha = -0.1: is not a parameter of method backward-euler");
   expect_bad_input("simulate --method hht --alpha -0.7", "--alpha = -0.7: must lie in [-0.5, 0]");
+  expect_bad_input("simulate --method wilson-theta --theta 1.3",
+                   "--theta = 1.3: must be >= (1+sqrt(3))/2 = 1.3660254 (unconditional "
+                   "stability) and finite");
+  expect_bad_input("simulate --method wilson-theta --theta inf", "--theta = inf");
+  expect_bad_input("simulate --method houbolt --theta 1.4",
+                   "--theta = 1.4: is not a parameter of method houbolt (it applies to "
+                   "wilson-theta)");
   expect_bad_input("simulate --courant 1 --dt 1e-7", "cannot be given with courant");
   expect_bad_input("simulate --history out.txt", "--history = out.txt");
   expect_bad_input("simulate --no-such-option 1", "no-such-option");
@@ -46,11 +53,12 @@ TEST(CommandLine, BadValuesExitTwoNamingOptionAndValue) {
 TEST(CommandLine, HelpListsEveryOptionWithItsDefault) {
   const Output out = run("simulate --help");
   EXPECT_EQ(out.status, 0);
-  for (const char* option : {"--length", "--elements", "--youngs-modulus", "--density", "--area",
-                             "--velocity", "--gap", "--mass", "--courant", "--dt", "--t-end",
-                             "--method", "--delta", "--alpha", "--beta", "--gamma", "--rho-inf",
-                             "--cdm-velocity", "--hht-contact", "--peak-prominence", "--json",
-                             "--history"}) {
+  for (const char* option :
+       {"--length",          "--elements", "--youngs-modulus", "--density",      "--area",
+        "--velocity",        "--gap",      "--mass",           "--courant",      "--dt",
+        "--t-end",           "--method",   "--delta",          "--alpha",        "--beta",
+        "--gamma",           "--rho-inf",  "--theta",          "--cdm-velocity", "--hht-contact",
+        "--peak-prominence", "--json",     "--history"}) {
     EXPECT_NE(out.text.find(option), std::string::npos) << option;
   }
   EXPECT_NE(out.text.find("[MPa]"), std::string::npos);

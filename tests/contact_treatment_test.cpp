@@ -203,6 +203,14 @@ TEST(ContactTreatment, BadSettingsAreRefusedByName) {
   const RunSummary summary = simulate(RodScene{}, HhtParams{}, options, ws);
   EXPECT_EQ(summary.status, RunStatus::failed);
   EXPECT_NE(summary.message.find("penalty_factor"), std::string::npos);
+  // Houbolt and Wilson-θ take Lagrange multipliers only: another law fails, naming the method.
+  options.contact = {.law = ContactLaw::penalty};
+  for (const auto& [name, method] : std::vector<std::pair<std::string, MethodParams>>{
+           {"houbolt", HouboltParams{}}, {"wilson-theta", WilsonThetaParams{}}}) {
+    const RunSummary refused = simulate(RodScene{}, method, options, ws);
+    EXPECT_EQ(refused.status, RunStatus::failed) << name;
+    EXPECT_NE(refused.message.find(name), std::string::npos) << refused.message;
+  }
 }
 
 }  // namespace

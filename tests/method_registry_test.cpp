@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -18,7 +20,9 @@ constexpr MethodKind kEveryKind[] = {MethodKind::central_difference,
                                      MethodKind::generalized_alpha,
                                      MethodKind::bathe,
                                      MethodKind::rho_bathe,
-                                     MethodKind::tr_bdf2};
+                                     MethodKind::tr_bdf2,
+                                     MethodKind::houbolt,
+                                     MethodKind::wilson_theta};
 
 TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   ASSERT_EQ(method_registry().size(), std::size(kEveryKind));
@@ -32,7 +36,8 @@ TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
     EXPECT_EQ(descriptor(default_params(kind)).kind, kind);
   }
   EXPECT_EQ(method_names(),
-            "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2");
+            "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
+            "wilson-theta");
   EXPECT_FALSE(method_kind_from_string("rk4"));
 }
 
@@ -73,7 +78,11 @@ TEST(MethodRegistry, NothingGivenIsTheMethodsDefaults) {
 // and is not marked derived; each choice word is reported back too.
 TEST(MethodRegistry, GivenParametersAreReportedBackUnchanged) {
   const auto value_for = [](const std::string& name) {
-    return name == "alpha" ? -0.21 : name == "rho_inf" ? 0.37 : name == "gamma" ? 0.61 : 0.33;
+    return name == "alpha"     ? -0.21
+           : name == "rho_inf" ? 0.37
+           : name == "gamma"   ? 0.61
+           : name == "theta"   ? 1.55
+                               : 0.33;
   };
   int checked = 0;
   for (const MethodDescriptor& m : method_registry()) {
@@ -108,7 +117,7 @@ TEST(MethodRegistry, GivenParametersAreReportedBackUnchanged) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 11);
+  EXPECT_EQ(checked, 12);
 }
 
 TEST(MethodRegistry, RefusesAKeyTheMethodDoesNotTakeOrABadCombination) {
@@ -145,6 +154,43 @@ TEST(MethodRegistry, RhoBatheRangesAreCheckedByName) {
   ASSERT_TRUE(e);
   EXPECT_EQ(e->field, "rho_inf");
   EXPECT_FALSE(validate(RhoBatheParams{.rho_inf = 1.0, .gamma = 0.5}));
+}
+
+// Wilson-θ's θ: unconditionally stable from (1 + √3)/2 on (tests/wilson_theta_test.cpp measures
+// both sides), so anything below, or not finite, is refused by name; a key of another method is
+// refused with the methods that take it, and θ with the one that does.
+TEST(MethodRegistry, WilsonThetaRangeIsCheckedByName) {
+  for (const double theta : {1.0, 1.3, 1.366, -2.0, std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::quiet_NaN()}) {
+    const auto e = validate(WilsonThetaParams{.theta = theta});
+    ASSERT_TRUE(e) << theta;
+    EXPECT_EQ(e->field, "theta");
+    EXPECT_EQ(e->value, format_value(theta));
+    EXPECT_EQ(e->constraint,
+              "must be >= (1+sqrt(3))/2 = 1.3660254 (unconditional stability) and finite");
+  }
+  for (const double theta : {kWilsonThetaMinimum, 1.37, 1.4, 2.0, 10.0}) {
+    EXPECT_FALSE(validate(WilsonThetaParams{.theta = theta})) << theta;
+  }
+  EXPECT_NEAR(kWilsonThetaMinimum, (1.0 + std::sqrt(3.0)) / 2.0, 1e-16);
+  EXPECT_EQ(std::get<WilsonThetaParams>(default_params(MethodKind::wilson_theta)).theta, 1.4);
+
+  MethodArguments theta;
+  theta.set("theta", 1.2);
+  const auto built = build_method(MethodKind::wilson_theta, theta);
+  ASSERT_TRUE(std::holds_alternative<MethodParams>(built));
+  EXPECT_EQ(*reported_value(std::get<MethodParams>(built), "theta"), 1.2);
+  EXPECT_EQ(validate(std::get<MethodParams>(built))->field, "theta");
+  const auto refused = std::get<ParameterError>(build_method(MethodKind::houbolt, theta));
+  EXPECT_EQ(refused.field, "theta");
+  EXPECT_EQ(refused.value, "1.2");
+  EXPECT_EQ(refused.constraint,
+            "is not a parameter of method houbolt (it applies to wilson-theta)");
+  MethodArguments delta;
+  delta.set("delta", 0.3);
+  EXPECT_EQ(std::get<ParameterError>(build_method(MethodKind::wilson_theta, delta)).constraint,
+            "is not a parameter of method wilson-theta (it applies to newmark|hht)");
+  EXPECT_EQ(methods_taking("theta"), "wilson-theta");
 }
 
 // HHT's δ defaults to −α (eq. 15) and is reported so; β and γ follow eq. 13 and are derived.

@@ -31,6 +31,11 @@ TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
   // HHT's δ defaults to −α; generalized-α derives α_m and α_f.
   EXPECT_TRUE(contains(o.text, "--delta          default 0.3 ")) << o.text;
   EXPECT_TRUE(contains(o.text, "derived: beta, gamma, alpha_m, alpha_f")) << o.text;
+  // Houbolt (no parameter) and Wilson-θ with its θ.
+  EXPECT_TRUE(contains(o.text, "houbolt\n  Houbolt (Houbolt 1950, doi:10.2514/8.1722)")) << o.text;
+  EXPECT_TRUE(contains(o.text, "wilson-theta\n  Wilson-theta (Wilson, Farhoomand & Bathe 1972"))
+      << o.text;
+  EXPECT_TRUE(contains(o.text, "--theta          default 1.4 ")) << o.text;
 }
 
 TEST(MethodsCommand, JsonGivesTheSameList) {

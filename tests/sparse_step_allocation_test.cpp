@@ -10,8 +10,10 @@
 #include <filesystem>
 #include <new>
 
+#include "core/houbolt.hpp"
 #include "core/model_scene.hpp"
 #include "core/sparse_integrators.hpp"
+#include "core/wilson_theta.hpp"
 #include "study/plan.hpp"
 #include "study/simulation_settings.hpp"
 
@@ -97,6 +99,40 @@ TEST(SparseStep, AllocatesNothingOnTheBlock) {
     counting = false;
     EXPECT_EQ(allocations.load(), 0) << (cdm ? "central difference" : "hht");
     EXPECT_GT(largest, 0.0);  // the run did reach the plane
+  }
+}
+
+// Houbolt and Wilson-θ drive the same integrators and allocate nothing either, once their first
+// steps have sized their own storage (Houbolt's past displacements fill over its three kinds of
+// step).
+TEST(SparseStep, HouboltAndWilsonThetaAllocateNothingOnTheBlock) {
+  const Simulation sim = std::get<Simulation>(build(
+      load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
+  const AssembledScene scene = assemble(*sim.model);
+  ASSERT_TRUE(scene.sparse);
+  const SparseSystem& system = *scene.sparse;
+  for (const bool houbolt : {true, false}) {
+    State s;
+    s.u = Eigen::VectorXd::Zero(system.size());
+    s.v = scene.initial_velocity;
+    s.a = Eigen::VectorXd::Zero(system.size());
+    s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
+    Houbolt<SparseImplicitIntegrator, SparseSystem> h;
+    WilsonTheta<SparseImplicitIntegrator, SparseSystem> w;
+    ASSERT_TRUE(houbolt ? h.initialize(system, scene.dt)
+                        : w.initialize(system, wilson_theta_coefficients({}), scene.dt));
+    const auto step = [&] { houbolt ? h.step(system, s) : w.step(system, s); };
+    for (int i = 0; i < 3; ++i) step();
+    allocations = 0;
+    counting = true;
+    double largest = 0.0;
+    for (long i = 3; i < scene.step_count; ++i) {
+      step();
+      largest = std::max(largest, s.multipliers.maxCoeff());
+    }
+    counting = false;
+    EXPECT_EQ(allocations.load(), 0) << (houbolt ? "houbolt" : "wilson-theta");
+    EXPECT_GT(largest, 0.0);
   }
 }
 
