@@ -2062,7 +2062,8 @@ def work_precision_figure(results_dir, out_dir, name, png, heading="Work–preci
     if np.any(bad):
         keys[2].append(Line2D([], [], color="0.3", marker="x", mew=2.0, ms=7, ls="none",
                               label="× on the grey strip: a run that is not ok (unstable\nor failed), at its wall time until it stopped"))
-    for handles, x, ncol in zip(keys, (0.2, 0.43, 0.7), (1, 2, 1)):
+    # More than five methods: their key in two columns, so that it fits under the panels.
+    for handles, x, ncol in zip(keys, (0.2, 0.43, 0.7), (1 if M.size <= 5 else 2, 2, 1)):
         fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(x, 0.15), ncol=ncol, fontsize=8,
                    frameon=False)
     fig.get_layout_engine().set(rect=(0, 0.16, 1, 0.84))

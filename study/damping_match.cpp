@@ -11,12 +11,13 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-constexpr std::array<DampingFamilyInfo, 4> kFamilies{{
+constexpr std::array<DampingFamilyInfo, 5> kFamilies{{
     {DampingFamily::newmark, "newmark", "newmark", "delta", 0.0, 2.0},
     {DampingFamily::hht_eq19, "hht-eq19", "hht (delta = -1.5*alpha)", "alpha", 0.0, -0.5},
     {DampingFamily::hht_eq15, "hht-eq15", "hht (delta = -alpha)", "alpha", 0.0, -0.5},
     {DampingFamily::generalized_alpha, "generalized-alpha", "generalized-alpha", "rho_inf", 1.0,
      0.0},
+    {DampingFamily::rho_bathe, "rho-bathe", "rho-bathe", "rho_inf", 1.0, 0.0},
 }};
 
 double damping_ratio(DampingFamily family, double parameter, double omega_dt) {
@@ -43,6 +44,8 @@ MethodParams family_params(DampingFamily family, double parameter) {
       return HhtParams{.alpha = parameter};
     case DampingFamily::generalized_alpha:
       return GeneralizedAlphaParams{.rho_inf = parameter};
+    case DampingFamily::rho_bathe:
+      return RhoBatheParams{.rho_inf = parameter};
   }
   return BackwardEulerParams{};
 }

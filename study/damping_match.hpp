@@ -20,11 +20,12 @@ enum class DampingFamily {
   hht_eq19,           ///< HHT along the paper's eq. 19, δ = −1.5α, α ∈ [−0.5, 0]
   hht_eq15,           ///< HHT with δ = −α (eq. 15, second order), α ∈ [−0.5, 0]
   generalized_alpha,  ///< generalized-α, ρ∞ ∈ [0, 1]
+  rho_bathe,          ///< ρ∞-Bathe at its default sub-step ratio γ₀(ρ∞), ρ∞ ∈ [0, 1]
 };
 
 struct DampingFamilyInfo {
   DampingFamily family;
-  const char* name;   ///< "newmark", "hht-eq19", "hht-eq15", "generalized-alpha"
+  const char* name;   ///< "newmark", "hht-eq19", "hht-eq15", "generalized-alpha", "rho-bathe"
   const char* label;  ///< for tables: "hht (delta = -1.5*alpha)"
   const char*
       parameter;  ///< the plan/CLI name of the varied parameter: "delta", "alpha", "rho_inf"
@@ -34,7 +35,7 @@ struct DampingFamilyInfo {
   double undamped_end, damped_end;
 };
 
-/// The four families, in the order above.
+/// The families, in the order above.
 std::span<const DampingFamilyInfo> damping_families();
 const DampingFamilyInfo& family_info(DampingFamily family);
 

@@ -204,6 +204,7 @@ std::vector<std::pair<const char*, double>> family_parameters(DampingFamily fami
     case DampingFamily::hht_eq15:
       return {{"alpha", p}, {"delta", -p}};
     case DampingFamily::generalized_alpha:
+    case DampingFamily::rho_bathe:
       return {{"rho_inf", p}};
   }
   return {};
@@ -218,6 +219,8 @@ const char* family_method(DampingFamily family) {
       return "hht";
     case DampingFamily::generalized_alpha:
       return "generalized-alpha";
+    case DampingFamily::rho_bathe:
+      return "rho-bathe";
   }
   return "";
 }
@@ -230,6 +233,9 @@ int run_match(const Options& o, double omega_dt, double target) {
   const std::pair<const char*, MethodParams> fixed[] = {
       {"backward-euler", BackwardEulerParams{}},
       {"cdm", CentralDifferenceParams{}},
+      {"bathe", BatheParams{}},
+      {"tr-bdf2", TrBdf2Params{}},
+      {"houbolt", HouboltParams{}},
   };
   if (o.json) {
     JsonWriter json(std::cout);

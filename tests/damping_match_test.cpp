@@ -56,7 +56,8 @@ TEST(DampingMatch, EveryFamilyHitsAReachableTarget) {
   // Targets within every family's range but HHT eq. 15's (too little damping: below).
   for (const auto& [omega, target] : {std::pair{0.3, 0.008}, {1.0, 0.05}, {3.0, 0.15}}) {
     for (const DampingFamilyInfo& f : damping_families()) {
-      if (f.family == DampingFamily::hht_eq15) continue;
+      // HHT eq. 15 and ρ∞-Bathe damp too little at these Ω (their own tests below).
+      if (f.family == DampingFamily::hht_eq15 || f.family == DampingFamily::rho_bathe) continue;
       SCOPED_TRACE(std::string(f.name) + " at omega*dt = " + std::to_string(omega));
       const DampingMatch m = match_damping(f.family, omega, target);
       ASSERT_TRUE(m.reachable);
@@ -127,7 +128,7 @@ TEST(ShippedPlans, IdenticalDissipationMatchesItsDefinition) {
   ASSERT_EQ(plan.kind, StudyKind::list);
   ASSERT_TRUE(plan.output.histories.has_value());
   const PointSet points(plan);
-  ASSERT_EQ(points.size(), 5);
+  ASSERT_EQ(points.size(), 7);
 
   std::vector<Simulation> sims;
   for (long k = 0; k < points.size(); ++k) {
@@ -157,7 +158,17 @@ TEST(ShippedPlans, IdenticalDissipationMatchesItsDefinition) {
   int matched = 0;
   for (const Simulation& sim : sims) {
     const MethodKind kind = kind_of(sim.method);
-    if (kind == MethodKind::backward_euler || kind == MethodKind::central_difference) continue;
+    if (kind == MethodKind::backward_euler || kind == MethodKind::central_difference ||
+        kind == MethodKind::houbolt) {
+      continue;  // no parameter: their own damping
+    }
+    if (kind == MethodKind::rho_bathe) {
+      // Out of reach: its most damped member, ρ∞ = 0, at the top of its range.
+      const DampingMatch m = match_damping(DampingFamily::rho_bathe, 1.0, target);
+      EXPECT_FALSE(m.reachable);
+      EXPECT_EQ(xi(sim.method, 1.0), m.attainable_max);
+      continue;
+    }
     SCOPED_TRACE(to_string(kind));
     EXPECT_NEAR(xi(sim.method, 1.0), target, 1e-6 * target);
     EXPECT_NEAR(stepped_damping_ratio(sim.method, 1.0), target, 1e-6 * target);
@@ -166,6 +177,24 @@ TEST(ShippedPlans, IdenticalDissipationMatchesItsDefinition) {
   EXPECT_EQ(matched, 3);  // hht (the reference), newmark, generalized-alpha
   // HHT with delta = -alpha is left out because it cannot reach the target.
   EXPECT_FALSE(match_damping(DampingFamily::hht_eq15, 1.0, target).reachable);
+}
+
+// ρ∞-Bathe concentrates its damping at high Ω: at Ω = 1 it reaches at most the ξ̄ of ρ∞ = 0,
+// 0.0033, so HHT's ξ̄(1) = 0.071 of plans/identical-dissipation.toml is out of its reach; a
+// target within its range is matched, and the match is its ξ̄.
+TEST(DampingMatch, RhoBatheDampsLittleAtOmegaDtOne) {
+  const DampingMatch far = match_damping(DampingFamily::rho_bathe, 1.0, 0.07137500541822885);
+  EXPECT_FALSE(far.reachable);
+  EXPECT_NEAR(far.attainable_max, xi(RhoBatheParams{.rho_inf = 0.0}, 1.0), 1e-15);
+  EXPECT_LT(far.attainable_max, 0.004);
+  const DampingMatch m = match_damping(DampingFamily::rho_bathe, 1.0, 0.002);
+  ASSERT_TRUE(m.reachable);
+  EXPECT_GT(m.parameter, 0.0);
+  EXPECT_LT(m.parameter, 1.0);
+  EXPECT_NEAR(m.damping_ratio, 0.002, 1e-14);
+  EXPECT_EQ(m.damping_ratio, xi(RhoBatheParams{.rho_inf = m.parameter}, 1.0));
+  // At Ω = 3 it does reach 0.15's neighbourhood from below: its range grows with Ω.
+  EXPECT_GT(match_damping(DampingFamily::rho_bathe, 3.0, 0.01).attainable_max, 0.01);
 }
 
 }  // namespace
