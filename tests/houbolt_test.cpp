@@ -33,37 +33,17 @@
 namespace impactid {
 namespace {
 
+using testing::damped_free_rod;
 using testing::dense_mode;
 using testing::energy_norm_error;
 using testing::free_rod;
 using testing::make_state;
+using testing::ModalExact;
 using testing::observed_orders;
 using testing::record_signorini;
 using testing::SignoriniRecord;
 
 using TridiagonalHoubolt = Houbolt<ImplicitIntegrator, SecondOrderSystem>;
-
-// A free rod of 10 elements with stiffness-proportional damping C = a1·K, so that each mode is
-// q'' + 2ζω·q' + ω²·q = 0 with ζ = a1·ω/2.
-SecondOrderSystem damped_free_rod(double a1) {
-  SecondOrderSystem system = free_rod(10);
-  system.damping = system.stiffness.combined(a1, system.stiffness, 0.0);
-  return system;
-}
-
-// The exact modal solution from q(0) = 1, q'(0) = 0: q = e^(−ζωt)(cos ω_d t + ζω/ω_d sin ω_d t),
-// q' = −(ω²/ω_d)·e^(−ζωt)·sin ω_d t.
-struct ModalExact {
-  double omega, zeta;
-  double q(double t) const {
-    const double wd = omega * std::sqrt(1.0 - zeta * zeta);
-    return std::exp(-zeta * omega * t) * (std::cos(wd * t) + zeta * omega / wd * std::sin(wd * t));
-  }
-  double dq(double t) const {
-    const double wd = omega * std::sqrt(1.0 - zeta * zeta);
-    return -omega * omega / wd * std::exp(-zeta * omega * t) * std::sin(wd * t);
-  }
-};
 
 // Relative energy-norm errors at T = 1 of the first elastic mode started displaced,
 // Δt = T/40 … T/640.
@@ -337,10 +317,7 @@ TEST(Houbolt, SignoriniConditionsHoldBetweenTwoWallsAndInAsceneOfBodies) {
   EXPECT_EQ(summary.status, RunStatus::ok) << summary.message;
   EXPECT_LE(summary.max_penetration, 1e-12 * 0.01);
   EXPECT_FALSE(chain_batchable(scene, HouboltParams{}, RunOptions{}));
-  for (const auto& contact : ws.trace.contact_pressure) {
-    EXPECT_GT(*std::max_element(contact.begin(), contact.end()), 0.0);
-    EXPECT_GE(*std::min_element(contact.begin(), contact.end()), 0.0);
-  }
+  EXPECT_TRUE(testing::every_contact_pushes_and_never_pulls(ws.trace));
 }
 
 // Sparse models: the paper's rod as a sparse system equals the tridiagonal run to round-off
@@ -348,23 +325,13 @@ TEST(Houbolt, SignoriniConditionsHoldBetweenTwoWallsAndInAsceneOfBodies) {
 // family; later the chatter's round-off decides steps), and keeps the conditions at every step;
 // the shipped block model (1722 DOFs, 41 contacts) runs `ok` with no penetration.
 TEST(Houbolt, SparseModelsKeepTheConditions) {
-  RodScene rod;
-  rod.elements = 100;
-  rod.mass = MassMatrix::consistent;
-  rod.rayleigh_stiffness = 1e-8;
-  SecondOrderSystem tri = assemble_rod(rod);
+  const testing::SparseRodPair pair = testing::sparse_rod_pair();
+  const RodScene& rod = pair.rod;
+  const SecondOrderSystem& tri = pair.tridiagonal;
+  const SparseSystem& sys = pair.sparse;
   const Eigen::Index n = tri.size();
-  tri.constraints = {{n - 1, -1, rod.gap}};
-  tri.gap = std::numeric_limits<double>::infinity();
-  SparseSystem sys;
-  sys.mass = to_sparse(tri.mass);
-  sys.stiffness = to_sparse(tri.stiffness);
-  sys.damping = to_sparse(tri.damping);
-  sys.constraints = tri.constraints;
   const RodSceneDerived d = derive(rod);
-  State a = make_state(Eigen::VectorXd::Zero(n), Eigen::VectorXd::Constant(n, rod.velocity));
-  a.multipliers = Eigen::VectorXd::Zero(1);
-  a.a = consistent_acceleration(tri, a);
+  State a = pair.start;
   State b = a;
   TridiagonalHoubolt x;
   Houbolt<SparseImplicitIntegrator, SparseSystem> y;

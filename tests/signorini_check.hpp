@@ -10,6 +10,9 @@
 #include <limits>
 #include <type_traits>
 
+#include "core/implicit_integrator.hpp"  // consistent_acceleration
+#include "core/rod_scene.hpp"
+#include "core/run_record.hpp"
 #include "core/second_order_system.hpp"
 #include "core/sparse_system.hpp"
 #include "core/state.hpp"
@@ -57,6 +60,45 @@ void record_signorini(const System& system, const State& state, SignoriniRecord&
       record.record(-state.u[system.far_contact_dof] - system.far_gap, state.far_lambda);
     }
   }
+}
+
+/// The paper's rod with 100 elements, a consistent mass and stiffness damping, its wall as a
+/// constraint list, both as a tridiagonal and as a sparse system, and its start (v0 everywhere,
+/// the consistent acceleration): the same model on both kinds of integrator.
+struct SparseRodPair {
+  RodScene rod;
+  SecondOrderSystem tridiagonal;
+  SparseSystem sparse;
+  State start;
+};
+
+inline SparseRodPair sparse_rod_pair() {
+  SparseRodPair out;
+  out.rod.elements = 100;
+  out.rod.mass = MassMatrix::consistent;
+  out.rod.rayleigh_stiffness = 1e-8;
+  out.tridiagonal = assemble_rod(out.rod);
+  const Eigen::Index n = out.tridiagonal.size();
+  out.tridiagonal.constraints = {{n - 1, -1, out.rod.gap}};
+  out.tridiagonal.gap = std::numeric_limits<double>::infinity();
+  out.sparse.mass = to_sparse(out.tridiagonal.mass);
+  out.sparse.stiffness = to_sparse(out.tridiagonal.stiffness);
+  out.sparse.damping = to_sparse(out.tridiagonal.damping);
+  out.sparse.constraints = out.tridiagonal.constraints;
+  out.start.u = Eigen::VectorXd::Zero(n);
+  out.start.v = Eigen::VectorXd::Constant(n, out.rod.velocity);
+  out.start.multipliers = Eigen::VectorXd::Zero(1);
+  out.start.a = consistent_acceleration(out.tridiagonal, out.start);
+  return out;
+}
+
+/// Every contact of a run's trace pushed at some sample and never pulled.
+inline bool every_contact_pushes_and_never_pulls(const ContactTrace& trace) {
+  for (const auto& contact : trace.contact_pressure) {
+    if (!(*std::max_element(contact.begin(), contact.end()) > 0.0)) return false;
+    if (*std::min_element(contact.begin(), contact.end()) < 0.0) return false;
+  }
+  return true;
 }
 
 }  // namespace impactid::testing

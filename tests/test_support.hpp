@@ -150,4 +150,26 @@ inline double max_abs_difference(const std::vector<double>& a, const std::vector
   return worst;
 }
 
+// A free rod of 10 elements with stiffness-proportional damping C = a1·K, so that each mode is
+// q'' + 2ζω·q' + ω²·q = 0 with ζ = a1·ω/2.
+inline SecondOrderSystem damped_free_rod(double a1) {
+  SecondOrderSystem system = free_rod(10);
+  system.damping = system.stiffness.combined(a1, system.stiffness, 0.0);
+  return system;
+}
+
+// The exact modal solution from q(0) = 1, q'(0) = 0: q = e^(−ζωt)(cos ω_d t + ζω/ω_d sin ω_d t),
+// q' = −(ω²/ω_d)·e^(−ζωt)·sin ω_d t.
+struct ModalExact {
+  double omega, zeta;
+  double q(double t) const {
+    const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+    return std::exp(-zeta * omega * t) * (std::cos(wd * t) + zeta * omega / wd * std::sin(wd * t));
+  }
+  double dq(double t) const {
+    const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+    return -omega * omega / wd * std::exp(-zeta * omega * t) * std::sin(wd * t);
+  }
+};
+
 }  // namespace impactid::testing

@@ -34,34 +34,17 @@
 namespace impactid {
 namespace {
 
+using testing::damped_free_rod;
 using testing::dense_mode;
 using testing::energy_norm_error;
 using testing::free_rod;
 using testing::make_state;
+using testing::ModalExact;
 using testing::observed_orders;
 using testing::record_signorini;
 using testing::SignoriniRecord;
 
 using TridiagonalWilson = WilsonTheta<ImplicitIntegrator, SecondOrderSystem>;
-
-SecondOrderSystem damped_free_rod(double a1) {
-  SecondOrderSystem system = free_rod(10);
-  system.damping = system.stiffness.combined(a1, system.stiffness, 0.0);
-  return system;
-}
-
-// The exact modal solution of q'' + 2ζω·q' + ω²·q = 0 from q(0) = 1, q'(0) = 0.
-struct ModalExact {
-  double omega, zeta;
-  double q(double t) const {
-    const double wd = omega * std::sqrt(1.0 - zeta * zeta);
-    return std::exp(-zeta * omega * t) * (std::cos(wd * t) + zeta * omega / wd * std::sin(wd * t));
-  }
-  double dq(double t) const {
-    const double wd = omega * std::sqrt(1.0 - zeta * zeta);
-    return -omega * omega / wd * std::exp(-zeta * omega * t) * std::sin(wd * t);
-  }
-};
 
 std::vector<double> mode_errors(double theta, double a1) {
   const SecondOrderSystem system = damped_free_rod(a1);
@@ -333,30 +316,17 @@ TEST(WilsonTheta, SignoriniConditionsHoldBetweenTwoWallsAndInAsceneOfBodies) {
   EXPECT_NE(summary.status, RunStatus::failed) << summary.message;
   EXPECT_LE(summary.max_penetration, 1e-12 * 0.01);
   EXPECT_FALSE(chain_batchable(scene, WilsonThetaParams{}, RunOptions{}));
-  for (const auto& contact : ws.trace.contact_pressure) {
-    EXPECT_GT(*std::max_element(contact.begin(), contact.end()), 0.0);
-    EXPECT_GE(*std::min_element(contact.begin(), contact.end()), 0.0);
-  }
+  EXPECT_TRUE(testing::every_contact_pushes_and_never_pulls(ws.trace));
 }
 
 TEST(WilsonTheta, SparseModelsKeepTheConditions) {
-  RodScene rod;
-  rod.elements = 100;
-  rod.mass = MassMatrix::consistent;
-  rod.rayleigh_stiffness = 1e-8;
-  SecondOrderSystem tri = assemble_rod(rod);
+  const testing::SparseRodPair pair = testing::sparse_rod_pair();
+  const RodScene& rod = pair.rod;
+  const SecondOrderSystem& tri = pair.tridiagonal;
+  const SparseSystem& sys = pair.sparse;
   const Eigen::Index n = tri.size();
-  tri.constraints = {{n - 1, -1, rod.gap}};
-  tri.gap = std::numeric_limits<double>::infinity();
-  SparseSystem sys;
-  sys.mass = to_sparse(tri.mass);
-  sys.stiffness = to_sparse(tri.stiffness);
-  sys.damping = to_sparse(tri.damping);
-  sys.constraints = tri.constraints;
   const RodSceneDerived d = derive(rod);
-  State a = make_state(Eigen::VectorXd::Zero(n), Eigen::VectorXd::Constant(n, rod.velocity));
-  a.multipliers = Eigen::VectorXd::Zero(1);
-  a.a = consistent_acceleration(tri, a);
+  State a = pair.start;
   State b = a;
   TridiagonalWilson x;
   WilsonTheta<SparseImplicitIntegrator, SparseSystem> y;
