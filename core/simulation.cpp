@@ -163,6 +163,9 @@ struct LoopStepper {
   Advance advance;
   Energy energy;
 };
+// Clang 14 (the sanitizer build's) does not deduce an aggregate's arguments by itself.
+template <class Advance, class Energy>
+LoopStepper(Advance, Energy) -> LoopStepper<Advance, Energy>;
 
 // The energy ½vᵀMv + ½uᵀKu of a state: every method's but central difference's.
 template <class System>
