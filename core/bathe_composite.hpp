@@ -59,13 +59,7 @@ class BatheComposite {
   /// Advances state from t to t + Δt; its acceleration must be consistent with u and v (as for
   /// the integrators). Returns the second sub-step's contact status.
   bool step(const System& system, State& state) {
-    mid_.u = state.u;
-    mid_.v = state.v;
-    mid_.a = state.a;
-    mid_.lambda = state.lambda;
-    mid_.far_lambda = state.far_lambda;
-    mid_.multipliers = state.multipliers;
-    mid_.t = state.t;
+    mid_ = state;  // the vectors keep their storage once sized: no allocation after the first step
     first_.step(system, mid_);
     v_star_ = state.v + dt_ * (c_.q0 * state.a + c_.q1 * mid_.a);
     state.u += dt_ * (c_.q0 * state.v + c_.q1 * mid_.v) + ((c_.q2 - 1.0) * dt_) * v_star_;

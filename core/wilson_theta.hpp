@@ -74,13 +74,7 @@ class WilsonTheta {
   /// Advances state from t to t + Δt; its acceleration must be consistent with u and v (as for
   /// the integrators). Returns true if a constraint is active at t + Δt.
   bool step(const System& system, State& state) {
-    mid_.u = state.u;
-    mid_.v = state.v;
-    mid_.a = state.a;
-    mid_.lambda = state.lambda;
-    mid_.far_lambda = state.far_lambda;
-    mid_.multipliers = state.multipliers;
-    mid_.t = state.t;
+    mid_ = state;  // the vectors keep their storage once sized: no allocation after the first step
     set_gap_offsets(system, state);
     const bool active = extended_.step(system, mid_);
 
