@@ -36,7 +36,9 @@ namespace {
 using testing::damped_free_rod;
 using testing::dense_mode;
 using testing::energy_norm_error;
+using testing::expect_signorini;
 using testing::free_rod;
+using testing::initial_state;
 using testing::make_state;
 using testing::ModalExact;
 using testing::observed_orders;
@@ -251,20 +253,6 @@ SignoriniRecord step_scene(const System& system, State s, double dt, long steps)
     record_signorini(system, s, record);
   }
   return record;
-}
-
-State initial_state(const AssembledScene& scene, Eigen::Index constraints) {
-  State s =
-      make_state(Eigen::VectorXd::Zero(scene.initial_velocity.size()), scene.initial_velocity);
-  s.multipliers = Eigen::VectorXd::Zero(constraints);
-  return s;
-}
-
-void expect_signorini(const SignoriniRecord& r, double scale, long min_pushing) {
-  EXPECT_GE(r.min_multiplier, 0.0);
-  EXPECT_LE(r.max_violation, 1e-12 * scale);
-  EXPECT_LE(r.max_gap_while_pushing, 1e-12 * scale);
-  EXPECT_GT(r.pushing, min_pushing);
 }
 
 // The paper's rod: at every step λ >= 0, the node not beyond the wall, and on it where λ > 0;

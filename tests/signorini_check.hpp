@@ -4,6 +4,8 @@
 // with g = 0. Nothing here calls the code under test.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -13,6 +15,7 @@
 #include "core/implicit_integrator.hpp"  // consistent_acceleration
 #include "core/rod_scene.hpp"
 #include "core/run_record.hpp"
+#include "core/scene_assembly.hpp"
 #include "core/second_order_system.hpp"
 #include "core/sparse_system.hpp"
 #include "core/state.hpp"
@@ -99,6 +102,25 @@ inline bool every_contact_pushes_and_never_pulls(const ContactTrace& trace) {
     if (*std::min_element(contact.begin(), contact.end()) < 0.0) return false;
   }
   return true;
+}
+
+/// A scene's start: at rest in place, its initial velocities, `constraints` zero multipliers.
+inline State initial_state(const AssembledScene& scene, Eigen::Index constraints) {
+  State s;
+  s.u = Eigen::VectorXd::Zero(scene.initial_velocity.size());
+  s.v = scene.initial_velocity;
+  s.a = Eigen::VectorXd::Zero(scene.initial_velocity.size());
+  s.multipliers = Eigen::VectorXd::Zero(constraints);
+  return s;
+}
+
+/// The Signorini conditions to round-off of `scale` (the gap), with at least `min_pushing`
+/// pushing (constraint, state) pairs, so that the check cannot pass on a run without contact.
+inline void expect_signorini(const SignoriniRecord& r, double scale, long min_pushing) {
+  EXPECT_GE(r.min_multiplier, 0.0);
+  EXPECT_LE(r.max_violation, 1e-12 * scale);
+  EXPECT_LE(r.max_gap_while_pushing, 1e-12 * scale);
+  EXPECT_GT(r.pushing, min_pushing);
 }
 
 }  // namespace impactid::testing
