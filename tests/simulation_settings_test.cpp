@@ -82,6 +82,26 @@ TEST(SimulationSettings, TextIsParsedStrictly) {
   EXPECT_EQ(s.scene.elements, 50);
 }
 
+// The contact keys: a law by its name, and every bad value refused by the key's name.
+TEST(SimulationSettings, ContactKeysAreCheckedByName) {
+  SimulationSettings s;
+  ASSERT_FALSE(assign_text(s, "contact", "augmented-lagrangian"));
+  ASSERT_FALSE(assign_text(s, "penalty_stiffness", "2500"));
+  EXPECT_EQ(built(s).run.contact.law, ContactLaw::augmented_lagrangian);
+  EXPECT_EQ(built(s).run.contact.penalty_stiffness, 2500.0);
+  EXPECT_EQ(assign_text(s, "contact", "bogus")->field, "contact");
+  for (const auto& [key, bad] : {std::pair{"penalty_stiffness", "0"},
+                                 {"penalty_factor", "-1"},
+                                 {"augmented_tolerance", "1"},
+                                 {"augmented_max_iterations", "0"}}) {
+    SimulationSettings t;
+    ASSERT_FALSE(assign_text(t, key, bad)) << key;
+    const ParameterError e = error_of(t);
+    EXPECT_EQ(e.field, key);
+    EXPECT_EQ(e.value, bad);
+  }
+}
+
 TEST(SimulationSettings, NanIsRejectedByName) {
   SimulationSettings s;
   ASSERT_FALSE(assign_text(s, "velocity", "nan"));
