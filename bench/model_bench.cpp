@@ -16,8 +16,8 @@
 #include "core/model_scene.hpp"
 #include "core/simulation.hpp"
 #include "core/sparse_factorization.hpp"
-#include "study/plan.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/simulation_settings.hpp"
 
 #ifdef IMPACTID_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>

@@ -15,7 +15,7 @@
 #include "core/scene_assembly.hpp"
 #include "core/simulation.hpp"
 #include "sparse_reference.hpp"
-#include "study/evaluation.hpp"
+#include "study/studies/evaluation.hpp"
 
 namespace impactid {
 namespace {

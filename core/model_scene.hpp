@@ -1,7 +1,7 @@
 // A user's own model as a scene (issue 20): the semi-discrete equations of a finite element model
-// made elsewhere (M, K and optionally C, as Matrix Market files: study/model_file.hpp reads them),
-// its initial state, and its unilateral contacts, each on one DOF (a rigid wall) or between two
-// (node to node):
+// made elsewhere (M, K and optionally C, as Matrix Market files: study/plan/model_file.hpp reads
+// them), its initial state, and its unilateral contacts, each on one DOF (a rigid wall) or between
+// two (node to node):
 //   wall, side "upper":  u[dof] <= gap           force −λ on dof
 //   wall, side "lower":  u[dof] >= −gap          force +λ on dof
 //   pair [i, j]:         u[i] − u[j] <= gap      force −λ on i, +λ on j
@@ -53,7 +53,7 @@ struct ReferenceHistory {
   std::vector<ContactSamples> contacts;  ///< Model::contacts order; empty vectors: not given
 };
 
-/// A loaded model: what the files said, checked (study/model_file.hpp).
+/// A loaded model: what the files said, checked (study/plan/model_file.hpp).
 struct Model {
   SparseMatrix mass, stiffness, damping;      ///< damping 0×0 when absent
   Eigen::VectorXd initial_displacement;       ///< size n (zero when not given)

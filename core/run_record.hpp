@@ -12,7 +12,7 @@ enum class RunStatus {
   ok,        ///< every sample finite, energy within the bound
   unstable,  ///< a value became non-finite or the energy exceeded the bound; the run stopped
   failed,    ///< the method could not start (singular effective matrix), or a scene of bodies has
-             ///< no reference to measure the run against (study/evaluation.cpp)
+             ///< no reference to measure the run against (study/studies/evaluation.cpp)
 };
 const char* to_string(RunStatus status);
 

@@ -76,7 +76,7 @@ struct SimulationWorkspace {
   /// evaluation.cpp): a sweep over method parameters keeps one scene, whose reference is then
   /// computed once per thread.
   std::optional<SceneReference> reference;
-  /// The same for a user's model (study/evaluation.cpp).
+  /// The same for a user's model (study/studies/evaluation.cpp).
   std::optional<ModelReference> model_reference;
 };
 

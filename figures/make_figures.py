@@ -457,7 +457,7 @@ SEGMENT_KEYS = ("length", "elements", "youngs_modulus", "density", "area")
 
 def is_scene_of_bodies(scene):
     """Whether a [scene] table describes a scene of bodies (it has `body` or `wall`), as
-    study/scene_file.hpp decides."""
+    study/plan/scene_file.hpp decides."""
     return "body" in scene or "wall" in scene
 
 

@@ -1,5 +1,5 @@
-// libFuzzer target: any bytes as a Matrix Market file (study/matrix_market.hpp, issue 20's model
-// input).
+// libFuzzer target: any bytes as a Matrix Market file (study/formats/matrix_market.hpp, issue 20's
+// model input).
 //
 // The contract under test: read_matrix_market() either returns a matrix or throws
 // MatrixMarketError, whose message names the input. A crash, a sanitizer report, a hang, an
@@ -19,7 +19,7 @@
 #include <string>
 #include <typeinfo>
 
-#include "study/matrix_market.hpp"
+#include "study/formats/matrix_market.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// libFuzzer target: any bytes as the text of a plan file (study/plan.hpp, plans/README.md).
+// libFuzzer target: any bytes as the text of a plan file (study/plan/plan.hpp, plans/README.md).
 //
 // The contract under test: parse_plan() either returns a plan whose every promise holds, or
 // throws PlanError. A crash, a sanitizer report, a hang, or an exception of any other type
@@ -7,7 +7,7 @@
 // wrong" and exit status 2.
 //
 // Promises of a returned plan that are checked here, because `impactid run` relies on them
-// without checking again (std::get<Simulation>(build(...)) in study/run_command.cpp):
+// without checking again (std::get<Simulation>(build(...)) in study/cli/run_command.cpp):
 //   - grid and list: every point builds (PointSet::settings "does not fail for a loaded
 //     plan"); checked on the first, middle and last point, as --dry-run times them;
 //   - optimize: the start point builds (--dry-run times it);
@@ -22,9 +22,9 @@
 #include <typeinfo>
 #include <variant>
 
-#include "study/plan.hpp"
-#include "study/point_set.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/point_set.hpp"
+#include "study/plan/simulation_settings.hpp"
 
 namespace {
 

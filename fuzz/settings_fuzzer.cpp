@@ -4,15 +4,17 @@
 // The input is split into lines, at most 64 arguments (argv[0] = "impactid"); an argument ends
 // at its first NUL, as a real argv does. Three stages, each of which must not crash, trip a
 // sanitizer or throw anything the command line does not expect:
-//   1. the whole command line (every subcommand and option of study/main.cpp) through CLI11:
+//   1. the whole command line (every subcommand and option of study/cli/main.cpp) through CLI11:
 //      only CLI::ParseError (including --help and --version) may come out. Nothing is run.
-//   2. simulate's parameter options (add_parameter_options, study/command_line.hpp) through
-//      CLI11, then assign_text() for each given option and build() (study/simulation_settings.hpp),
-//      as apply_options() and build_or_report() do, minus their messages on stderr. An error
-//      must name a parameter of the table: it is printed as that option (`--delta = 0.3: …`).
+//   2. simulate's parameter options (add_parameter_options, study/cli/command_line.hpp) through
+//      CLI11, then assign_text() for each given option and build()
+//      (study/plan/simulation_settings.hpp), as apply_options() and build_or_report() do, minus
+//      their messages on stderr. An error must name a parameter of the table: it is printed as that
+//      option (`--delta = 0.3: …`).
 //   3. when the built scene is tiny ((elements + 1) × steps ≤ 1e5, a few milliseconds), one
-//      simulation and its indicators (study/evaluation.hpp), written to JSON in memory. Checked:
-//      a run that is not ok has only NaN indicators (README, "Status"); steps ≤ planned steps.
+//      simulation and its indicators (study/studies/evaluation.hpp), written to JSON in memory.
+//      Checked: a run that is not ok has only NaN indicators (README, "Status"); steps ≤ planned
+//      steps.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstddef>
@@ -26,12 +28,12 @@
 #include <variant>
 #include <vector>
 
-#include "study/command_line.hpp"
-#include "study/evaluation.hpp"
-#include "study/json_writer.hpp"
-#include "study/run_command.hpp"
-#include "study/simulate_command.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/cli/command_line.hpp"
+#include "study/cli/run_command.hpp"
+#include "study/cli/simulate_command.hpp"
+#include "study/formats/json_writer.hpp"
+#include "study/plan/simulation_settings.hpp"
+#include "study/studies/evaluation.hpp"
 
 namespace {
 
@@ -62,7 +64,7 @@ struct Argv {
   const char* const* argv() const { return pointers.data(); }
 };
 
-// Stage 1: the set-up of study/main.cpp's main(), which is not a function of its own.
+// Stage 1: the set-up of study/cli/main.cpp's main(), which is not a function of its own.
 void parse_whole_command_line(const Argv& args) {
   CLI::App app{"impactid"};
   app.require_subcommand(1);

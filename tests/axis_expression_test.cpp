@@ -1,6 +1,6 @@
 // Coupled-axis expressions: the values they compute (precedence, associativity, number forms)
 // and the column their syntax errors point at.
-#include "study/axis_expression.hpp"
+#include "study/plan/axis_expression.hpp"
 
 #include <gtest/gtest.h>
 

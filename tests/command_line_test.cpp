@@ -2,8 +2,6 @@
 // JSON that carries the indicators, and `simulate` agreeing with the library.
 #include <gtest/gtest.h>
 
-#include "cli_support.hpp"
-
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -11,7 +9,8 @@
 #include <memory>
 #include <string>
 
-#include "study/evaluation.hpp"
+#include "cli_support.hpp"
+#include "study/studies/evaluation.hpp"
 
 namespace impactid {
 namespace {

@@ -1,7 +1,7 @@
 // Matching the algorithmic damping ratio across method families, and the shipped plan
 // plans/identical-dissipation.toml held to its definition: every adjustable method at the ξ̄ of
 // HHT (α = −0.3, δ = 0.45) at Ω = ω·Δt = 1, the highest mode of the default rod.
-#include "study/damping_match.hpp"
+#include "study/studies/damping_match.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 
 #include "core/amplification.hpp"
 #include "core/implicit_integrator.hpp"
-#include "study/plan.hpp"
-#include "study/point_set.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/point_set.hpp"
 
 namespace impactid {
 namespace {

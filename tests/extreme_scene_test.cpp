@@ -42,9 +42,9 @@
 #include <variant>
 #include <vector>
 
-#include "study/evaluation.hpp"
-#include "study/json_writer.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/formats/json_writer.hpp"
+#include "study/plan/simulation_settings.hpp"
+#include "study/studies/evaluation.hpp"
 
 namespace impactid {
 namespace {

@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "study/io/results_file.hpp"
 #include "test_files.hpp"
-#include "study/results_file.hpp"
 
 namespace impactid {
 namespace {

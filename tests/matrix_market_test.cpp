@@ -1,7 +1,7 @@
 // The Matrix Market reader (issue 20's input) against hand-written files: symmetric and general
 // storage, coordinate and array format, comments and blank lines; and the error of every bad
 // file names the file, the line and the value.
-#include "study/matrix_market.hpp"
+#include "study/formats/matrix_market.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// A user's model read from files (study/model_file.hpp): every refusal names the file, the key or
-// line and the bad value; the paper's rod exported as a model (study/model_export.hpp) runs the
-// built-in rod's numbers bit for bit; the shipped block keeps the Signorini conditions after every
-// step.
+// A user's model read from files (study/plan/model_file.hpp): every refusal names the file, the key
+// or line and the bad value; the paper's rod exported as a model (study/cli/model_export.hpp) runs
+// the built-in rod's numbers bit for bit; the shipped block keeps the Signorini conditions after
+// every step.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,12 +14,12 @@
 #include "core/simulation.hpp"
 #include "core/sparse_integrators.hpp"
 #include "same_run.hpp"
-#include "study/evaluation.hpp"
-#include "study/hdf5_file.hpp"
-#include "study/history_file.hpp"
-#include "study/model_export.hpp"
-#include "study/plan.hpp"
-#include "study/point_set.hpp"
+#include "study/cli/model_export.hpp"
+#include "study/formats/hdf5_file.hpp"
+#include "study/io/history_file.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/point_set.hpp"
+#include "study/studies/evaluation.hpp"
 #include "test_files.hpp"
 
 namespace impactid {

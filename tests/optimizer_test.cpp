@@ -1,15 +1,14 @@
 // NLopt searches, cross-checked against a grid over the same parameter.
-#include "study/optimizer.hpp"
+#include "study/studies/optimizer.hpp"
 
 #include <gtest/gtest.h>
 
-#include <cstring>
-
 #include <cmath>
+#include <cstring>
 #include <limits>
 
-#include "study/evaluation.hpp"
-#include "study/plan.hpp"
+#include "study/plan/plan.hpp"
+#include "study/studies/evaluation.hpp"
 
 namespace impactid {
 namespace {

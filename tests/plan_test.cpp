@@ -1,6 +1,6 @@
 // Plan files: what a valid plan of each kind parses to, and that every kind of mistake is
 // reported as "file:line:column: key = value: what" at the place it is written.
-#include "study/plan.hpp"
+#include "study/plan/plan.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "study/indicator_table.hpp"
-#include "study/point_set.hpp"
+#include "metrics/indicator_table.hpp"
+#include "study/plan/point_set.hpp"
 
 namespace impactid {
 namespace {

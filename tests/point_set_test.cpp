@@ -1,6 +1,6 @@
 // Expansion of grid and list plans into points: counts, the partitions convention, row-major
 // order, coupled values and what each point's settings hold.
-#include "study/point_set.hpp"
+#include "study/plan/point_set.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "study/plan.hpp"
+#include "study/plan/plan.hpp"
 
 namespace impactid {
 namespace {

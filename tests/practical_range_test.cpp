@@ -1,9 +1,7 @@
 // The practical range: which points pass the plan's thresholds and how far they extend, on
 // hand-made tables whose answer is known; then `impactid run` storing it in a results file and
 // recomputing it on --resume.
-#include "cli_support.hpp"
-#include "test_files.hpp"
-#include "study/practical_range.hpp"
+#include "study/studies/practical_range.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -16,6 +14,10 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+
+#include "cli_support.hpp"
+#include "study/io/results_file.hpp"
+#include "test_files.hpp"
 
 namespace impactid {
 namespace {

@@ -1,8 +1,8 @@
-// The results file (study/results_file.hpp): HDF5 round trips field by field, the netCDF-4
+// The results file (study/io/results_file.hpp): HDF5 round trips field by field, the netCDF-4
 // dimension-scale layout, atomic replacement, rejection of damaged and foreign files, and the
 // CSV export parsed back. Expected values are written out here, never produced by the code
 // under test.
-#include "study/results_file.hpp"
+#include "study/io/results_file.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "study/hdf5_file.hpp"
+#include "study/formats/hdf5_file.hpp"
 
 namespace impactid {
 namespace {
@@ -84,7 +84,7 @@ StudyResults list_results() {
   return r;
 }
 
-// An optimisation's table of evaluations, as study/optimizer.cpp builds it.
+// An optimisation's table of evaluations, as study/studies/optimizer.cpp builds it.
 StudyResults evaluation_results(std::size_t rows) {
   StudyResults r;
   r.plan_name = "optimize-hht";

@@ -1,25 +1,23 @@
 // `impactid run` as a user drives it: a plan to a results file, --resume, Ctrl-C in the middle
 // of a sweep, bad plans and unreadable result files.
+#include <fcntl.h>
 #include <gtest/gtest.h>
-
-#include "cli_support.hpp"
-#include "test_files.hpp"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <fcntl.h>
-
 #include <array>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <thread>
 
-#include "study/results_file.hpp"
+#include "cli_support.hpp"
+#include "study/io/results_file.hpp"
+#include "test_files.hpp"
 
 namespace impactid {
 namespace {

@@ -8,13 +8,13 @@
 #include <fstream>
 #include <string>
 
-#include "study/evaluation.hpp"
-#include "study/indicator_table.hpp"
-#include "study/plan.hpp"
-#include "study/point_set.hpp"
-#include "study/scene_path.hpp"
-#include "study/sweep.hpp"
-#include "study/work_precision.hpp"
+#include "metrics/indicator_table.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/point_set.hpp"
+#include "study/plan/scene_path.hpp"
+#include "study/studies/evaluation.hpp"
+#include "study/studies/sweep.hpp"
+#include "study/studies/work_precision.hpp"
 
 namespace impactid {
 namespace {

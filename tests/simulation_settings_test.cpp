@@ -1,6 +1,6 @@
 // The parameter table is the one source of names, defaults and errors for the command line,
 // plan files and sweep axes; these tests keep its text honest against the code.
-#include "study/simulation_settings.hpp"
+#include "study/plan/simulation_settings.hpp"
 
 #include <gtest/gtest.h>
 

@@ -14,8 +14,8 @@
 #include "core/model_scene.hpp"
 #include "core/sparse_integrators.hpp"
 #include "core/wilson_theta.hpp"
-#include "study/plan.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/simulation_settings.hpp"
 
 namespace {
 std::atomic<bool> counting{false};

@@ -1,8 +1,7 @@
 // Spectral studies (`kind = "spectral"`): the computation against what it must reproduce (eq. 19,
 // the HHT stability boundary δ = −α, closed forms), the HDF5 layout the figure scripts rely on
 // (read back with Hdf5Reader), and `impactid run` on plans/spectral.toml.
-#include "test_files.hpp"
-#include "study/spectral_study.hpp"
+#include "study/studies/spectral_study.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -16,7 +15,8 @@
 #include <memory>
 
 #include "core/amplification.hpp"
-#include "study/hdf5_file.hpp"
+#include "study/formats/hdf5_file.hpp"
+#include "test_files.hpp"
 
 namespace impactid {
 namespace {

@@ -47,8 +47,8 @@
 #include <vector>
 
 #include "core/amplification.hpp"
-#include "study/evaluation.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/plan/simulation_settings.hpp"
+#include "study/studies/evaluation.hpp"
 
 namespace impactid {
 namespace {

@@ -1,6 +1,6 @@
 // The sweep driver: the same numbers on any thread count, an interrupted and resumed sweep
 // equal to an uninterrupted one, and a plan point equal to the same simulation run alone.
-#include "study/sweep.hpp"
+#include "study/studies/sweep.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "study/plan.hpp"
-#include "study/point_set.hpp"
+#include "study/io/results_file.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/point_set.hpp"
 
 namespace impactid {
 namespace {
@@ -89,8 +90,8 @@ TEST(Sweep, InterruptedThenResumedEqualsUninterrupted) {
   std::atomic<bool> stop{false};
   StudyResults partial = empty_results(plan, points);
   // One thread, so that the stop lands after the unit of work in which the 5th point finishes
-  // (a window of up to kBatchLanes points, study/sweep.hpp): progress is reported by the calling
-  // thread only, and with more threads the others may finish everything first.
+  // (a window of up to kBatchLanes points, study/studies/sweep.hpp): progress is reported by the
+  // calling thread only, and with more threads the others may finish everything first.
   SweepOptions options;
   options.threads = 1;
   options.progress_seconds = 0.0;

@@ -27,8 +27,8 @@
 #include "core/simulation.hpp"
 #include "core/sparse_integrators.hpp"
 #include "signorini_check.hpp"
-#include "study/plan.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/simulation_settings.hpp"
 #include "test_support.hpp"
 
 namespace impactid {

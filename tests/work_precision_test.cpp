@@ -2,7 +2,7 @@
 // value; the table has one point per (method, elements, courant) whatever their status; a
 // point's indicators are bit-identical to `impactid simulate`; errors fall as the mesh is
 // refined at a fixed Courant number. Timing values are only checked to be positive and finite.
-#include "study/work_precision.hpp"
+#include "study/studies/work_precision.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "cli_support.hpp"
-#include "study/results_file.hpp"
+#include "study/io/results_file.hpp"
 
 namespace impactid {
 namespace {

@@ -1,0 +1,108 @@
+#include "study/cli/methods_command.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "core/method_registry.hpp"
+#include "study/formats/json_writer.hpp"
+
+namespace impactid {
+namespace {
+
+// A parameter's default as text: the value the method's defaults report (for Newmark's beta and
+// gamma, those eq. 13 gives at the default delta), or its choice word.
+std::string default_text(const MethodDescriptor& method, const MethodParameter& parameter) {
+  const MethodParams defaults = default_params(method.kind);
+  if (parameter.choice) {
+    for (const auto& [name, word] : method.choices(defaults)) {
+      if (std::string_view(name) == parameter.name) return word;
+    }
+    return "";
+  }
+  const auto value = reported_value(defaults, parameter.name);
+  if (!value) return "none";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", *value);
+  return text;
+}
+
+void write_text() {
+  for (const MethodDescriptor& m : method_registry()) {
+    std::printf("%s\n  %s\n", m.name, m.summary);
+    for (const char* name : m.parameters) {
+      const MethodParameter& p = *find_method_parameter(name);
+      std::string option = p.name;
+      std::replace(option.begin(), option.end(), '_', '-');
+      std::printf("  --%-14s default %-10s %s\n", option.c_str(), default_text(m, p).c_str(),
+                  p.description);
+    }
+    std::string derived;
+    for (const ReportedValue& v : m.values(default_params(m.kind))) {
+      if (v.derived) derived += std::string(derived.empty() ? "" : ", ") + v.name;
+    }
+    if (!derived.empty()) std::printf("  derived: %s\n", derived.c_str());
+  }
+  std::printf(
+      "\nOn the command line --delta; in a plan delta = 0.3 under [method] or as a sweep "
+      "axis.\n");
+}
+
+void write_json() {
+  JsonWriter json(std::cout);
+  json.begin_array();
+  for (const MethodDescriptor& m : method_registry()) {
+    json.begin_object();
+    json.key("name").value(m.name);
+    json.key("summary").value(m.summary);
+    json.key("parameters").begin_array();
+    for (const char* name : m.parameters) {
+      const MethodParameter& p = *find_method_parameter(name);
+      json.begin_object();
+      json.key("name").value(p.name);
+      json.key("kind").value(p.choice ? "choice" : "real");
+      if (p.choice) json.key("choices").value(p.choices);
+      const MethodParams defaults = default_params(m.kind);
+      if (p.choice) {
+        json.key("default").value(default_text(m, p));
+      } else if (const auto v = reported_value(defaults, p.name)) {  // full precision
+        json.key("default").value(*v);
+      } else {
+        json.key("default").null();
+      }
+      json.key("description").value(p.description);
+      json.end_object();
+    }
+    json.end_array();
+    json.key("derived").begin_array();
+    for (const ReportedValue& v : m.values(default_params(m.kind))) {
+      if (v.derived) json.value(v.name);
+    }
+    json.end_array();
+    json.end_object();
+  }
+  json.end_array();
+  std::cout << '\n';
+}
+
+}  // namespace
+
+std::function<int()> add_methods_command(CLI::App& app) {
+  CLI::App* command = app.add_subcommand(
+      "methods", "List the time-stepping methods, their parameters and defaults");
+  auto json = std::make_shared<bool>(false);
+  command->add_flag("--json", *json, "print the list as JSON");
+  return [command, json]() -> int {
+    if (!command->parsed()) return -1;
+    if (*json) {
+      write_json();
+    } else {
+      write_text();
+    }
+    return 0;
+  };
+}
+
+}  // namespace impactid

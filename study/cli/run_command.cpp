@@ -1,0 +1,576 @@
+#include "study/cli/run_command.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <memory>
+#include <numeric>
+#include <optional>
+
+#include "study/cli/command_line.hpp"
+#include "study/formats/hdf5_file.hpp"
+#include "study/io/history_file.hpp"
+#include "study/io/results_file.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/point_set.hpp"
+#include "study/studies/optimizer.hpp"
+#include "study/studies/practical_range.hpp"
+#include "study/studies/spectral_study.hpp"
+#include "study/studies/sweep.hpp"
+#include "study/studies/work_precision.hpp"
+#include "study/version.hpp"
+
+namespace impactid {
+namespace {
+
+// Set by SIGINT/SIGTERM. The one mutable global of the program: a signal handler can reach
+// nothing else. Lock-free, so setting it is async-signal-safe.
+std::atomic<bool> g_stop_requested{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void request_stop(int) {
+  g_stop_requested.store(true);
+}
+
+constexpr int kExitInterrupted = 130;
+
+// While it lives, SIGINT and SIGTERM ask the running study to stop (g_stop_requested) rather
+// than kill the process; the default handlers come back when it goes, on every path out.
+class StopOnSignals {
+ public:
+  StopOnSignals() {
+    g_stop_requested.store(false);
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+  }
+  ~StopOnSignals() {
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+  }
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+};
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buffer;
+}
+
+std::string duration_text(double seconds) {
+  if (!std::isfinite(seconds)) return "?";
+  const long s = std::lround(seconds);
+  char buffer[32];
+  if (s >= 3600) {
+    std::snprintf(buffer, sizeof buffer, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%ld:%02ld", s / 60, s % 60);
+  }
+  return buffer;
+}
+
+struct RunArguments {
+  std::string plan;
+  std::string output;
+  int threads = 0;
+  bool resume = false;
+  bool dry_run = false;
+};
+
+void stamp(StudyResults& r, int threads, double wall_time_s) {
+  r.impactid_version = kVersion;
+  r.git_revision = kGitRevision;
+  r.threads = threads;
+  r.wall_time_s = wall_time_s;
+  r.date = utc_now();
+}
+
+// Times points of the plan spread evenly over it, on one thread, for --dry-run's estimate: up to
+// 16 points, or fewer once a second has passed. Spread, because cost varies along an axis (an
+// unstable point stops early; a finer mesh costs more), and three samples once estimated a
+// stability map at a third of its real time. One point at a time, through simulate(): the sweep
+// batches points on SIMD lanes, so the estimate errs on the long side.
+struct PointTiming {
+  double seconds_per_point = 0.0;
+  long sampled = 0;
+  long not_ok = 0;  // sampled points that ended unstable or failed (and so stopped early)
+};
+
+PointTiming time_points(const PointSet& points) {
+  constexpr long kMaxSamples = 16;
+  constexpr double kBudgetSeconds = 1.0;
+  const long n = points.size();
+  const long wanted = std::min(n, kMaxSamples);
+  SimulationWorkspace workspace;
+  PointTiming timing;
+  const auto start = std::chrono::steady_clock::now();
+  double elapsed = 0.0;
+  for (long k = 0; k < wanted && (k == 0 || elapsed < kBudgetSeconds); ++k) {
+    const long index = wanted == 1 ? 0 : k * (n - 1) / (wanted - 1);
+    const Evaluation e = evaluate(std::get<Simulation>(build(points.settings(index))), workspace);
+    ++timing.sampled;
+    if (e.summary.status != RunStatus::ok) ++timing.not_ok;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  timing.seconds_per_point = elapsed / static_cast<double>(timing.sampled);
+  return timing;
+}
+
+// What a spectral study computes; it takes seconds, so there is no estimate to measure.
+int dry_run_spectral(const Plan& plan, const std::filesystem::path& output) {
+  const SpectralStudy& s = plan.spectral;
+  std::printf("plan        %s (spectral study)\n", plan.path.string().c_str());
+  std::printf("output      %s\n", output.string().c_str());
+  for (const SpectralMethod& m : s.methods) std::printf("method      %s\n", m.label.c_str());
+  std::printf(
+      "omega_dt    %4zu values from %g to %g: spectral_radius, damping_ratio, "
+      "period_error per method; rho_inf and period_error_coefficient per method\n",
+      s.omega_dt.size(), s.omega_dt.front(), s.omega_dt.back());
+  std::printf(
+      "alpha       %4zu values from %g to %g: HHT delta minimising the period error "
+      "as omega_dt -> 0 and at omega_dt = %g\n",
+      s.alpha.size(), s.alpha.front(), s.alpha.back(), s.omega_dt_reference);
+  std::printf(
+      "delta       %4zu values from %g to %g: HHT stability map over (alpha, delta), "
+      "omega_dt up to %g\n",
+      s.delta.size(), s.delta.front(), s.delta.back(), s.stability_omega_max);
+  std::printf("evaluations %ld amplification matrices for the stability map\n",
+              stability_map_evaluations(s));
+  return 0;
+}
+
+// A work-precision study: its methods, meshes and Courant numbers, and an estimate from one
+// timed run scaled by the cost model work ∝ elements²/courant (steps ∝ n/C, each O(n)).
+int dry_run_work_precision(const Plan& plan, const std::filesystem::path& output) {
+  const WorkPrecisionStudy& wp = plan.work_precision;
+  std::printf("plan        %s (work-precision study)\n", plan.path.string().c_str());
+  std::printf("output      %s\n", output.string().c_str());
+  for (const SpectralMethod& m : wp.methods) std::printf("method      %s\n", m.label.c_str());
+  std::string elements, courant;
+  for (const long n : wp.elements) elements += " " + std::to_string(n);
+  for (const double c : wp.courant) courant += " " + format_value(c);
+  std::printf("elements   %s\n", elements.c_str());
+  std::printf("courant    %s\n", courant.c_str());
+  const long points = static_cast<long>(wp.methods.size() * wp.elements.size() * wp.courant.size());
+  std::printf("points      %ld, each run %d times (the minimum time is kept), one at a time\n",
+              points, wp.repeats);
+  const long n0 = wp.elements.front();
+  const double c0 = wp.courant.front();
+  SimulationWorkspace workspace;
+  const Simulation simulation =
+      std::get<Simulation>(build(work_precision_settings(plan, 0, n0, c0)));
+  evaluate(simulation, workspace);  // warm-up: allocation
+  const double t = evaluate(simulation, workspace).summary.wall_time_s;
+  double cost = 0.0;
+  for (const long n : wp.elements) {
+    for (const double c : wp.courant) {
+      cost += (static_cast<double>(n) * n / c) / (static_cast<double>(n0) * n0 / c0);
+    }
+  }
+  std::printf(
+      "estimate    %s (%.3g s measured at %s, elements %ld, courant %g, scaled by "
+      "elements^2/courant; unstable runs stop early)\n",
+      duration_text(t * cost * static_cast<double>(wp.methods.size()) * wp.repeats).c_str(), t,
+      wp.methods.front().label.c_str(), n0, c0);
+  return 0;
+}
+
+int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) {
+  if (plan.kind == StudyKind::spectral) return dry_run_spectral(plan, output);
+  if (plan.kind == StudyKind::work_precision) return dry_run_work_precision(plan, output);
+  std::printf("plan        %s (%s study, method %s)\n", plan.path.string().c_str(),
+              to_string(plan.kind), to_string(plan.base.method.kind));
+  std::printf("output      %s\n", output.string().c_str());
+  if (plan.kind == StudyKind::optimize) {
+    for (const OptimizeParameter& p : plan.optimize.parameters) {
+      std::printf("parameter   %s in [%g, %g]\n", p.name.c_str(), p.lower, p.upper);
+    }
+    // Time one evaluation at the start point (the base alone need not build: e.g. Newmark
+    // with beta fixed and gamma optimised).
+    SimulationSettings start_point = plan.base;
+    for (const OptimizeParameter& p : plan.optimize.parameters) {
+      assign(start_point, p.name, p.initial());
+    }
+    SimulationWorkspace workspace;
+    const auto start = std::chrono::steady_clock::now();
+    evaluate(std::get<Simulation>(build(start_point)), workspace);
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("evaluations at most %ld (%s), one at a time\n", plan.optimize.max_evaluations,
+                plan.optimize.algorithm.c_str());
+    std::printf("estimate    %s (%.3g s per evaluation, measured on the start point)\n",
+                duration_text(t * plan.optimize.max_evaluations).c_str(), t);
+    return 0;
+  }
+  const PointSet points(plan);
+  for (std::size_t d = 0; d < points.dimension_names().size(); ++d) {
+    const auto& values = points.dimension_values()[d];
+    std::printf("axis        %-12s %4zu values from %g to %g\n",
+                points.dimension_names()[d].c_str(), values.size(), values.front(), values.back());
+  }
+  for (const CoupledAxis& c : plan.coupled) {
+    std::printf("coupled     %-12s = %s\n", c.name.c_str(), c.expression.text().c_str());
+  }
+  std::printf("points      %ld\n", points.size());
+  if (!plan.practical.empty()) {
+    std::printf("practical   %s\n", thresholds_text(plan.practical).c_str());
+  }
+  const PointTiming timing = time_points(points);
+  const double t = timing.seconds_per_point;
+  std::printf(
+      "estimate    %s on %d thread(s) (%.3g s per point, measured one at a time on %ld "
+      "points spread over the plan%s)\n",
+      duration_text(t * static_cast<double>(points.size()) / threads).c_str(), threads, t,
+      timing.sampled,
+      timing.not_ok > 0 ? (", " + std::to_string(timing.not_ok) +
+                           " of them not ok and stopped early: the estimate may be short")
+                              .c_str()
+                        : "");
+  return 0;
+}
+
+// Reads an existing results file; a file that exists but cannot be read is never overwritten
+// (`unreadable`, and the reason on stderr).
+std::optional<StudyResults> existing_results(const std::filesystem::path& output,
+                                             bool& unreadable) {
+  unreadable = false;
+  if (!std::filesystem::exists(output)) return std::nullopt;
+  try {
+    return read_results(output);
+  } catch (const std::exception& e) {
+    unreadable = true;
+    std::cerr << "impactid run: " << e.what() << "\nimpactid run: " << output.string()
+              << " exists but is not a readable impactid results file; it was left untouched "
+                 "(remove it, or choose another file with --output)\n";
+    return std::nullopt;
+  }
+}
+
+// The time histories of every point, one file each, for plots of the signals themselves
+// (a sweep keeps only indicators). Serial: lists of this kind are short.
+void write_point_histories(const PointSet& points, const std::filesystem::path& folder) {
+  SimulationWorkspace workspace;
+  for (long index = 0; index < points.size(); ++index) {
+    Simulation simulation = std::get<Simulation>(build(points.settings(index)));
+    simulation.run.record_history = true;
+    evaluate(simulation, workspace);  // the rod's or a scene of bodies' run, as the sweep's
+    write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation, workspace.trace,
+                  simulation.model ? &*workspace.model_reference : nullptr);
+  }
+  std::fprintf(stderr, "impactid run: wrote the time histories of %ld points to %s/\n",
+               points.size(), folder.string().c_str());
+}
+
+// The last line of a run that was stopped: how to continue it. Returns the exit status.
+int report_interrupted(const RunArguments& args) {
+  std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
+               args.plan.c_str(), args.output.empty() ? "" : (" --output " + args.output).c_str());
+  return kExitInterrupted;
+}
+
+// A spectral study: no simulation, no checkpoints; computed in full every time (--resume too),
+// in seconds. Like a results file, an existing file of another kind is never overwritten.
+int run_spectral(const Plan& plan, const RunArguments& args, const std::filesystem::path& output,
+                 int threads) {
+  if (std::filesystem::exists(output) && !is_spectral_results_file(output)) {
+    std::cerr << "impactid run: " << output.string()
+              << " exists but is not an impactid spectral results file; it was left untouched "
+                 "(remove it, or choose another file with --output)\n";
+    return kExitFailure;
+  }
+  if (args.resume) {
+    std::fprintf(stderr, "impactid run: --resume: a spectral study is recomputed in full\n");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  SpectralResults r = compute_spectral_study(plan.spectral, threads);
+  r.plan_name = plan.name;
+  r.plan_text = plan.text;
+  r.impactid_version = kVersion;
+  r.git_revision = kGitRevision;
+  r.date = utc_now();
+  r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  try {
+    write_spectral_results(output, r);
+  } catch (const std::exception& e) {
+    std::cerr << "impactid run: " << e.what() << '\n';
+    return kExitFailure;
+  }
+  std::fprintf(stderr,
+               "impactid run: %s: spectral study of %zu methods at %zu omega_dt values, "
+               "delta_min over %zu alpha, stability map %zu x %zu; %.3g s on %d thread(s); "
+               "wrote %s\n",
+               plan.name.c_str(), r.method_label.size(), r.omega_dt.size(), r.alpha.size(),
+               r.alpha.size(), r.delta.size(), r.wall_time_s, threads, output.string().c_str());
+  return 0;
+}
+
+class ProgressLine {
+ public:
+  explicit ProgressLine(std::string label) : label_(std::move(label)), tty_(isatty(2)) {}
+  void update(long done, long total, long unstable, double elapsed) {
+    if (!tty_) return;
+    const double rate = elapsed > 0 ? done / elapsed : 0.0;
+    const double eta = rate > 0 ? (total - done) / rate : NAN;
+    std::fprintf(stderr, "\r%s %ld/%ld (%3.0f%%)  %.1f/s  ETA %s  unstable %ld   ", label_.c_str(),
+                 done, total, total ? 100.0 * done / total : 100.0, rate,
+                 duration_text(eta).c_str(), unstable);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_) std::fputc('\n', stderr);
+  }
+
+ private:
+  std::string label_;
+  bool tty_;
+  bool shown_ = false;
+};
+
+// A work-precision study: serial by design (study/studies/work_precision.hpp says why), with
+// checkpoints, progress and --resume as a grid has them.
+int run_work_precision_plan(const Plan& plan, const RunArguments& args,
+                            const std::filesystem::path& output) {
+  bool unreadable = false;
+  std::optional<StudyResults> previous = existing_results(output, unreadable);
+  if (unreadable) return kExitFailure;
+  StudyResults results = empty_work_precision_results(plan);
+  if (args.resume && previous) {
+    bool same = previous->plan_text == plan.text &&
+                previous->dimensions.size() == results.dimensions.size();
+    for (std::size_t d = 0; same && d < results.dimensions.size(); ++d) {
+      same = previous->dimensions[d].name == results.dimensions[d].name &&
+             previous->dimensions[d].values == results.dimensions[d].values;
+    }
+    if (!same) {
+      std::cerr << "impactid run: --resume: " << output.string()
+                << " was written by a different plan (the plan text or its points differ); it "
+                   "was left untouched\n";
+      return kExitBadInput;
+    }
+    results = std::move(*previous);
+  }
+  const double previous_wall_time = args.resume && previous ? results.wall_time_s : 0.0;
+
+  std::optional<StopOnSignals> stop_on_signals(std::in_place);
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const auto save = [&](StudyResults r) {
+    stamp(r, 1, previous_wall_time + elapsed());
+    write_results(output, r);
+  };
+  ProgressLine progress(plan.name);
+  WorkPrecisionOptions options;
+  options.checkpoint_seconds = plan.output.checkpoint_seconds;
+  options.checkpoint = [&](const StudyResults& r) { save(r); };
+  options.progress = [&](const SweepProgress& p) {
+    progress.update(p.done, p.total, p.unstable, p.elapsed_s);
+  };
+  options.stop = &g_stop_requested;
+  SweepOutcome outcome;
+  try {
+    outcome = run_work_precision(plan, results, options);
+    progress.finish();
+    save(results);
+  } catch (const std::exception& e) {
+    progress.finish();
+    std::cerr << "impactid run: " << e.what() << '\n';
+    return kExitFailure;
+  }
+  stop_on_signals.reset();
+  std::fprintf(stderr,
+               "impactid run: %s: work-precision, %ld computed, %ld reused, %ld not ok, of %ld; "
+               "each run %d times, one at a time on 1 thread; %.3g s; wrote %s\n",
+               plan.name.c_str(), outcome.computed, outcome.reused, outcome.unstable,
+               results.points_total(), plan.work_precision.repeats, elapsed(),
+               output.string().c_str());
+  return outcome.interrupted ? report_interrupted(args) : 0;
+}
+
+int run_plan(const RunArguments& args) {
+  Plan plan;
+  try {
+    plan = load_plan(args.plan);
+  } catch (const PlanError& e) {
+    std::cerr << e.what() << '\n';
+    return kExitBadInput;
+  }
+  const std::filesystem::path output =
+      args.output.empty() ? plan.output.file : std::filesystem::path(args.output);
+  if (plan.kind == StudyKind::work_precision && args.threads > 1) {
+    // Validate, never clamp: a silently serial run would not be what was asked for.
+    std::cerr << "impactid run: --threads " << args.threads
+              << ": a work-precision study times its runs one at a time on one thread (runs "
+                 "sharing cores and caches would time each other); leave --threads out\n";
+    return kExitBadInput;
+  }
+  const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
+  if (args.dry_run) return dry_run(plan, threads, output);
+  if (plan.kind == StudyKind::work_precision) return run_work_precision_plan(plan, args, output);
+  if (plan.kind == StudyKind::spectral) return run_spectral(plan, args, output, threads);
+
+  bool unreadable = false;
+  std::optional<StudyResults> previous = existing_results(output, unreadable);
+  if (unreadable) return kExitFailure;
+  if (args.resume && previous && previous->plan_text != plan.text) {
+    std::cerr << "impactid run: --resume: " << output.string()
+              << " was written by a different plan (the plan text differs); it was left "
+                 "untouched\n";
+    return kExitBadInput;
+  }
+  if (args.resume && previous && plan.kind != StudyKind::optimize) {
+    // Same text, but another program version could expand it differently: compare the grid.
+    const PointSet points(plan);
+    bool same = previous->dimensions.size() == points.dimension_names().size();
+    for (std::size_t d = 0; same && d < previous->dimensions.size(); ++d) {
+      same = previous->dimensions[d].name == points.dimension_names()[d] &&
+             previous->dimensions[d].values == points.dimension_values()[d];
+    }
+    if (!same) {
+      std::cerr << "impactid run: --resume: the points of " << output.string()
+                << " differ from those of the plan; it was left untouched\n";
+      return kExitBadInput;
+    }
+  }
+  if (!args.resume) previous.reset();
+  const double previous_wall_time = previous ? previous->wall_time_s : 0.0;
+
+  std::optional<StopOnSignals> stop_on_signals(std::in_place);
+  const auto save = [&](StudyResults results, double wall_time_s) {
+    stamp(results, threads, previous_wall_time + wall_time_s);
+    write_results(output, results);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  ProgressLine progress(plan.name);
+
+  long computed = 0, reused = 0, unstable = 0, total = 0;
+  bool interrupted = false;
+  std::string extra;
+  try {
+    if (plan.kind == StudyKind::optimize) {
+      OptimizeOptions options;
+      options.checkpoint_seconds = plan.output.checkpoint_seconds;
+      options.checkpoint = [&](const StudyResults& r) { save(r, elapsed()); };
+      options.progress = [&](long done, long max, long unstable, double) {
+        progress.update(done, max, unstable, elapsed());
+      };
+      options.stop = &g_stop_requested;
+      options.previous = previous ? &*previous : nullptr;
+      OptimizeOutcome outcome = run_optimization(plan, options);
+      progress.finish();
+      save(outcome.results, elapsed());
+      computed = outcome.computed;
+      reused = outcome.reused;
+      unstable = outcome.unstable;
+      total = outcome.results.points_total();
+      interrupted = outcome.interrupted;
+      extra = "termination " + outcome.termination + "; ";
+      if (outcome.best) {
+        extra += "best feasible evaluation #" + std::to_string(*outcome.best) + ":";
+        for (const auto& [name, value] : outcome.results.numeric_attributes) {
+          if (name.rfind("best_", 0) == 0 && name != "best_evaluation") {
+            const std::string key = name.substr(5);
+            const bool is_param =
+                std::any_of(plan.optimize.parameters.begin(), plan.optimize.parameters.end(),
+                            [&](const OptimizeParameter& p) { return p.name == key; });
+            if (is_param || key == "objective") extra += " " + key + " = " + format_value(value);
+          }
+        }
+      } else {
+        extra += "no feasible evaluation";
+      }
+    } else {
+      const PointSet points(plan);
+      StudyResults results = previous ? std::move(*previous) : empty_results(plan, points);
+      // The practical range is derived from the rest of the table: recomputed below.
+      remove_practical_range(results);
+      std::vector<long> indices(static_cast<std::size_t>(points.size()));
+      std::iota(indices.begin(), indices.end(), 0L);
+      SweepOptions options;
+      options.threads = threads;
+      options.checkpoint_seconds = plan.output.checkpoint_seconds;
+      options.checkpoint = [&](const StudyResults& r) { save(r, elapsed()); };
+      options.progress = [&](const SweepProgress& p) {
+        progress.update(p.done, p.total, p.unstable, p.elapsed_s);
+      };
+      options.stop = &g_stop_requested;
+      const SweepOutcome outcome = run_sweep(points, indices, results, options);
+      progress.finish();
+      if (!plan.practical.empty()) {
+        const PracticalRange range = practical_range(results, plan.practical);
+        store_practical_range(results, range);
+        std::fprintf(stderr, "impactid run: practical range (%s): %s\n", range.thresholds.c_str(),
+                     practical_summary(range).c_str());
+      }
+      save(std::move(results), elapsed());
+      if (plan.output.histories && !outcome.interrupted) {
+        write_point_histories(points, *plan.output.histories);
+      }
+      computed = outcome.computed;
+      reused = outcome.reused;
+      unstable = outcome.unstable;
+      total = points.size();
+      interrupted = outcome.interrupted;
+    }
+  } catch (const std::exception& e) {
+    progress.finish();
+    std::cerr << "impactid run: " << e.what() << '\n';
+    return kExitFailure;
+  }
+  stop_on_signals.reset();
+
+  const double seconds = elapsed();
+  std::fprintf(stderr,
+               "impactid run: %s: %ld computed, %ld reused, %ld not ok, of %ld; %.3g s on %d "
+               "thread(s); %swrote %s\n",
+               plan.name.c_str(), computed, reused, unstable, total, seconds, threads,
+               extra.empty() ? "" : (extra + "; ").c_str(), output.string().c_str());
+  return interrupted ? report_interrupted(args) : 0;
+}
+
+}  // namespace
+
+std::function<int()> add_run_command(CLI::App& app) {
+  auto* command = app.add_subcommand("run",
+                                     "Run a plan file (grid, list, optimize, spectral or "
+                                     "work-precision study) and write its HDF5 results");
+  auto args = std::make_shared<RunArguments>();
+  command->add_option("plan", args->plan, "Plan file (TOML), see plans/README.md")
+      ->required()
+      ->type_name("PLAN.toml");
+  command
+      ->add_option("--threads", args->threads,
+                   "OpenMP threads (default: all cores, or OMP_NUM_THREADS)")
+      ->check(CLI::PositiveNumber)
+      ->type_name("N");
+  command
+      ->add_option("--output", args->output,
+                   "Results file (default: [output] file of the plan, or "
+                   "results/<plan name>.h5)")
+      ->type_name("FILE");
+  command->add_flag("--resume", args->resume,
+                    "Keep the points already in the results file; compute only the rest");
+  command->add_flag("--dry-run", args->dry_run,
+                    "Print the points per axis and in total, and a time estimate; run nothing");
+  return [command, args]() -> int {
+    if (!command->parsed()) return -1;
+    return run_plan(*args);
+  };
+}
+
+}  // namespace impactid

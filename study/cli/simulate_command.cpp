@@ -1,0 +1,345 @@
+#include "study/cli/simulate_command.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "study/cli/command_line.hpp"
+#include "study/formats/json_writer.hpp"
+#include "study/io/history_file.hpp"
+#include "study/studies/evaluation.hpp"
+
+namespace impactid {
+namespace {
+
+// Every numeric parameter the run used (derived δ, β, γ included), in table order.
+template <class Emit>
+void for_each_used_parameter(const Simulation& sim, Emit&& emit) {
+  for (const ParameterInfo& info : parameter_table()) {
+    if (info.kind == ParameterKind::choice) continue;
+    if (const auto value = numeric_value(sim, info.name)) emit(info.name, *value);
+  }
+}
+
+// The contact law's line of the text report, when it is not Lagrange's, and a run's warning.
+void write_contact_law(const Simulation& sim, const Evaluation& e) {
+  const ContactTreatment& c = sim.run.contact;
+  if (c.law != ContactLaw::lagrange) {
+    std::string stiffness = c.penalty_stiffness
+                                ? "k = " + format_value(*c.penalty_stiffness) + " N/mm"
+                                : "k = " + format_value(c.penalty_factor) + " x K_cc";
+    std::printf("contact law %s, %s; largest penetration = %.4g mm", to_string(c.law),
+                stiffness.c_str(), e.indicators.max_penetration);
+    if (c.law == ContactLaw::augmented_lagrangian) {
+      std::printf("; %ld iteration(s), %ld step(s) at the cap of %d", e.summary.contact_iterations,
+                  e.summary.unconverged_contact_steps, c.augmented_max_iterations);
+    }
+    std::printf("\n");
+  }
+  if (std::isfinite(e.summary.stable_dt) && c.law == ContactLaw::penalty) {
+    std::printf("stable dt   %.6g s (central difference with the penalty springs)\n",
+                e.summary.stable_dt);
+  }
+  if (!e.summary.warning.empty()) std::printf("warning     %s\n", e.summary.warning.c_str());
+}
+
+void write_json(const Simulation& sim, const Evaluation& e) {
+  const RodSceneDerived d = derive(sim.scene);
+  JsonWriter json(std::cout);
+  json.begin_object();
+  json.key("method").value(to_string(kind_of(sim.method)));
+  json.key("parameters").begin_object();
+  for_each_used_parameter(sim, [&](const char* name, double v) { json.key(name).value(v); });
+  json.key("mass").value(to_string(sim.scene.mass));
+  const MethodDescriptor& method = descriptor(sim.method);
+  for (const auto& [name, word] : method.choices(sim.method)) json.key(name).value(word);
+  // Derived coefficients that are no parameter of any method (generalized-alpha's alpha_m and
+  // alpha_f); beta and gamma are among the parameters above.
+  for (const ReportedValue& v : method.values(sim.method)) {
+    if (!find_parameter(v.name)) json.key(v.name).value(v.value);
+  }
+  json.end_object();
+  json.key("dt").value(e.summary.dt);
+  json.key("steps").value(e.summary.steps);
+  json.key("planned_steps").value(e.summary.planned_steps);
+  json.key("status").value(to_string(e.summary.status));
+  json.key("message").value(e.summary.message);
+  json.key("warning").value(e.summary.warning);
+  json.key("contact").value(to_string(sim.run.contact.law));
+  if (sim.run.contact.law != ContactLaw::lagrange) {
+    json.key("contact_iterations").value(e.summary.contact_iterations);
+    json.key("unconverged_contact_steps").value(e.summary.unconverged_contact_steps);
+    json.key("stable_dt").value(e.summary.stable_dt);
+    if (!sim.scene.far_gap && !sim.bodies && !sim.model) {
+      json.key("max_penetration").value(e.indicators.max_penetration);
+    }
+  }
+  json.key("eps_p").value(e.indicators.eps_p);
+  json.key("eps_v").value(e.indicators.eps_v);
+  json.key("nop_p").value(e.indicators.nop_p);
+  json.key("nop_v").value(e.indicators.nop_v);
+  json.key("p_max").value(e.indicators.p_max);
+  json.key("p_max_ratio").value(e.indicators.p_max_ratio);
+  if (!sim.bodies && !sim.model) json.key("pressure_scale").value(d.pressure_scale);
+  json.key("contact_episodes").value(e.indicators.contact_episodes);
+  json.key("energy_ratio").value(e.indicators.energy_ratio);
+  if (sim.scene.far_gap) {
+    json.key("far_contact_episodes").value(e.indicators.far_contact_episodes);
+    json.key("impacts").value(e.indicators.impacts);
+    json.key("max_penetration").value(e.indicators.max_penetration);
+  }
+  if (sim.bodies || sim.model) {
+    json.key("max_penetration").value(e.indicators.max_penetration);
+    std::vector<std::string> contacts;
+    int primary = 0;
+    if (sim.bodies) {
+      for (const SceneContact& c : scene_contacts(*sim.bodies)) contacts.push_back(c.name);
+      primary = derive(*sim.bodies).primary_contact;
+    } else {
+      for (const ModelContact& c : sim.model->model->contacts) contacts.push_back(c.name);
+      primary = primary_contact_index(*sim.model);
+      json.key("reference").value(e.reference);
+    }
+    json.key("primary_contact").value(contacts[static_cast<std::size_t>(primary)]);
+    json.key("contacts").begin_array();
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      const ContactIndicators& c = e.contacts[k];
+      json.begin_object();
+      json.key("name").value(contacts[k]);
+      json.key("eps_p").value(c.eps_p);
+      json.key("eps_v").value(c.eps_v);
+      json.key("nop_p").value(c.nop_p);
+      json.key("nop_v").value(c.nop_v);
+      json.key("p_max").value(c.p_max);
+      json.key("p_max_ratio").value(c.p_max_ratio);
+      json.key("contact_episodes").value(c.contact_episodes);
+      json.end_object();
+    }
+    json.end_array();
+  }
+  json.key("wall_time_s").value(e.summary.wall_time_s);
+  json.end_object();
+  std::cout << '\n';
+}
+
+// A scene of bodies: one line per body and wall, and the time grid.
+void write_bodies(const Scene& scene) {
+  if (scene.left_wall) std::printf("scene       wall (left), gap %g mm\n", scene.left_wall->gap);
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const Body& body = scene.bodies[b];
+    std::printf("%s body %-10s v0 = %g mm/s",
+                b == 0 && !scene.left_wall ? "scene      " : "           ", body.name.c_str(),
+                body.velocity);
+    if (b > 0) std::printf(", gap %g mm", body.gap);
+    std::printf(":");
+    for (const Segment& s : body.segments) {
+      std::printf(" [L %g, n %d, E %g, rho %g, A %g]", s.length, s.elements, s.youngs_modulus,
+                  s.density, s.area);
+    }
+    std::printf("\n");
+  }
+  if (scene.right_wall) std::printf("            wall (right), gap %g mm\n", scene.right_wall->gap);
+  const SceneDerived d = derive(scene);
+  std::printf(
+      "time        dt = %.6g s (Courant %.4g of the smallest h/c), %ld steps to t_end = "
+      "%.6g s; %s mass\n",
+      d.time_step, d.time_step / d.min_h_over_c, d.step_count, d.end_time, to_string(scene.mass));
+}
+
+// Every contact's indicators, the primary one marked. A model's pressure is in its own units
+// and its scale is its reference's largest pressure (metrics/indicators.hpp).
+void write_contacts(const std::vector<std::string>& names, int primary, bool model,
+                    const Evaluation& e) {
+  std::printf("contact       %-24s %10s %6s %10s %6s %11s %8s %8s\n", "", "eps_p", "NoP_p", "eps_v",
+              "NoP_v", model ? "p_max" : "p_max[MPa]", model ? "p/p_ref" : "p/(rcV)", "episodes");
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const ContactIndicators& c = e.contacts[k];
+    std::printf("            %s %-24s %10.4g %6g %10.4g %6g %11.4g %8.4g %8g\n",
+                static_cast<int>(k) == primary ? "*" : " ", names[k].c_str(), c.eps_p, c.nop_p,
+                c.eps_v, c.nop_v, c.p_max, c.p_max_ratio, c.contact_episodes);
+  }
+  std::printf("            (* the primary contact, whose indicators a sweep stores)\n");
+}
+
+void write_text(const Simulation& sim, const Evaluation& e) {
+  const RodSceneDerived d = derive(sim.scene);
+  std::printf("method      %s%s\n", to_string(kind_of(sim.method)),
+              method_values_text(sim.method).c_str());
+  if (sim.model) {
+    const Model& model = *sim.model->model;
+    std::printf("scene       model of %ld DOFs (%s), %zu contact(s)%s%s\n",
+                static_cast<long>(model.size()), model.source.c_str(), model.contacts.size(),
+                model.units.empty() ? "" : "; units ", model.units.c_str());
+    std::printf("time        dt = %.6g, %ld steps to t_end = %.6g\n", sim.model->dt,
+                step_count(sim.model->t_end, sim.model->dt), sim.model->t_end);
+  } else if (sim.bodies) {
+    write_bodies(*sim.bodies);
+  } else {
+    std::printf(
+        "scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
+        "v0 = %g mm/s, gap = %g mm, %s mass\n",
+        sim.scene.length, sim.scene.elements, sim.scene.youngs_modulus, sim.scene.density,
+        sim.scene.area, sim.scene.velocity, sim.scene.gap, to_string(sim.scene.mass));
+    std::printf("time        dt = %.6g s (Courant %.4g), %ld steps to t_end = %.6g s\n",
+                d.time_step, d.time_step * d.wave_speed / d.element_length, d.step_count,
+                d.end_time);
+  }
+  std::printf("status      %s%s%s\n", to_string(e.summary.status),
+              e.summary.message.empty() ? "" : ": ", e.summary.message.c_str());
+  write_contact_law(sim, e);
+  if (e.summary.status != RunStatus::ok) {
+    // The indicators of a run that did not finish are not results (NaN in JSON and in files).
+    std::printf("indicators  none: the run is %s after %ld of %ld steps\n",
+                to_string(e.summary.status), e.summary.steps, e.summary.planned_steps);
+    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    return;
+  }
+  if (sim.model) {
+    std::vector<std::string> names;
+    for (const ModelContact& c : sim.model->model->contacts) names.push_back(c.name);
+    write_contacts(names, primary_contact_index(*sim.model), true, e);
+    std::printf("reference   %s\n", e.reference.c_str());
+    std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g\n",
+                e.indicators.energy_ratio, e.indicators.max_penetration);
+    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    return;
+  }
+  if (sim.bodies) {
+    std::vector<std::string> names;
+    for (const SceneContact& c : scene_contacts(*sim.bodies)) names.push_back(c.name);
+    write_contacts(names, derive(*sim.bodies).primary_contact, false, e);
+    if (e.reference_refinements == 0) {
+      std::printf("reference   the exact solution of the chain\n");
+    } else {
+      const long factor = 1L << static_cast<int>(e.reference_refinements);
+      std::printf(
+          "reference   a converged numerical solution at h/%ld and dt/%ld (relative "
+          "change %.3g at the last halving)\n",
+          factor, factor, e.reference_change);
+    }
+    std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g mm\n",
+                e.indicators.energy_ratio, e.indicators.max_penetration);
+    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    return;
+  }
+  const Indicators& i = e.indicators;
+  std::printf("pressure    eps_p = %.6g   NoP_p = %g   p_max = %.6g MPa (%.4g x rho*c*v0)\n",
+              i.eps_p, i.nop_p, i.p_max, i.p_max_ratio);
+  std::printf("velocity    eps_v = %.6g   NoP_v = %g\n", i.eps_v, i.nop_v);
+  std::printf("contact     %g episode(s); energy at t_end / initial = %.6g\n", i.contact_episodes,
+              i.energy_ratio);
+  if (sim.scene.far_gap) {
+    std::printf(
+        "far wall    far_gap = %g mm: %g episode(s); %g impact(s) at both walls; largest "
+        "penetration of a wall = %.3g mm\n",
+        *sim.scene.far_gap, i.far_contact_episodes, i.impacts, i.max_penetration);
+  }
+  std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+}
+
+}  // namespace
+
+std::function<int()> add_simulate_command(CLI::App& app) {
+  auto* command = app.add_subcommand("simulate",
+                                     "Run one rod-impact simulation with one method "
+                                     "and print the paper's indicators");
+  struct Options {
+    GivenOptions given;
+    SceneOptions scene;
+    bool json = false;
+    std::string history;
+  };
+  auto options = std::make_shared<Options>();
+  add_parameter_options(*command, options->given,
+                        {ParameterGroup::method, ParameterGroup::scene, ParameterGroup::output});
+  add_scene_options(*command, options->scene);
+  command->add_flag("--json", options->json, "Print one JSON object instead of text");
+  command
+      ->add_option("--history", options->history,
+                   "Write the time histories to FILE (.csv, or .h5/.hdf5 for HDF5)")
+      ->type_name("FILE");
+
+  return [command, options]() -> int {
+    if (!command->parsed()) return -1;
+    SimulationSettings settings;
+    if (!apply_scene_options(options->scene, settings, "simulate") ||
+        !apply_options(options->given, settings, "simulate")) {
+      return kExitBadInput;
+    }
+    const auto sim = build_or_report(settings, "simulate");
+    if (!sim) return kExitBadInput;
+    if (!options->history.empty()) {
+      const std::string ext = std::filesystem::path(options->history).extension().string();
+      if (ext != ".csv" && ext != ".h5" && ext != ".hdf5") {
+        std::cerr << "impactid simulate: --history = " << options->history
+                  << ": must end in .csv, .h5 or .hdf5\n";
+        return kExitBadInput;
+      }
+    }
+    SimulationWorkspace workspace;
+    Simulation run = *sim;
+    run.run.record_history = !options->history.empty();
+    const Evaluation e = evaluate(run, workspace);
+    if (options->json) {
+      write_json(*sim, e);
+    } else {
+      write_text(*sim, e);
+    }
+    if (!options->history.empty()) {
+      try {
+        write_history(options->history, *sim, workspace.trace,
+                      workspace.model_reference ? &*workspace.model_reference : nullptr);
+      } catch (const std::exception& error) {
+        std::cerr << "impactid simulate: " << error.what() << '\n';
+        return kExitFailure;
+      }
+      if (!options->json) std::printf("history     %s\n", options->history.c_str());
+    }
+    return 0;
+  };
+}
+
+std::function<int()> add_compare_command(CLI::App& app) {
+  auto* command = app.add_subcommand(
+      "compare", "Run every method at its default parameters on one scene and print a table");
+  auto given = std::make_shared<GivenOptions>();
+  auto scene = std::make_shared<SceneOptions>();
+  add_parameter_options(*command, *given, {ParameterGroup::scene, ParameterGroup::output});
+  add_scene_options(*command, *scene);
+
+  return [command, given, scene]() -> int {
+    if (!command->parsed()) return -1;
+    SimulationSettings base;
+    if (!apply_scene_options(*scene, base, "compare") || !apply_options(*given, base, "compare")) {
+      return kExitBadInput;
+    }
+    std::printf("%-18s %-30s %-8s %9s %6s %9s %6s %8s %8s %9s\n", "method", "parameters", "status",
+                "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0", "time[ms]");
+    SimulationWorkspace workspace;
+    for (const MethodDescriptor& method : method_registry()) {
+      const MethodKind kind = method.kind;
+      SimulationSettings settings = base;
+      settings.method = MethodSettings{.kind = kind};
+      const auto sim = build_or_report(settings, "compare");
+      if (!sim) return kExitBadInput;
+      const Evaluation e = evaluate(*sim, workspace);
+      std::string params;
+      for (const ReportedValue& v : method.values(sim->method)) {
+        if (v.derived) continue;
+        char buffer[48];
+        std::snprintf(buffer, sizeof buffer, "%s%s=%.3g", params.empty() ? "" : " ", v.name,
+                      v.value);
+        params += buffer;
+      }
+      if (params.empty()) params = "-";
+      const Indicators& i = e.indicators;
+      std::printf("%-18s %-30s %-8s %9.4g %6g %9.4g %6g %8.4g %8.4g %9.3g\n", to_string(kind),
+                  params.c_str(), to_string(e.summary.status), i.eps_p, i.nop_p, i.eps_v, i.nop_v,
+                  i.p_max_ratio, i.energy_ratio, e.summary.wall_time_s * 1e3);
+    }
+    return 0;
+  };
+}
+
+}  // namespace impactid

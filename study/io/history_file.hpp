@@ -1,0 +1,25 @@
+// Time histories of one run for people who want to plot them: every sample t_i = i·Δt of the
+// contact node (pressure, velocity, displacement), the energy, and the exact values at the same
+// samples; with a far wall (RodScene::far_gap) also its pressure, as a last column far_pressure.
+// CSV or HDF5, chosen by the file extension (.csv; .h5 or .hdf5). Written atomically.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/simulation.hpp"
+#include "study/plan/simulation_settings.hpp"
+
+namespace impactid {
+
+struct HistoryFileError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Throws HistoryFileError (unknown extension, cannot write) naming the file. HDF5 files carry
+/// the method and every numeric parameter of the simulation as root attributes. A user's model
+/// needs its reference (the one evaluate() used: SimulationWorkspace::model_reference).
+void write_history(const std::filesystem::path& path, const Simulation& simulation,
+                   const ContactTrace& trace, const ModelReference* model_reference = nullptr);
+
+}  // namespace impactid

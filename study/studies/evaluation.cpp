@@ -1,0 +1,177 @@
+#include "study/studies/evaluation.hpp"
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "core/model_reference.hpp"
+#include "core/scene_assembly.hpp"
+
+namespace impactid {
+
+namespace {
+
+// The indicators of a run of a scene of bodies against the scene's reference, which `reference`
+// caches from run to run.
+Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
+                           const RunSummary& summary, const ContactTrace& trace,
+                           std::optional<SceneReference>& reference) {
+  Evaluation out;
+  out.summary = summary;
+  const ReferenceOptions options = reference_options(sim);
+  if (!reference || reference->scene != *sim.bodies || reference->options != options) {
+    reference = scene_reference(*sim.bodies, options);
+  }
+  out.contacts.resize(scene.probes.size());
+  if (!reference->usable() && out.summary.status == RunStatus::ok) {
+    // Nothing to measure the run against: its indicators are not results.
+    out.summary.status = RunStatus::failed;
+    out.summary.message = "no reference for the scene: " + reference->message;
+  }
+  out.indicators = evaluate_indicators(*sim.bodies, *reference, trace, out.summary, sim.indicators,
+                                       out.contacts);
+  out.reference_refinements = reference->refinements;
+  out.reference_change = reference->change;
+  out.reference = reference->description();
+  return out;
+}
+
+// A user's model against its reference, which `reference` caches from run to run.
+Evaluation evaluate_model(const Simulation& sim, SimulationWorkspace& workspace) {
+  const ModelScene& scene = *sim.model;
+  Evaluation out;
+  out.summary = simulate(assemble(scene), sim.method, sim.run, workspace);
+  const ReferenceOptions options = reference_options(sim);
+  std::optional<ModelReference>& reference = workspace.model_reference;
+  if (!reference || !(reference->scene == scene) || !(reference->options == options)) {
+    reference = model_reference(scene, options);
+  }
+  const int primary = primary_contact_index(scene);
+  out.contacts.resize(scene.model->contacts.size());
+  if (!reference->usable(primary) && out.summary.status == RunStatus::ok) {
+    out.summary.status = RunStatus::failed;
+    out.summary.message = "no reference for the model: " + reference->message;
+  }
+  std::vector<ContactSamples> samples = reference->contacts;
+  samples.resize(out.contacts.size());
+  out.indicators = evaluate_indicators(samples, primary, workspace.trace, out.summary,
+                                       sim.indicators, out.contacts);
+  out.reference_refinements = reference->refinements;
+  out.reference_change = reference->change;
+  out.reference_dt = reference->dt;
+  out.reference = reference->description();
+  return out;
+}
+
+// evaluate_batch of scenes of bodies: one run of the chain kernel, then each lane's indicators.
+void evaluate_bodies_batch(std::span<const Simulation> simulations,
+                           BatchEvaluationWorkspace& workspace, std::span<Evaluation> out) {
+  const std::size_t count = simulations.size();
+  std::vector<AssembledScene> scenes;
+  scenes.reserve(count);
+  std::array<const AssembledScene*, kBatchLanes> pointers;
+  std::array<MethodParams, kBatchLanes> methods;
+  std::array<RunSummary, kBatchLanes> summaries;
+  for (std::size_t k = 0; k < count; ++k) {
+    scenes.push_back(assemble(*simulations[k].bodies));
+    pointers[k] = &scenes.back();
+    methods[k] = simulations[k].method;
+  }
+  std::array<ContactTrace, kBatchLanes>* traces = &workspace.chain.traces;
+  if (as_rod(*simulations[0].bodies)) {
+    // The paper's form (batchable_together): the rod's kernel, whose trace then gets the one
+    // contact's columns as simulate() gives them.
+    std::array<RodScene, kBatchLanes> rods;
+    for (std::size_t k = 0; k < count; ++k) rods[k] = *as_rod(*simulations[k].bodies);
+    simulate_batch(std::span(rods).first(count), std::span(methods).first(count),
+                   simulations[0].run, workspace.rod, std::span(summaries).first(count));
+    traces = &workspace.rod.traces;
+    for (std::size_t k = 0; k < count; ++k) {
+      ContactTrace& trace = workspace.rod.traces[k];
+      trace.contact_pressure.assign(1, trace.pressure);
+      trace.contact_velocity.assign(1, trace.velocity);
+    }
+  } else {
+    simulate_chain_batch(std::span(pointers).first(count), std::span(methods).first(count),
+                         simulations[0].run, workspace.chain, std::span(summaries).first(count));
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    out[k] =
+        evaluate_bodies(simulations[k], scenes[k], summaries[k], (*traces)[k], workspace.reference);
+  }
+}
+
+}  // namespace
+
+Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
+  if (sim.model) return evaluate_model(sim, workspace);
+  if (sim.bodies) {
+    const AssembledScene scene = assemble(*sim.bodies);
+    const RunSummary summary = simulate(scene, sim.method, sim.run, workspace);
+    return evaluate_bodies(sim, scene, summary, workspace.trace, workspace.reference);
+  }
+  Evaluation out;
+  out.summary = simulate(sim.scene, sim.method, sim.run, workspace);
+  out.indicators = evaluate_indicators(sim.scene, workspace.trace, out.summary, sim.indicators);
+  return out;
+}
+
+bool batchable_together(const Simulation& first, const Simulation& next) {
+  if (first.model || next.model) return false;  // a model's points run one by one
+  if (first.bodies || next.bodies) {
+    if (!first.bodies || !next.bodies) return false;
+    // The paper's form runs on the rod's named contact: the rod's kernel takes it.
+    const std::optional<RodScene> rod_a = as_rod(*first.bodies), rod_b = as_rod(*next.bodies);
+    if (rod_a || rod_b) {
+      return rod_a && rod_b && batchable(*rod_a, first.method, first.run) &&
+             batchable(*rod_b, next.method, next.run) &&
+             same_batch(*rod_a, first.run, *rod_b, next.run);
+    }
+    const AssembledScene a = assemble(*first.bodies), b = assemble(*next.bodies);
+    return chain_batchable(a, first.method, first.run) &&
+           chain_batchable(b, next.method, next.run) && same_chain_batch(a, first.run, b, next.run);
+  }
+  return batchable(first.scene, first.method, first.run) &&
+         batchable(next.scene, next.method, next.run) &&
+         same_batch(first.scene, first.run, next.scene, next.run);
+}
+
+void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWorkspace& workspace,
+                    std::span<Evaluation> out) {
+  if (simulations[0].bodies) {
+    evaluate_bodies_batch(simulations, workspace, out);
+    return;
+  }
+  std::array<RodScene, kBatchLanes> scenes;
+  std::array<MethodParams, kBatchLanes> methods;
+  std::array<RunSummary, kBatchLanes> summaries;
+  const std::size_t count = simulations.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    scenes[k] = simulations[k].scene;
+    methods[k] = simulations[k].method;
+  }
+  simulate_batch(std::span(scenes).first(count), std::span(methods).first(count),
+                 simulations[0].run, workspace.rod, std::span(summaries).first(count));
+  // Consecutive lanes of one scene (in a sweep over method parameters, all of them) share the
+  // exact solution: their indicators are evaluated together.
+  std::array<const ContactTrace*, kBatchLanes> traces;
+  std::array<IndicatorOptions, kBatchLanes> options;
+  std::array<Indicators, kBatchLanes> indicators;
+  for (std::size_t k = 0; k < count; ++k) {
+    out[k].summary = summaries[k];
+    traces[k] = &workspace.rod.traces[k];
+    options[k] = simulations[k].indicators;
+  }
+  for (std::size_t begin = 0, end = 0; begin < count; begin = end) {
+    end = begin + 1;
+    while (end < count && simulations[end].scene == simulations[begin].scene) ++end;
+    const std::size_t n = end - begin;
+    evaluate_indicators(simulations[begin].scene, std::span(traces).subspan(begin, n),
+                        std::span(summaries).subspan(begin, n),
+                        std::span(options).subspan(begin, n),
+                        std::span(indicators).subspan(begin, n));
+  }
+  for (std::size_t k = 0; k < count; ++k) out[k].indicators = indicators[k];
+}
+
+}  // namespace impactid

@@ -1,0 +1,43 @@
+// One simulation and its indicators: what `impactid simulate` prints and what every sweep point
+// stores. A plan point and `simulate` with the same parameters call this same function, so
+// they give identical numbers.
+#pragma once
+
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/batched_chain.hpp"
+#include "core/batched_simulation.hpp"
+#include "core/simulation.hpp"
+#include "metrics/evaluation.hpp"
+#include "study/plan/simulation_settings.hpp"
+
+namespace impactid {
+
+Evaluation evaluate(const Simulation& simulation, SimulationWorkspace& workspace);
+
+/// What one thread reuses from batch to batch: each kernel's storage, and the reference of the
+/// last scene of bodies it evaluated (a sweep over method parameters keeps one scene, whose
+/// reference is then computed once per thread).
+struct BatchEvaluationWorkspace {
+  BatchWorkspace rod;
+  ChainBatchWorkspace chain;
+  std::optional<SceneReference> reference;
+};
+
+/// Whether `next` can join a batch that starts with `first`: the rod's scene through its kernel
+/// (core/batched_simulation.hpp: both batchable, the same rod, time step and run options), a
+/// scene of bodies through the chain kernel (core/batched_chain.hpp: the same assembled
+/// system, time step and run options).
+bool batchable_together(const Simulation& first, const Simulation& next);
+
+/// evaluate() for 1..kBatchLanes simulations at once, each batchable_together with the first:
+/// out[k] equals evaluate(simulations[k]) bit for bit, wall_time_s aside (the batch's time
+/// divided by its runs).
+void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWorkspace& workspace,
+                    std::span<Evaluation> out);
+
+}  // namespace impactid
