@@ -248,6 +248,18 @@ elements = [20, 40]
 courant = [0.5, 2.0]
 repeats = 1
 """,
+    # The contact laws as a choice axis crossed with the penalty stiffness.
+    "contact-laws": """
+name = "contact-laws"
+""" + SCENE + """
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+contact = { values = ["lagrange", "penalty", "augmented-lagrangian"] }
+penalty_factor = { values = [0.1, 1.0, 10.0] }
+""",
 }
 
 # The shipped block model (examples/block: 1722 DOFs, 41 contacts), read from the project: small
@@ -332,6 +344,7 @@ FIGURES = {
     "block-hht-delta-alpha.png": ["block-hht-delta-alpha"],
     "block-contact-force.png": ["block-identical-dissipation"],
     "block-work-precision.png": ["block-work-precision"],
+    "fig_contact_laws.png": ["contact-laws"],
 }
 
 

@@ -510,15 +510,65 @@ courant = 1
             "bad.toml:3:24: study.points[0].elements = 2.5: must be an integer below 2e9");
 }
 
+TEST(Plan, ChoiceAxisIsAGridDimensionOfItsWords) {
+  const Plan plan = plan_of(R"(
+[study]
+kind = "grid"
+[study.axes]
+contact = { values = ["penalty", "lagrange"] }
+penalty_factor = { values = [1.0, 10.0] }
+)");
+  ASSERT_EQ(plan.axes.size(), 2u);
+  EXPECT_EQ(plan.axes[0].name, "contact");
+  EXPECT_EQ(plan.axes[0].values, (std::vector<double>{0.0, 1.0}));
+  EXPECT_EQ(plan.axes[0].labels, (std::vector<std::string>{"penalty", "lagrange"}));
+  EXPECT_TRUE(plan.axes[1].labels.empty());
+  const PointSet points(plan);
+  EXPECT_EQ(points.dimension_labels()[0], plan.axes[0].labels);
+  // Point 1 (penalty, 10) and point 2 (lagrange, 1): the word and the number both applied.
+  const SimulationSettings penalty = points.settings(1);
+  EXPECT_EQ(penalty.run.contact.law, ContactLaw::penalty);
+  EXPECT_EQ(penalty.run.contact.penalty_factor, 10.0);
+  EXPECT_EQ(points.settings(2).run.contact.law, ContactLaw::lagrange);
+  EXPECT_EQ(points.parameter_values(2), (std::vector<double>{1.0, 1.0}));
+}
+
+TEST(PlanErrors, ChoiceAxisRules) {
+  const std::string head = "[study]\nkind = \"grid\"\n[study.axes]\n";
+  EXPECT_EQ(error_of(head + "contact = { values = [\"lagrange\", \"springs\"] }\n"),
+            "bad.toml:4:35: study.axes.contact.values[1] = \"springs\": must be one of "
+            "lagrange|penalty|augmented-lagrangian");
+  EXPECT_EQ(error_of(head + "method = { values = [\"hht\", \"newmark\"] }\n"),
+            "bad.toml:4:10: study.axes.method = { values = [\"hht\", \"newmark\"] }: is not an "
+            "axis: compare methods in a list or a work-precision study");
+  EXPECT_EQ(error_of(head + "contact = { values = [\"penalty\", \"penalty\"] }\n"),
+            "bad.toml:4:34: study.axes.contact.values[1] = \"penalty\": repeats an earlier word");
+  EXPECT_EQ(error_of(head + "contact = { values = [1] }\n"),
+            "bad.toml:4:23: study.axes.contact.values[0] = 1: must be a word "
+            "(lagrange|penalty|augmented-lagrangian)");
+  EXPECT_EQ(error_of(head + "contact = { from = 0, to = 2, partitions = 2 }\n"),
+            "bad.toml:4:20: study.axes.contact.from = 0: unknown key (a choice axis has only: "
+            "values)");
+  EXPECT_EQ(error_of(head + "contact = \"penalty\"\n"),
+            "bad.toml:4:11: study.axes.contact = \"penalty\": a choice axis is { values = "
+            "[\"word\", ..] }");
+  EXPECT_EQ(error_of(head + "contact = { values = [\"penalty\"] }\nalpha = { values = [-0.1] "
+                            "}\ndelta = \"contact - alpha\"\n"),
+            "bad.toml:6:9: study.axes.delta = \"contact - alpha\": uses 'contact', a choice axis: "
+            "an expression may use only numeric axes (alpha)");
+  EXPECT_EQ(error_of("[scene]\ncontact = \"penalty\"\n" + head +
+                     "contact = { values = [\"lagrange\"] }\n"),
+            "bad.toml:6:11: study.axes.contact = { values = [\"lagrange\"] }: is also set as "
+            "scene.contact: a parameter is either fixed or a grid axis");
+}
+
 TEST(PlanErrors, GridAxisRules) {
   const std::string head = "[study]\nkind = \"grid\"\n[study.axes]\n";
   EXPECT_EQ(error_of("[method]\ndelta = 0.3\n" + head + "delta = { values = [0.1] }\n"),
             "bad.toml:6:9: study.axes.delta = { values = [0.1] }: is also set as method.delta: a "
             "parameter is either fixed or a grid axis");
   EXPECT_EQ(error_of(head + "mass = { values = [1] }\n"),
-            "bad.toml:4:8: study.axes.mass = { values = [1] }: is a choice parameter "
-            "(lumped|consistent): only numeric parameters can be a grid axis; vary choices in a "
-            "list study");
+            "bad.toml:4:20: study.axes.mass.values[0] = 1: must be a word (lumped|consistent)");
   EXPECT_STARTS_WITH(error_of(head + "beta2 = { values = [1] }\n"),
                      "bad.toml:4:9: study.axes.beta2 = { values = [1] }: is not a parameter "
                      "(numeric parameters: length, elements,");

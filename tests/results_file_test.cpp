@@ -148,6 +148,7 @@ void expect_same_results(const StudyResults& expected, const StudyResults& actua
   for (std::size_t d = 0; d < expected.dimensions.size(); ++d) {
     EXPECT_EQ(expected.dimensions[d].name, actual.dimensions[d].name);
     EXPECT_EQ(expected.dimensions[d].units, actual.dimensions[d].units);
+    EXPECT_EQ(expected.dimensions[d].labels, actual.dimensions[d].labels);
     expect_same_doubles(expected.dimensions[d].values, actual.dimensions[d].values,
                         expected.dimensions[d].name);
   }
@@ -472,6 +473,23 @@ void expect_same_number(double expected, const std::string& field, const std::st
   } else {
     EXPECT_EQ(expected, number(field)) << what << ": " << field;  // 17 digits: exact
   }
+}
+
+// A choice axis keeps its words: CF flag_values/flag_meanings in the file, the word in CSV.
+TEST_F(ResultsFileTest, ChoiceAxisWordsRoundTripAndReachTheCsv) {
+  StudyResults r = grid_results();
+  r.dimensions[0] = {"contact", "1", {0.0, 1.0, 2.0, 3.0}, {"a", "b-c", "d", "e"}};
+  write_results(file("choice.h5"), r);
+  expect_same_results(r, read_results(file("choice.h5")));
+  export_csv(r, dir_ / "csv");
+  const auto rows = read_csv(dir_ / "csv" / "points.csv");
+  ASSERT_EQ(13u, rows.size());
+  EXPECT_EQ("a", rows[1][0]);
+  EXPECT_EQ("b-c", rows[4][0]);
+  EXPECT_EQ("e", rows[12][0]);
+  r.dimensions[0].labels.pop_back();
+  EXPECT_THROW(write_results(file("bad.h5"), r), Hdf5Error);
+  EXPECT_FALSE(fs::exists(file("bad.h5")));
 }
 
 TEST_F(ResultsFileTest, PointsCsvHasOneRowPerPointInFlatOrder) {

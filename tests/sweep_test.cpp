@@ -142,5 +142,48 @@ TEST(Sweep, PlanPointEqualsTheSameSimulationAlone) {
   EXPECT_EQ(results.status[index], 0);
 }
 
+// A choice axis: each point of `contact` x `penalty_factor` equals the same simulation run alone,
+// bit for bit; the results table carries the words and writes them as CF flags.
+TEST(Sweep, ChoiceAxisPointsEqualTheirSimulationsAlone) {
+  const Plan plan = parse_plan(R"(
+[scene]
+elements = 40
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+contact = { values = ["lagrange", "penalty", "augmented-lagrangian"] }
+penalty_factor = { values = [1.0, 100.0] }
+)",
+                               "choice-axis.toml");
+  const PointSet points(plan);
+  const StudyResults results = run_all(plan, points, 2);
+  ASSERT_EQ(results.dimensions[0].labels,
+            (std::vector<std::string>{"lagrange", "penalty", "augmented-lagrangian"}));
+  const ResultColumn* eps_p = results.find_column("eps_p");
+  const ResultColumn* penetration = results.find_column("max_penetration");
+  ASSERT_TRUE(eps_p && penetration);
+  const char* laws[] = {"lagrange", "penalty", "augmented-lagrangian"};
+  for (long law = 0; law < 3; ++law) {
+    for (long f = 0; f < 2; ++f) {
+      SimulationSettings settings;
+      settings.scene.elements = 40;
+      settings.method.kind = MethodKind::hht;
+      ASSERT_FALSE(assign(settings, "contact", std::string(laws[law])));
+      ASSERT_FALSE(assign(settings, "penalty_factor", f == 0 ? 1.0 : 100.0));
+      SimulationWorkspace workspace;
+      const Evaluation alone = evaluate(std::get<Simulation>(build(settings)), workspace);
+      const long index = law * 2 + f;
+      EXPECT_EQ(results.status[index], 0) << laws[law];
+      EXPECT_EQ(eps_p->values[index], alone.indicators.eps_p) << laws[law] << " " << f;
+    }
+  }
+  // Penalty springs let the rod into the wall, less at the stiffer k; Lagrange does not.
+  EXPECT_GT(penetration->values[2], penetration->values[3]);
+  EXPECT_GT(penetration->values[3], 0.0);
+  EXPECT_NE(eps_p->values[2], eps_p->values[0]);
+}
+
 }  // namespace
 }  // namespace impactid

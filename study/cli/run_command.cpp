@@ -436,7 +436,8 @@ int run_plan(const RunArguments& args) {
     bool same = previous->dimensions.size() == points.dimension_names().size();
     for (std::size_t d = 0; same && d < previous->dimensions.size(); ++d) {
       same = previous->dimensions[d].name == points.dimension_names()[d] &&
-             previous->dimensions[d].values == points.dimension_values()[d];
+             previous->dimensions[d].values == points.dimension_values()[d] &&
+             previous->dimensions[d].labels == points.dimension_labels()[d];
     }
     if (!same) {
       std::cerr << "impactid run: --resume: the points of " << output.string()

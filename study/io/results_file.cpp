@@ -9,6 +9,7 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/simulation.hpp"
@@ -78,6 +79,10 @@ std::optional<std::string> inconsistency(const StudyResults& r) {
   };
   for (const ResultDimension& d : r.dimensions) {
     if (auto bad = claim("dimension", d.name)) return bad;
+    if (!d.labels.empty() && d.labels.size() != d.values.size()) {
+      return "dimension " + d.name + " has " + std::to_string(d.labels.size()) + " labels for " +
+             std::to_string(d.values.size()) + " values";
+    }
   }
   if (r.status.size() != size) {
     return "status has " + std::to_string(r.status.size()) + " values, the grid " +
@@ -229,6 +234,15 @@ class ResultsReader {
     }
     dim.units = text(dim.name, "units");
     dim.values = file_.doubles(dim.name);
+    const std::vector<std::string> attributes = file_.attribute_names(dim.name);
+    if (std::find(attributes.begin(), attributes.end(), "flag_meanings") != attributes.end()) {
+      std::istringstream words(text(dim.name, "flag_meanings"));
+      for (std::string word; words >> word;) dim.labels.push_back(word);
+      if (dim.labels.size() != dim.values.size()) {
+        throw error(dim.name + ": flag_meanings has " + std::to_string(dim.labels.size()) +
+                    " words for " + std::to_string(dim.values.size()) + " values");
+      }
+    }
     return dim;
   }
 
@@ -287,6 +301,15 @@ void write_text_atomically(const std::filesystem::path& path,
   }
 }
 
+// The k-th value of a dimension as CSV: a number, or a choice axis's word.
+void put_value(std::ostream& out, const ResultDimension& dimension, std::size_t k) {
+  if (dimension.labels.empty()) {
+    put_number(out, dimension.values[k]);
+  } else {
+    out << csv_field(dimension.labels[k]);
+  }
+}
+
 void write_points(std::ostream& out, const StudyResults& r) {
   std::string header;
   const auto add = [&](const std::string& label) { header += (header.empty() ? "" : ",") + label; };
@@ -300,7 +323,7 @@ void write_points(std::ostream& out, const StudyResults& r) {
   for (std::size_t i = 0; i < r.status.size(); ++i) {
     for (std::size_t d = 0; d < index.size(); ++d) {
       if (d > 0) out << ',';
-      put_number(out, r.dimensions[d].values[index[d]]);
+      put_value(out, r.dimensions[d], index[d]);
     }
     for (const ResultColumn& c : r.parameters) {
       out << ',';
@@ -323,13 +346,13 @@ void write_matrix(std::ostream& out, const StudyResults& r, const ResultColumn& 
   const ResultDimension& rows = r.dimensions[0];
   const ResultDimension& columns = r.dimensions[1];
   out << csv_field(rows.name + "\\" + columns.name);
-  for (const double v : columns.values) {
+  for (std::size_t j = 0; j < columns.values.size(); ++j) {
     out << ',';
-    put_number(out, v);
+    put_value(out, columns, j);
   }
   out << '\n';
   for (std::size_t i = 0; i < rows.values.size(); ++i) {
-    put_number(out, rows.values[i]);
+    put_value(out, rows, i);
     for (std::size_t j = 0; j < columns.values.size(); ++j) {
       out << ',';
       put_number(out, c.values[i * columns.values.size() + j]);
@@ -366,6 +389,16 @@ void write_results(const std::filesystem::path& path, const StudyResults& result
   for (const ResultDimension& d : r.dimensions) {
     file.dataset(d.name, d.values, Hdf5Dims{d.values.size()});
     file.attribute(d.name, "units", d.units);
+    if (!d.labels.empty()) {
+      std::vector<int> codes(d.labels.size());
+      std::string meanings;
+      for (std::size_t k = 0; k < d.labels.size(); ++k) {
+        codes[k] = static_cast<int>(k);
+        meanings += (k ? " " : "") + d.labels[k];
+      }
+      file.attribute(d.name, "flag_values", std::span<const int>(codes));
+      file.attribute(d.name, "flag_meanings", meanings);
+    }
     file.dimension_scale(d.name, d.name);  // NAME = the variable's name: a netCDF coordinate
     grid.push_back(d.values.size());
   }

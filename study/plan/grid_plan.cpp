@@ -20,12 +20,24 @@ void PlanReader::read_grid(const toml::table& study) {
   const std::vector<Entry> entries = in_file_order(axes);
   for (const Entry& e : entries) {
     const std::string key = "study.axes." + e.key;
-    varied_parameter(e, key, "a grid axis");
+    const ParameterInfo& info = varied_parameter(e, key, "a grid axis", true);
     axis_nodes_[e.key] = e.node;
-    if (e.node->is_string()) {
+    if (std::string_view(info.name) == "method") {
+      // Each method takes its own parameters, and a results file names one method.
+      fail(*e.node, key, "is not an axis: compare methods in a list or a work-precision study");
+    }
+    if (info.kind == ParameterKind::choice) {
+      const auto* t = e.node->as_table();
+      if (!t) fail(*e.node, key, "a choice axis is { values = [\"word\", ..] }");
+      GridAxis axis{e.key, {}, choice_axis_labels(*t, key, info)};
+      for (std::size_t k = 0; k < axis.labels.size(); ++k) {
+        axis.values.push_back(static_cast<double>(k));
+      }
+      plan_->axes.push_back(std::move(axis));
+    } else if (e.node->is_string()) {
       coupled.push_back(&e);
     } else if (const auto* t = e.node->as_table()) {
-      plan_->axes.push_back({e.key, axis_values(*t, key)});
+      plan_->axes.push_back({e.key, axis_values(*t, key), {}});
     } else {
       fail(*e.node, key,
            "must be { from = .., to = .., partitions = .. }, { values = [..] } or a "
@@ -45,7 +57,9 @@ void PlanReader::read_grid(const toml::table& study) {
   }
 
   std::vector<std::string> independent;
-  for (const GridAxis& axis : plan_->axes) independent.push_back(axis.name);
+  for (const GridAxis& axis : plan_->axes) {
+    if (axis.labels.empty()) independent.push_back(axis.name);
+  }
   for (const Entry* e : coupled) {
     const std::string key = "study.axes." + e->key;
     std::string error;
@@ -53,6 +67,13 @@ void PlanReader::read_grid(const toml::table& study) {
     if (!expression) fail(*e->node, key, "invalid expression: " + error);
     for (const std::string& name : expression->variables()) {
       if (std::find(independent.begin(), independent.end(), name) != independent.end()) continue;
+      const bool is_choice = std::any_of(plan_->axes.begin(), plan_->axes.end(),
+                                         [&](const GridAxis& axis) { return axis.name == name; });
+      if (is_choice) {
+        fail(*e->node, key,
+             "uses '" + name + "', a choice axis: an expression may use only numeric axes (" +
+                 join(independent) + ")");
+      }
       const bool is_coupled = std::any_of(coupled.begin(), coupled.end(),
                                           [&](const Entry* c) { return c->key == name; });
       fail(*e->node, key,
@@ -126,6 +147,39 @@ std::vector<double> PlanReader::axis_values(const toml::table& axis, const std::
         lo + static_cast<double>(i) * (hi - lo) / static_cast<double>(k);
   }
   out.back() = hi;  // exactly as written, whatever the rounding above
+  return out;
+}
+
+std::vector<std::string> PlanReader::choice_axis_labels(const toml::table& axis,
+                                                        const std::string& key,
+                                                        const ParameterInfo& info) const {
+  const toml::node* values = nullptr;
+  for (const Entry& e : in_file_order(axis)) {
+    if (e.key != "values") {
+      fail_unknown(*e.node, key + "." + e.key, "a choice axis has only", {"values"});
+    }
+    values = e.node;
+  }
+  if (!values) fail_missing(axis, key + ".values", "a choice axis lists its words in values");
+  const std::string values_key = key + ".values";
+  const auto* array = values->as_array();
+  if (!array) fail(*values, values_key, "must be an array of words ("s + info.choices + ")");
+  if (array->empty()) fail(*values, values_key, "must hold at least one word");
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < array->size(); ++k) {
+    const toml::node& item = *array->get(k);
+    const std::string item_key = values_key + "[" + std::to_string(k) + "]";
+    if (!item.is_string()) fail(item, item_key, "must be a word ("s + info.choices + ")");
+    const std::string word = item.as_string()->get();
+    SimulationSettings check = plan_->base;
+    if (const auto error = assign(check, info.name, ParameterValue(word))) {
+      fail(item, item_key, error->constraint);
+    }
+    if (std::find(out.begin(), out.end(), word) != out.end()) {
+      fail(item, item_key, "repeats an earlier word");
+    }
+    out.push_back(word);
+  }
   return out;
 }
 

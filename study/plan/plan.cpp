@@ -359,17 +359,17 @@ const toml::node* PlanReader::base_node(const ParameterInfo& info) const {
 }
 
 const ParameterInfo& PlanReader::varied_parameter(const Entry& e, const std::string& key,
-                                                  const char* what) const {
+                                                  const char* what, bool choices) const {
   if (is_scene_path(e.key)) return varied_scene_path(e, key, what);
   const ParameterInfo* info = find_parameter(e.key);
   if (!info) {
     fail(*e.node, key,
          "is not a parameter (numeric parameters: " + join(numeric_parameter_names()) + ")");
   }
-  if (info->kind == ParameterKind::choice) {
+  if (info->kind == ParameterKind::choice && !choices) {
     fail(*e.node, key,
          "is a choice parameter ("s + info->choices + "): only numeric parameters can be " + what +
-             "; vary choices in a list study");
+             "; vary choices as a grid axis or in a list study");
   }
   if (base_node(*info)) {
     fail(*e.node, key,

@@ -35,10 +35,13 @@ const char* to_string(StudyKind kind);
 
 /// An independent grid axis: `delta = { from = 0.0, to = 1.0, partitions = 40 }` (k partitions
 /// give k+1 evenly spaced values from + i*(to-from)/k, as in Dakota, the last exactly `to`) or
-/// `courant = { values = [0.25, 0.5, 1.0] }`.
+/// `courant = { values = [0.25, 0.5, 1.0] }`. A choice parameter is an axis of its words,
+/// `contact = { values = ["lagrange", "penalty"] }`: its values are then the words' positions
+/// 0, 1, … and `labels` the words, in the order written.
 struct GridAxis {
-  std::string name;  ///< a numeric parameter of the settings table
+  std::string name;  ///< a parameter of the settings table
   std::vector<double> values;
+  std::vector<std::string> labels;  ///< a choice axis: its words; empty for a numeric axis
 };
 
 /// A coupled axis: `delta = "-1.5*alpha"`, evaluated at every point from the independent axes;

@@ -214,8 +214,9 @@ class PlanReader {
   const toml::node* base_node(const ParameterInfo& info) const;
 
   // A grid axis or an optimisation parameter: numeric, and not fixed in the base sections too.
-  const ParameterInfo& varied_parameter(const Entry& e, const std::string& key,
-                                        const char* what) const;
+  // `choices`: whether a choice parameter may be varied (a grid axis of words).
+  const ParameterInfo& varied_parameter(const Entry& e, const std::string& key, const char* what,
+                                        bool choices = false) const;
 
   // A dotted key of the scene of bodies (study/plan/scene_path.hpp) as an axis or a parameter: it
   // must name a number of the plan's [[scene.body]] scene. Elements are the one integer among them.
@@ -226,6 +227,9 @@ class PlanReader {
 
   // { from, to, partitions } (Dakota's convention: k partitions, k + 1 values) or { values }.
   std::vector<double> axis_values(const toml::table& axis, const std::string& key) const;
+  // A choice axis, `{ values = ["word", …] }`: its words, each checked against the parameter.
+  std::vector<std::string> choice_axis_labels(const toml::table& axis, const std::string& key,
+                                              const ParameterInfo& info) const;
 
   void read_list(const toml::table& study);
 

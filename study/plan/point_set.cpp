@@ -27,6 +27,7 @@ PointSet::PointSet(const Plan& plan) : plan_(&plan) {
     for (const GridAxis& axis : plan.axes) {
       dimension_names_.push_back(axis.name);
       dimension_values_.push_back(axis.values);
+      dimension_labels_.push_back(axis.labels);
       parameter_names_.push_back(axis.name);
       size_ *= static_cast<long>(axis.values.size());
     }
@@ -37,6 +38,7 @@ PointSet::PointSet(const Plan& plan) : plan_(&plan) {
   size_ = static_cast<long>(plan.points.size());
   dimension_names_.push_back("point");
   dimension_values_.emplace_back();
+  dimension_labels_.emplace_back();
   for (long k = 0; k < size_; ++k) dimension_values_[0].push_back(static_cast<double>(k));
   for (const ListPoint& point : plan.points) {
     for (const auto& [name, value] : point) {
@@ -120,7 +122,14 @@ std::optional<ParameterError> PointSet::apply(long index, SimulationSettings& se
   }
   const std::vector<double> values = parameter_values(index);
   for (std::size_t k = 0; k < values.size(); ++k) {
-    if (auto error = impactid::assign(settings, parameter_names_[k], values[k])) return error;
+    // The first parameters are the axes, in dimension order; a choice axis applies its word.
+    const std::vector<std::string>* labels =
+        k < dimension_labels_.size() && !dimension_labels_[k].empty() ? &dimension_labels_[k]
+                                                                      : nullptr;
+    const ParameterValue value =
+        labels ? ParameterValue((*labels)[static_cast<std::size_t>(values[k])])
+               : ParameterValue(values[k]);
+    if (auto error = impactid::assign(settings, parameter_names_[k], value)) return error;
   }
   return std::nullopt;
 }

@@ -26,11 +26,16 @@ class PointSet {
   /// Grid: one dimension per independent axis. List: one dimension "point" = 0..K−1.
   const std::vector<std::string>& dimension_names() const { return dimension_names_; }
   const std::vector<std::vector<double>>& dimension_values() const { return dimension_values_; }
+  /// A choice axis's words (its values are their positions); empty for any other dimension.
+  const std::vector<std::vector<std::string>>& dimension_labels() const {
+    return dimension_labels_;
+  }
   std::vector<long> shape() const;
 
-  /// Parameters that vary between points, numeric ones: grid: the independent axes then the
-  /// coupled axes, in file order; list: every numeric key of any point, in order of first
-  /// appearance (choice keys such as `mass` or `method` are applied but not listed).
+  /// Parameters that vary between points, numeric ones: grid: the independent axes (a choice
+  /// axis by the position of its word) then the coupled axes, in file order; list: every numeric
+  /// key of any point, in order of first appearance (choice keys such as `mass` or `method` are
+  /// applied but not listed).
   const std::vector<std::string>& parameter_names() const { return parameter_names_; }
   /// Their values at a point, in parameter_names() order. Grid: the axis values and the coupled
   /// values computed from them. List: the value the point gives; for a key the point leaves out,
@@ -55,6 +60,7 @@ class PointSet {
   long size_ = 0;
   std::vector<std::string> dimension_names_;
   std::vector<std::vector<double>> dimension_values_;
+  std::vector<std::vector<std::string>> dimension_labels_;
   std::vector<std::string> parameter_names_;
   std::vector<std::vector<double>> list_values_;  // list: parameter_values() of every point
 };

@@ -16,6 +16,9 @@ struct ResultDimension {
   std::string name;  ///< also the dataset name
   std::string units;
   std::vector<double> values;
+  /// A choice axis (contact = ["lagrange", "penalty"]): the word of each value, whose values are
+  /// then 0, 1, …; empty for a numeric dimension. Stored as CF flag_values and flag_meanings.
+  std::vector<std::string> labels;
 };
 
 struct ResultColumn {

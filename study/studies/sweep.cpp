@@ -123,7 +123,8 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
   const auto size = static_cast<std::size_t>(points.size());
   for (std::size_t d = 0; d < points.dimension_names().size(); ++d) {
     const std::string& name = points.dimension_names()[d];
-    r.dimensions.push_back({name, parameter_units(name), points.dimension_values()[d]});
+    r.dimensions.push_back(
+        {name, parameter_units(name), points.dimension_values()[d], points.dimension_labels()[d]});
   }
   r.status.assign(size, kStatusNotDone);
   for (const std::string& name : points.parameter_names()) {
