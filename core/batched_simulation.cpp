@@ -412,8 +412,8 @@ template <bool kDamping, bool kMassTerm>
     }
     event = next_lane_event(lanes, i + 1);
     // No lane steps or starts any more (all ended, unstable or failed): the rest would step
-    // zeros. In bench/hht-sweep.toml, a batch of unstable points then ends at its last lane's
-    // instability, and the unstable points' mean time per point fell from 77 to 42 µs.
+    // zeros. A batch of unstable points then ends at its last lane's instability, which nearly
+    // halves their time (docs/performance.md).
     if (event == std::numeric_limits<long>::max()) break;
   }
 }

@@ -87,7 +87,7 @@ STATUS_TEXT = {
     2: "not ok: failed (singular matrix)",
 }
 
-# The default scene (README.md "simulate options"): a plan's [scene] overrides these.
+# The default scene (docs/conventions.md, "Parameters"): a plan's [scene] overrides these.
 DEFAULT_SCENE = {
     "length": 20.0,
     "elements": 200,

@@ -12,7 +12,8 @@
 //      must name a parameter of the table: it is printed as that option (`--delta = 0.3: …`).
 //   3. when the built scene is tiny ((elements + 1) × steps ≤ 1e5, a few milliseconds), one
 //      simulation and its indicators (study/evaluation.hpp), written to JSON in memory. Checked:
-//      a run that is not ok has only NaN indicators (README, "Status"); steps ≤ planned steps.
+//      a run that is not ok has only NaN indicators (docs/conventions.md, "Status"); steps ≤
+//      planned steps.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstddef>

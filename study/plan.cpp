@@ -1259,7 +1259,7 @@ class PlanReader {
     return out;
   }
 
-  // The methods this project recommends (README.md, "Decisions and findings"; the spectral
+  // The methods this project recommends (docs/methods.md, "Decisions and findings"; the spectral
   // plan's set): what a work-precision study compares unless the plan lists its own.
   static std::vector<SpectralMethod> default_work_precision_methods() {
     const auto make = [](MethodKind kind, std::vector<std::pair<const char*, double>> given,
