@@ -174,7 +174,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
                                                 c.lower * x.inverse_pivot[i]);
     }
     // Two rows per iteration in the two long loops: the scheduler then overlaps one row's
-    // recurrence with the next row's independent work a little better (about 3% per step).
+    // recurrence with the next row's independent work a little better (docs/performance.md).
 #pragma GCC unroll 2
     for (Eigen::Index i = tail; i < last - 1; ++i) {
       forward.template operator()<false, false>(i, c.tail_pivot, c.tail_lower_ratio);
