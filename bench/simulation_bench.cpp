@@ -269,9 +269,9 @@ BENCHMARK(BM_BatchedRun)
 // 0.3 to 0.99), through evaluate_batch, kBatchLanes points per unit of work, as run_sweep
 // groups them. Why more points than BM_Sweep: with 4 units per iteration each thread ran 2
 // and then waited for the other, so on this shared machine, where one core is often slower
-// than the other for minutes, the figure was the slower core's (a median of 103 µs per run per
-// core in 60 rounds at 08:18–08:24 UTC on 2026-11-24, when `impactid run`'s 212 dynamically
-// scheduled units gave 84). Batches whose lanes all end unstable stop early, as in a sweep.
+// than the other for minutes, the figure was the slower core's, well above a whole `impactid
+// run` sweep's with its 212 dynamically scheduled units. Batches whose lanes all end unstable stop
+// early, as in a sweep.
 void BM_BatchedSweep(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
   constexpr int kPoints = 512;

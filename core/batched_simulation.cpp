@@ -174,7 +174,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
                                                 c.lower * x.inverse_pivot[i]);
     }
     // Two rows per iteration in the two long loops: the scheduler then overlaps one row's
-    // recurrence with the next row's independent work a little better (about 3% per step).
+    // recurrence with the next row's independent work a little better (docs/performance.md).
 #pragma GCC unroll 2
     for (Eigen::Index i = tail; i < last - 1; ++i) {
       forward.template operator()<false, false>(i, c.tail_pivot, c.tail_lower_ratio);
@@ -412,8 +412,8 @@ template <bool kDamping, bool kMassTerm>
     }
     event = next_lane_event(lanes, i + 1);
     // No lane steps or starts any more (all ended, unstable or failed): the rest would step
-    // zeros. In bench/hht-sweep.toml, a batch of unstable points then ends at its last lane's
-    // instability, and the unstable points' mean time per point fell from 77 to 42 µs.
+    // zeros. A batch of unstable points then ends at its last lane's instability, which nearly
+    // halves their time (docs/performance.md).
     if (event == std::numeric_limits<long>::max()) break;
   }
 }

@@ -11,7 +11,7 @@
 // sub-step. The sample at t + Δt reports the second's. Why at both: a sub-step that ended in
 // penetration would start the second from a state the contact law forbids, and its predictors
 // (which weigh v_γ and a_γ) carry the penetration's momentum into the step's end. Measured on the
-// paper's scene (2026-11-25, `impactid simulate --method …`): with the first sub-step left
+// paper's scene (`impactid simulate --method …`): with the first sub-step left
 // unconstrained every run tried went unstable (energy 1.6–3.1 times the initial by t = 4e-5 s:
 // bathe, rho-bathe with ρ∞ = 0, 0.3, 0.6, 1); constrained at both, ρ∞-Bathe with ρ∞ = 0 is ok
 // (ε_p = 2.3 %, 4 contact episodes) and the original Bathe ok but chattering (68 episodes).

@@ -10,8 +10,8 @@
 //   equal the scalar path bit for bit. std::fma is correctly rounded, so the bits are the same
 //   on every machine; only its speed differs: one instruction where the processor has FMA3
 //   (x86-64-v3: every x86-64 processor since 2013-2015), a C library routine on baseline
-//   x86-64. Unversioned, the scalar HHT run took 2.6 times as long (bench: BM_Run/3, 1.56 ->
-//   4.0 ms). IMPACTID_FMA_VERSIONS marks these functions.
+//   x86-64, which made the scalar run several times slower (docs/performance.md).
+//   IMPACTID_FMA_VERSIONS marks these functions.
 // - The batched kernel's loop (run_batch_any) also wants AVX-512 registers, one register per 8
 //   lanes: IMPACTID_SIMD_VERSIONS adds x86-64-v4.
 //

@@ -74,7 +74,7 @@ struct BetaGamma {
 /// ε_p is smallest on the default scene. With Lagrange contact the trapezoidal rule (δ = 0)
 /// chatters on the wall: it spreads each impulse of λ over two steps, so every release injects
 /// energy (the default scene reaches 10× its initial energy), and up to δ ≈ 0.2 the chatter
-/// comes and goes with δ (README, "Decisions and findings").
+/// comes and goes with δ (docs/methods.md, "Decisions and findings").
 struct NewmarkParams {
   double delta = 0.3;                     ///< δ >= 0 (eq. 13)
   std::optional<BetaGamma> coefficients;  ///< when set, replaces eq. 13

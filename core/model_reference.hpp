@@ -21,7 +21,7 @@
 // forward-increment multiplier stops the contact DOF at the wall (an inelastic impact of the
 // node, the persistent-contact solution), which converges as Δt → 0; the implicit family's
 // end-of-step constraint reverses the node's velocity at every re-contact, so its contact force
-// chatters at the refined step and the samples keep changing. Measured (2026-11-25): the exported
+// chatters at the refined step and the samples keep changing. Measured: the exported
 // paper's rod converges with central difference at Δt/64 (change 6.1e-4), the shipped block at
 // Δt/64 (1.0e-3) and at Courant 0.125 to 1 within Δt/128; with HHT α = −0.3, after ten halvings
 // the change was still 3.6 % on the rod and 45 % on the block. With a consistent mass (no central

@@ -212,7 +212,7 @@ struct LaneRun {
   long last = -1;  // its last sample
   // The next sample at which it checks the energy: run_steps checks at every sample i with
   // (i − first + 1) a multiple of the interval, and at the last. A countdown rather than a
-  // modulo: 2·kBatchLanes integer divisions per step were a tenth of the batch's time.
+  // modulo: 2·kBatchLanes integer divisions per step cost measurably (docs/performance.md).
   long next_check = 0;
   bool stepping = false;
   double energy_bound = 0.0;

@@ -38,9 +38,9 @@ struct RunOptions {
   /// separates the two long before any value overflows. > 1.
   double energy_growth_limit = 1.5;
   /// The energy bound is checked every this many steps and at the last step (1: every step).
-  /// The energy costs two O(n) products, a sixth of a step (measured: 2.70 ms → 2.27 ms per
-  /// default HHT run); an unstable mode grows geometrically, so it is caught at most this many
-  /// steps late. Non-finite values are caught at every step. >= 1.
+  /// The energy costs two O(n) products, about a sixth of a step (docs/performance.md); an
+  /// unstable mode grows geometrically, so it is caught at most this many steps late. Non-finite
+  /// values are caught at every step. >= 1.
   int energy_check_interval = 16;
   /// Record the contact-node displacement and the energy at every sample (time histories).
   /// Otherwise the trace holds pressure and velocity only: all the indicators need.

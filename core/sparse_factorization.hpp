@@ -5,10 +5,9 @@
 // Eigen's SimplicialLDLT with an approximate minimum degree ordering (AMD): the factorisation is
 // done once per run and a step costs its two triangular solves. Why not CHOLMOD (Debian's
 // SuiteSparse), the alternative: its supernodal solve is slower on every model measured (the
-// shipped block: 99 µs against 76; 2D grids of 1e3, 1e4 and 1e5 DOFs: 41 against 26 µs, 568
-// against 399 µs, 11.5 against 9.0 ms), and its factorisation too below 1e5 DOFs
-// (bench/model_bench.cpp; docs/performance.md, "User models"). A diagonal matrix (a lumped mass
-// with central difference) is inverted entry by entry instead.
+// shipped block and 2D grids of 1e3 to 1e5 DOFs), and its factorisation too below 1e5 DOFs
+// (bench/model_bench.cpp; the figures in docs/performance.md, "User models"). A diagonal matrix (a
+// lumped mass with central difference) is inverted entry by entry instead.
 //
 // A pivot that is not positive is reported with the DOF it belongs to (the ordering maps the
 // elimination step back to the user's numbering): a mass matrix that is not positive definite,

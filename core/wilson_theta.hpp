@@ -34,7 +34,7 @@
 // force that puts a node on the wall at t + Δt changes its velocity by 3/Δt times the
 // displacement it takes away (γ/β = 3; the trapezoidal rule's 2 reflects a free mass at its own
 // speed): a free mass arriving at v with the wall δ ahead leaves at −2v + 3δ/Δt, whatever θ
-// (tests/wilson_theta_test.cpp). On the paper's scene (2026-11-25, `impactid simulate --method
+// (tests/wilson_theta_test.cpp). On the paper's scene (`impactid simulate --method
 // wilson-theta [--theta T] [--energy-growth-limit 1000]`) every θ tried from 1.4 to 3 is
 // `unstable` under the default energy bound (1.5·E0, passed after 51–227 steps); with the bound
 // lifted the runs end with 47–75 contact episodes, ε_p ≈ 1.8 and 1.35–2.6 times the initial

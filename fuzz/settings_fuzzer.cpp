@@ -7,14 +7,13 @@
 //   1. the whole command line (every subcommand and option of study/cli/main.cpp) through CLI11:
 //      only CLI::ParseError (including --help and --version) may come out. Nothing is run.
 //   2. simulate's parameter options (add_parameter_options, study/cli/command_line.hpp) through
-//      CLI11, then assign_text() for each given option and build()
-//      (study/plan/simulation_settings.hpp), as apply_options() and build_or_report() do, minus
-//      their messages on stderr. An error must name a parameter of the table: it is printed as that
-//      option (`--delta = 0.3: …`).
+//      CLI11, then assign_text() for each given option and build() (study/plan/simulation_settings.hpp),
+//      as apply_options() and build_or_report() do, minus their messages on stderr. An error
+//      must name a parameter of the table: it is printed as that option (`--delta = 0.3: …`).
 //   3. when the built scene is tiny ((elements + 1) × steps ≤ 1e5, a few milliseconds), one
-//      simulation and its indicators (study/studies/evaluation.hpp), written to JSON in memory.
-//      Checked: a run that is not ok has only NaN indicators (README, "Status"); steps ≤ planned
-//      steps.
+//      simulation and its indicators (study/studies/evaluation.hpp), written to JSON in memory. Checked:
+//      a run that is not ok has only NaN indicators (docs/conventions.md, "Status"); steps ≤
+//      planned steps.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstddef>
@@ -29,11 +28,11 @@
 #include <vector>
 
 #include "study/cli/command_line.hpp"
+#include "study/studies/evaluation.hpp"
+#include "study/formats/json_writer.hpp"
 #include "study/cli/run_command.hpp"
 #include "study/cli/simulate_command.hpp"
-#include "study/formats/json_writer.hpp"
 #include "study/plan/simulation_settings.hpp"
-#include "study/studies/evaluation.hpp"
 
 namespace {
 

@@ -18,7 +18,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // What one pass over a run's samples gathers with the exact solution beside them: eq. 18's
 // sums, p_max, the contact episodes and the peaks. (Three passes, the sums and one per peak
-// count, took 5–8 µs per run of the default scene; a sweep point's run takes about 75.)
+// count, cost about a tenth of a sweep point's run: docs/performance.md.)
 struct SamplePass {
   SamplePass(double pressure_prominence, double velocity_prominence)
       : pressure_peaks(pressure_prominence), velocity_peaks(velocity_prominence) {}

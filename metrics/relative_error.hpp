@@ -18,7 +18,7 @@ class RelativeErrorSum {
   }
   /// NaN when no exact value was non-zero. Inline, as add(): a call that takes the sum's address
   /// made GCC keep both sums in memory in the callers' sample loops (a store and a load on each
-  /// add's dependency chain: evaluate_indicators took 14 cycles per sample).
+  /// add's dependency chain; docs/performance.md).
   double value() const {
     return reference_ > 0.0 ? difference_ / reference_ : std::numeric_limits<double>::quiet_NaN();
   }

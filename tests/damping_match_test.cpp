@@ -75,7 +75,7 @@ TEST(DampingMatch, EveryFamilyHitsAReachableTarget) {
 }
 
 TEST(DampingMatch, KnownAnswers) {
-  // Newmark with delta = 1 has backward Euler's damping ratio (README: the same
+  // Newmark with delta = 1 has backward Euler's damping ratio (docs/methods.md: the same
   // displacements), so matching backward Euler gives delta = 1.
   const double be = xi(BackwardEulerParams{}, 1.0);
   const DampingMatch newmark = match_damping(DampingFamily::newmark, 1.0, be);

@@ -35,7 +35,7 @@ struct NamedMethod {
 enum class Envelope {
   decreases,  // every window below the one before, identically under round-off perturbations
   sporadic,   // decreases at these exact parameters; perturbed by round-off, a window may grow
-  grows,      // grows in some windows (a finding: README, "Decisions and findings")
+  grows,      // grows in some windows (a finding: docs/methods.md, "Decisions and findings")
 };
 
 struct RepeatedCase {
@@ -44,7 +44,7 @@ struct RepeatedCase {
   Envelope snug_envelope;
 };
 
-// Every method at the dissipative parameters the README recommends (its defaults), plus the
+// Every method at the dissipative parameters docs/methods.md recommends (its defaults), plus the
 // variants a user is likely to pick.
 std::vector<RepeatedCase> repeated_cases() {
   return {
@@ -390,8 +390,8 @@ void expect_signorini(const std::string& name, const RodScene& scene, const test
 // backward Euler and HHT δ = 0.45 (the same −5.0%, −28.9%, −10.1%); Newmark δ = 0.3 and
 // generalized-α ρ∞ = 0.8 then grow in one window of 1000 in some runs (at most +5.4% and +1.2%),
 // and HHT at its default grows in 24–29 windows (worst +16% … +55%) in every run. Its growth is
-// a genuine energy increase, made at the release steps (README, "Decisions and findings"), yet
-// the run ends 1e-153 below E0 and its status is ok: the status bounds the energy by
+// a genuine energy increase, made at the release steps (docs/methods.md, "Decisions and findings"),
+// yet the run ends 1e-153 below E0 and its status is ok: the status bounds the energy by
 // energy_growth_limit·E0 and does not promise a monotone decay.
 TEST(RepeatedImpact, SnugRodHoldsThousandsOfImpacts) {
   const RodScene scene = snug_rod(1000);
@@ -483,9 +483,9 @@ TEST(RepeatedImpact, GappedRodEnergyNeverGrowsFromCycleToCycle) {
 // The status is honest when the energy does grow: every parameter set whose snug-rod energy
 // passes the bound (energy_growth_limit·E0) ends `unstable` with a message naming the growth,
 // and its indicators are NaN, not numbers. The trapezoidal rule (Newmark δ = 0) chatters in
-// contact and gains energy at each release (README); so do Newmark δ = 0.1 and HHT with a small
-// |α| (δ = −α), by the same mechanism: the last contact force, carried into the release step by
-// the update's a_n term with weight 1 − γ = ½ − δ.
+// contact and gains energy at each release (docs/methods.md); so do Newmark δ = 0.1 and HHT with a
+// small |α| (δ = −α), by the same mechanism: the last contact force, carried into the release step
+// by the update's a_n term with weight 1 − γ = ½ − δ.
 TEST(RepeatedImpact, GrowingEnergyIsReportedUnstable) {
   const RodScene scene = snug_rod(100);
   for (const auto& [name, method] : std::vector<NamedMethod>{

@@ -27,7 +27,7 @@
 // explanations, and the refined prediction may disagree only for the first two:
 //   - contact chatter: ρ <= 1, yet the energy grows while the rod is on the wall, because the
 //     trapezoidal rule (Newmark δ = 0, HHT α = δ = 0) spreads each impulse of λ over two steps and
-//     every release injects energy (README, "Decisions and findings"). The point is re-run
+//     every release injects energy (docs/methods.md, "Decisions and findings"). The point is re-run
 //     without the bound, with histories: the energy must have crossed the bound by the last
 //     release and not grown after it;
 //   - central difference at exactly Ω_max = 2 (Courant 1, lumped): a double eigenvalue −1, linear

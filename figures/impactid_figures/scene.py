@@ -12,7 +12,7 @@ from .model import is_model_results, model_scene_text
 from .results import text
 from .style import num
 
-# The default scene (README.md "simulate options"): a plan's [scene] overrides these.
+# The default scene (docs/conventions.md, "Parameters"): a plan's [scene] overrides these.
 DEFAULT_SCENE = {
     "length": 20.0,
     "elements": 200,

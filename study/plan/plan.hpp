@@ -98,7 +98,7 @@ struct SpectralStudy {
 /// rod, each run timed `repeats` times (study/studies/work_precision.hpp). Points are ordered
 /// (method, elements, courant), the last fastest.
 struct WorkPrecisionStudy {
-  /// Default: the five methods at the parameters this project recommends (README.md): cdm,
+  /// Default: the five methods at the parameters this project recommends (docs/methods.md): cdm,
   /// backward-euler, newmark δ = 0.3, hht α = −0.3 δ = 0.45 (eq. 19), generalized-alpha ρ∞ = 0.8.
   std::vector<SpectralMethod> methods;
   /// Element counts n (>= 1, no value twice), in plan order; default 50, 100, 200, 400, 800.

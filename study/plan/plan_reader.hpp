@@ -271,7 +271,7 @@ class PlanReader {
   std::vector<double> number_list(const toml::node& node, const std::string& key,
                                   const char* what) const;
 
-  // The methods this project recommends (README.md, "Decisions and findings"; the spectral
+  // The methods this project recommends (docs/methods.md, "Decisions and findings"; the spectral
   // plan's set): what a work-precision study compares unless the plan lists its own.
   static std::vector<SpectralMethod> default_work_precision_methods();
 

@@ -218,8 +218,7 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, St
   // The points to compute are taken kBatchLanes at a time, in order: a thread builds the points
   // of the window it takes, runs them and stores them. Built all at once before the runs, two
   // arrays of 200 bytes per point were written once and read once, and their first touch alone
-  // (about 14 µs per 4 KB page on these virtual machines) cost 4–6 ms of a 3381-point sweep,
-  // 2–4 µs per point and core (bench/hht-sweep.toml, 2026-11-24).
+  // (page faults) cost a few per cent of a sweep (docs/performance.md).
   //
   // Within a window, consecutive points that can share a batch (study/studies/evaluation.hpp:
   // batchable_together) run as one unit through the SIMD kernel; any other point is a unit of
