@@ -1,12 +1,12 @@
 #include "study/cli/run_command.hpp"
 
 #include <omp.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <ctime>
 #include <iostream>
@@ -42,20 +42,29 @@ extern "C" void request_stop(int) {
 constexpr int kExitInterrupted = 130;
 
 // While it lives, SIGINT and SIGTERM ask the running study to stop (g_stop_requested) rather
-// than kill the process; the default handlers come back when it goes, on every path out.
+// than kill the process; the previous handlers come back when it goes, on every path out (the
+// defaults in the program; Python's own when `import impactid` runs a plan).
 class StopOnSignals {
  public:
   StopOnSignals() {
     g_stop_requested.store(false);
-    std::signal(SIGINT, request_stop);
-    std::signal(SIGTERM, request_stop);
+    struct sigaction stop {};
+    stop.sa_handler = request_stop;
+    sigemptyset(&stop.sa_mask);
+    stop.sa_flags = SA_RESTART;  // as std::signal had it: a checkpoint's write is not cut short
+    sigaction(SIGINT, &stop, &previous_int_);
+    sigaction(SIGTERM, &stop, &previous_term_);
   }
   ~StopOnSignals() {
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
+    sigaction(SIGINT, &previous_int_, nullptr);
+    sigaction(SIGTERM, &previous_term_, nullptr);
   }
   StopOnSignals(const StopOnSignals&) = delete;
   StopOnSignals& operator=(const StopOnSignals&) = delete;
+
+ private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
 };
 
 std::string utc_now() {
@@ -78,14 +87,6 @@ std::string duration_text(double seconds) {
   }
   return buffer;
 }
-
-struct RunArguments {
-  std::string plan;
-  std::string output;
-  int threads = 0;
-  bool resume = false;
-  bool dry_run = false;
-};
 
 void stamp(StudyResults& r, int threads, double wall_time_s) {
   r.impactid_version = kVersion;
@@ -399,10 +400,12 @@ int run_work_precision_plan(const Plan& plan, const RunArguments& args,
   return outcome.interrupted ? report_interrupted(args) : 0;
 }
 
+}  // namespace
+
 int run_plan(const RunArguments& args) {
   Plan plan;
   try {
-    plan = load_plan(args.plan);
+    plan = args.plan_text.empty() ? load_plan(args.plan) : parse_plan(args.plan_text, args.plan);
   } catch (const PlanError& e) {
     std::cerr << e.what() << '\n';
     return kExitBadInput;
@@ -543,8 +546,6 @@ int run_plan(const RunArguments& args) {
                extra.empty() ? "" : (extra + "; ").c_str(), output.string().c_str());
   return interrupted ? report_interrupted(args) : 0;
 }
-
-}  // namespace
 
 std::function<int()> add_run_command(CLI::App& app) {
   auto* command = app.add_subcommand("run",

@@ -6,8 +6,27 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 
 namespace impactid {
+
+/// What `impactid run` is given.
+struct RunArguments {
+  std::string plan;  ///< the plan file; with plan_text, the name its messages give it
+  /// When not empty, the plan itself (python/: a plan given as a dict), read as parse_plan reads
+  /// a file's text; `plan` is then not opened.
+  std::string plan_text;
+  std::string output;
+  int threads = 0;
+  bool resume = false;
+  bool dry_run = false;
+};
+
+/// Runs a plan as `impactid run` does: progress and the summary on stderr, every error on
+/// std::cerr; SIGINT and SIGTERM stop it with what is finished saved (the previous handlers come
+/// back when it returns). Returns the exit status: 0, kExitBadInput, kExitFailure, or 130 when
+/// it was interrupted.
+int run_plan(const RunArguments& args);
 
 std::function<int()> add_run_command(CLI::App& app);
 std::function<int()> add_export_command(CLI::App& app);

@@ -12,15 +12,13 @@
 #include "study/cli/command_line.hpp"
 #include "study/formats/json_writer.hpp"
 #include "study/studies/damping_match.hpp"
+#include "study/studies/spectral_report.hpp"
 #include "study/studies/spectral_study.hpp"
 
 namespace impactid {
 namespace {
 
 const char* const kCommand = "spectral";
-/// Ω_max of the stability scan when neither --omega-max nor --courant/--mass is given: the
-/// default of is_stable(), far above any mode a time step resolves ("unconditionally stable").
-constexpr double kDefaultOmegaMax = 1e4;
 
 struct Options {
   GivenOptions given;  // method options, and --courant/--mass for Ω_max
@@ -63,25 +61,7 @@ bool is_method_option(const std::string& name) {
 
 // ---- one method ---------------------------------------------------------------------------
 
-struct AtOmega {
-  double omega_dt;
-  SpectralProperties properties;
-  double delta_min = NAN;  // HHT only
-};
-
-struct MethodReport {
-  Simulation simulation;
-  double rho_inf, period_error_coefficient;
-  double omega_max;
-  const char* omega_max_from;  // "default", "courant", "omega-max"
-  double max_rho;
-  bool stable;
-  std::optional<double> alpha;  // HHT: its α, for δ_min
-  double delta_min_limit = NAN;
-  std::vector<AtOmega> at;
-};
-
-void write_method_json(const MethodReport& r) {
+void write_method_json(const SpectralReport& r) {
   JsonWriter json(std::cout);
   json.begin_object();
   json.key("method").value(to_string(kind_of(r.simulation.method)));
@@ -107,7 +87,7 @@ void write_method_json(const MethodReport& r) {
     json.end_object();
   }
   json.key("omega_dt").begin_array();
-  for (const AtOmega& a : r.at) {
+  for (const SpectralAtOmega& a : r.at) {
     json.begin_object();
     json.key("omega_dt").value(a.omega_dt);
     json.key("spectral_radius").value(a.properties.spectral_radius);
@@ -122,7 +102,7 @@ void write_method_json(const MethodReport& r) {
   std::cout << '\n';
 }
 
-void write_method_text(const MethodReport& r) {
+void write_method_text(const SpectralReport& r) {
   std::printf("method      %s%s\n", to_string(kind_of(r.simulation.method)),
               method_values_text(r.simulation.method).c_str());
   std::printf("rho_inf     %.6g (spectral radius as omega*dt -> inf)\n", r.rho_inf);
@@ -140,7 +120,7 @@ void write_method_text(const MethodReport& r) {
   if (r.at.empty()) return;
   std::printf("%-12s %-14s %-14s %-14s%s\n", "omega*dt", "rho", "xi", "period_error",
               r.alpha ? " delta_min" : "");
-  for (const AtOmega& a : r.at) {
+  for (const SpectralAtOmega& a : r.at) {
     std::printf("%-12.6g %-14.8g %-14.8g %-14.8g", a.omega_dt, a.properties.spectral_radius,
                 a.properties.damping_ratio, a.properties.period_error);
     if (r.alpha) std::printf(" %.6g", a.delta_min);
@@ -154,36 +134,17 @@ int run_method(const Options& o, const std::vector<double>& omegas) {
   const auto simulation = build_or_report(settings, kCommand);
   if (!simulation) return kExitBadInput;
 
-  MethodReport r{*simulation, 0.0, 0.0, kDefaultOmegaMax, "default", 0.0, false, {}, NAN, {}};
+  std::optional<double> omega_max;
   const bool scene_given = o.given.count("courant") || o.given.count("mass");
   if (!o.omega_max.empty()) {
     if (scene_given) {
       bad_input("--omega-max", o.omega_max, "cannot be given with --courant or --mass");
       return kExitBadInput;
     }
-    const auto v = positive_number("--omega-max", o.omega_max);
-    if (!v) return kExitBadInput;
-    r.omega_max = *v;
-    r.omega_max_from = "omega-max";
-  } else if (scene_given) {
-    // The highest mode of the rod at this Courant number (core/amplification.hpp).
-    r.omega_max = rod_max_omega_dt(simulation->scene.mass, simulation->scene.courant);
-    r.omega_max_from = "courant";
+    omega_max = positive_number("--omega-max", o.omega_max);
+    if (!omega_max) return kExitBadInput;
   }
-  const MethodParams& params = simulation->method;
-  r.rho_inf = high_frequency_spectral_radius(params);
-  r.period_error_coefficient = period_error_coefficient(params);
-  r.max_rho = stability_scan_max_rho(params, r.omega_max);
-  r.stable = is_stable(params, r.omega_max);
-  if (const auto* hht = std::get_if<HhtParams>(&params)) {
-    r.alpha = hht->alpha;
-    r.delta_min_limit = hht_delta_minimizing_period_error(hht->alpha, std::nullopt);
-  }
-  for (const double w : omegas) {
-    AtOmega a{w, spectral_properties(params, w)};
-    if (r.alpha) a.delta_min = hht_delta_minimizing_period_error(*r.alpha, w);
-    r.at.push_back(a);
-  }
+  const SpectralReport r = spectral_report(*simulation, omega_max, scene_given, omegas);
   if (o.json) {
     write_method_json(r);
   } else {
@@ -194,49 +155,12 @@ int run_method(const Options& o, const std::vector<double>& omegas) {
 
 // ---- --match-damping ----------------------------------------------------------------------
 
-// The family's parameters at its matched value, by their plan names.
-std::vector<std::pair<const char*, double>> family_parameters(DampingFamily family, double p) {
-  switch (family) {
-    case DampingFamily::newmark:
-      return {{"delta", p}};
-    case DampingFamily::hht_eq19:
-      return {{"alpha", p}, {"delta", -1.5 * p}};
-    case DampingFamily::hht_eq15:
-      return {{"alpha", p}, {"delta", -p}};
-    case DampingFamily::generalized_alpha:
-    case DampingFamily::rho_bathe:
-      return {{"rho_inf", p}};
-  }
-  return {};
-}
-
-const char* family_method(DampingFamily family) {
-  switch (family) {
-    case DampingFamily::newmark:
-      return "newmark";
-    case DampingFamily::hht_eq19:
-    case DampingFamily::hht_eq15:
-      return "hht";
-    case DampingFamily::generalized_alpha:
-      return "generalized-alpha";
-    case DampingFamily::rho_bathe:
-      return "rho-bathe";
-  }
-  return "";
-}
-
 int run_match(const Options& o, double omega_dt, double target) {
   std::vector<DampingMatch> matches;
   for (const DampingFamilyInfo& f : damping_families()) {
     matches.push_back(match_damping(f.family, omega_dt, target));
   }
-  const std::pair<const char*, MethodParams> fixed[] = {
-      {"backward-euler", BackwardEulerParams{}},
-      {"cdm", CentralDifferenceParams{}},
-      {"bathe", BatheParams{}},
-      {"tr-bdf2", TrBdf2Params{}},
-      {"houbolt", HouboltParams{}},
-  };
+  const auto fixed = fixed_damping_methods();
   if (o.json) {
     JsonWriter json(std::cout);
     json.begin_object();

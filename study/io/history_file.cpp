@@ -14,14 +14,9 @@
 namespace impactid {
 namespace {
 
-struct Column {
-  std::string name;
-  std::string units;
-  std::string description;
-  std::vector<double> values;
-};
+using Column = HistoryColumn;
 
-std::vector<Column> history_columns(const RodScene& scene, const ContactTrace& trace) {
+std::vector<Column> rod_history_columns(const RodScene& scene, const ContactTrace& trace) {
   const RodSceneDerived d = derive(scene);
   const RodImpactExact exact(scene);
   const auto n = static_cast<std::size_t>(trace.size());
@@ -198,6 +193,24 @@ void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& co
 
 }  // namespace
 
+std::vector<HistoryColumn> history_columns(const Simulation& simulation, const ContactTrace& trace,
+                                           const ModelReference* model_reference) {
+  std::vector<Column> columns;
+  if (simulation.model) {
+    if (!model_reference) {
+      throw HistoryFileError("a model's history needs its reference");
+    }
+    columns = model_history_columns(*simulation.model, trace, *model_reference);
+  } else if (simulation.bodies) {
+    columns =
+        bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step,
+                               reference_options(simulation));
+  } else {
+    columns = rod_history_columns(simulation.scene, trace);
+  }
+  return columns;
+}
+
 void write_history(const std::filesystem::path& path, const Simulation& simulation,
                    const ContactTrace& trace, const ModelReference* model_reference) {
   const std::string ext = path.extension().string();
@@ -211,19 +224,10 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
     std::filesystem::create_directories(path.parent_path(), ec);
     if (ec) throw HistoryFileError(path.parent_path().string() + ": " + ec.message());
   }
-  std::vector<Column> columns;
-  if (simulation.model) {
-    if (!model_reference) {
-      throw HistoryFileError(path.string() + ": a model's history needs its reference");
-    }
-    columns = model_history_columns(*simulation.model, trace, *model_reference);
-  } else if (simulation.bodies) {
-    columns =
-        bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step,
-                               reference_options(simulation));
-  } else {
-    columns = history_columns(simulation.scene, trace);
+  if (simulation.model && !model_reference) {
+    throw HistoryFileError(path.string() + ": a model's history needs its reference");
   }
+  const std::vector<Column> columns = history_columns(simulation, trace, model_reference);
   if (ext == ".csv") {
     write_csv(path, columns);
   } else {

@@ -6,6 +6,8 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "core/simulation.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -15,6 +17,20 @@ namespace impactid {
 struct HistoryFileError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// One column of a history: what the file stores under `name` (with its units and description)
+/// and what `import impactid`'s run object gives as an array (python/).
+struct HistoryColumn {
+  std::string name;
+  std::string units;
+  std::string description;
+  std::vector<double> values;
+};
+
+/// The columns write_history() writes, in file order; t first. A user's model needs its
+/// reference, as below; throws HistoryFileError without it.
+std::vector<HistoryColumn> history_columns(const Simulation& simulation, const ContactTrace& trace,
+                                           const ModelReference* model_reference = nullptr);
 
 /// Throws HistoryFileError (unknown extension, cannot write) naming the file. HDF5 files carry
 /// the method and every numeric parameter of the simulation as root attributes. A user's model

@@ -671,8 +671,11 @@ Plan parse_plan(const std::string& text, const std::filesystem::path& source) {
 }
 
 SimulationSettings load_scene_file(const std::filesystem::path& path) {
-  const std::string text = read_text(path, "scene");
-  return PlanReader(text, path.string()).read_scene_file(parse_toml(text, path.string()));
+  return parse_scene_file(read_text(path, "scene"), path);
+}
+
+SimulationSettings parse_scene_file(const std::string& text, const std::filesystem::path& source) {
+  return PlanReader(text, source.string()).read_scene_file(parse_toml(text, source.string()));
 }
 
 Plan load_plan(const std::filesystem::path& path) {

@@ -157,6 +157,9 @@ struct Plan {
 /// Reads and checks a scene file (study/plan/scene_file.hpp): its scene as the settings a plan's
 /// [scene] gives, checked by build() with the default method. Throws PlanError, as load_plan.
 SimulationSettings load_scene_file(const std::filesystem::path& path);
+/// The same from text; `source` names it in messages and is the folder a model's files are
+/// relative to.
+SimulationSettings parse_scene_file(const std::string& text, const std::filesystem::path& source);
 
 /// Reads and checks a plan file. Throws PlanError.
 Plan load_plan(const std::filesystem::path& path);

@@ -126,4 +126,45 @@ DampingMatch match_damping(DampingFamily family, double omega_dt, double target_
   return match;
 }
 
+std::vector<std::pair<const char*, double>> family_parameters(DampingFamily family, double p) {
+  switch (family) {
+    case DampingFamily::newmark:
+      return {{"delta", p}};
+    case DampingFamily::hht_eq19:
+      return {{"alpha", p}, {"delta", -1.5 * p}};
+    case DampingFamily::hht_eq15:
+      return {{"alpha", p}, {"delta", -p}};
+    case DampingFamily::generalized_alpha:
+    case DampingFamily::rho_bathe:
+      return {{"rho_inf", p}};
+  }
+  return {};
+}
+
+const char* family_method(DampingFamily family) {
+  switch (family) {
+    case DampingFamily::newmark:
+      return "newmark";
+    case DampingFamily::hht_eq19:
+    case DampingFamily::hht_eq15:
+      return "hht";
+    case DampingFamily::generalized_alpha:
+      return "generalized-alpha";
+    case DampingFamily::rho_bathe:
+      return "rho-bathe";
+  }
+  return "";
+}
+
+std::span<const std::pair<const char*, MethodParams>> fixed_damping_methods() {
+  static const std::pair<const char*, MethodParams> fixed[] = {
+      {"backward-euler", BackwardEulerParams{}},
+      {"cdm", CentralDifferenceParams{}},
+      {"bathe", BatheParams{}},
+      {"tr-bdf2", TrBdf2Params{}},
+      {"houbolt", HouboltParams{}},
+  };
+  return fixed;
+}
+
 }  // namespace impactid

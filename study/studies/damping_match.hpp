@@ -9,6 +9,8 @@
 #pragma once
 
 #include <span>
+#include <utility>
+#include <vector>
 
 #include "core/method.hpp"
 
@@ -42,6 +44,17 @@ const DampingFamilyInfo& family_info(DampingFamily family);
 /// The method of a family at its parameter value (hht_eq19: α and δ = −1.5α; hht_eq15: α and
 /// δ unset, i.e. −α).
 MethodParams family_params(DampingFamily family, double parameter);
+
+/// The method a family belongs to, by its plan name ("hht" for both HHT families).
+const char* family_method(DampingFamily family);
+/// The family's parameters at a value of its varied parameter, by their plan names (hht_eq19:
+/// alpha and delta = -1.5*alpha), as `impactid spectral --match-damping` reports them.
+std::vector<std::pair<const char*, double>> family_parameters(DampingFamily family,
+                                                              double parameter);
+
+/// The methods without a damping parameter whose fixed ξ̄(Ω) a match is reported beside, by
+/// name: backward-euler, cdm, bathe, tr-bdf2, houbolt.
+std::span<const std::pair<const char*, MethodParams>> fixed_damping_methods();
 
 struct DampingMatch {
   DampingFamily family = DampingFamily::newmark;

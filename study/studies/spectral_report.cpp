@@ -1,0 +1,35 @@
+#include "study/studies/spectral_report.hpp"
+
+#include "study/studies/spectral_study.hpp"
+
+namespace impactid {
+
+SpectralReport spectral_report(const Simulation& simulation, std::optional<double> omega_max,
+                               bool scene_given, std::span<const double> omega_dt) {
+  SpectralReport r{.simulation = simulation};
+  if (omega_max) {
+    r.omega_max = *omega_max;
+    r.omega_max_from = "omega-max";
+  } else if (scene_given) {
+    // The highest mode of the rod at this Courant number (core/amplification.hpp).
+    r.omega_max = rod_max_omega_dt(simulation.scene.mass, simulation.scene.courant);
+    r.omega_max_from = "courant";
+  }
+  const MethodParams& params = simulation.method;
+  r.rho_inf = high_frequency_spectral_radius(params);
+  r.period_error_coefficient = period_error_coefficient(params);
+  r.max_rho = stability_scan_max_rho(params, r.omega_max);
+  r.stable = is_stable(params, r.omega_max);
+  if (const auto* hht = std::get_if<HhtParams>(&params)) {
+    r.alpha = hht->alpha;
+    r.delta_min_limit = hht_delta_minimizing_period_error(hht->alpha, std::nullopt);
+  }
+  for (const double w : omega_dt) {
+    SpectralAtOmega a{w, spectral_properties(params, w)};
+    if (r.alpha) a.delta_min = hht_delta_minimizing_period_error(*r.alpha, w);
+    r.at.push_back(a);
+  }
+  return r;
+}
+
+}  // namespace impactid
