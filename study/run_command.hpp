@@ -6,10 +6,19 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <span>
+
+#include "study/sweep.hpp"
 
 namespace impactid {
 
-std::function<int()> add_run_command(CLI::App& app);
+/// How the points of a grid or list plan are computed: by default run_sweep (the threads of
+/// this process); impactid-mpi passes its master (study/mpi_sweep.hpp), which hands them out to
+/// other ranks. Same contract as run_sweep.
+using SweepRunner = std::function<SweepOutcome(const Plan&, const PointSet&, std::span<const long>,
+                                               StudyResults&, const SweepOptions&)>;
+
+std::function<int()> add_run_command(CLI::App& app, SweepRunner runner = {});
 std::function<int()> add_export_command(CLI::App& app);
 
 }  // namespace impactid
