@@ -62,6 +62,9 @@ struct StudyResults {
 /// as it is (no dimension, a size that does not match the grid, a status code outside −1…2, a
 /// name used twice or containing '/', a study attribute with a reserved name).
 void write_results(const std::filesystem::path& path, const StudyResults& results);
+/// The same with the per-point datasets compressed (Hdf5Writer::compress_large_datasets): for
+/// shard files, which hold the whole grid but compute a part of it (study/shard.hpp).
+void write_results_compressed(const std::filesystem::path& path, const StudyResults& results);
 /// Reads a file written by write_results. Throws Hdf5Error naming the file for a missing,
 /// truncated, corrupt or foreign file.
 StudyResults read_results(const std::filesystem::path& path);

@@ -486,7 +486,11 @@ int run_plan(const RunArguments& args, const SweepRunner& runner) {
   std::optional<StopOnSignals> stop_on_signals(std::in_place);
   const auto save = [&](StudyResults results, double wall_time_s) {
     stamp(results, threads, previous_wall_time + wall_time_s);
-    write_results(output, results);
+    if (shard) {
+      write_results_compressed(output, results);  // the other shards' points are NaN
+    } else {
+      write_results(output, results);
+    }
   };
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {

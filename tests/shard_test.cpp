@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -316,6 +318,43 @@ TEST(ShardMerge, AnUnfinishedShardIsNamedAndResumesToTheSingleRun) {
   ASSERT_EQ(o.status, 0) << o.text;
   const auto same = compare(r.single, merged);
   EXPECT_EQ(same.status, 0) << same.text;
+}
+
+// Shard files store their datasets compressed: the other shards' points are NaN, so the file of
+// one shard of eight is a fraction of the single run's; merged, the eight equal the single run.
+TEST(ShardMerge, AShardsFileIsAboutTheSizeOfItsOwnPoints) {
+  const fs::path folder = scratch("size");
+  fs::create_directories(folder);
+  const fs::path plan = testing::write_file(folder / "wide.toml", R"(
+[scene]
+elements = 10
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0.0, partitions = 63 }
+delta = { from = 0.0, to = 1.0, partitions = 63 }
+[output]
+file = ")" + (folder / "wide.h5").string() + "\"\n");
+  ASSERT_EQ(run("run " + plan.string() + " --output " + (folder / "single.h5").string()).status, 0);
+  std::vector<fs::path> shards;
+  for (long k = 0; k < 8; ++k) {
+    ASSERT_EQ(run("run " + plan.string() + " --shard " + to_string(Shard{k, 8})).status, 0);
+    shards.push_back(shard_file(folder / "wide.h5", {k, 8}));
+  }
+  const auto single_size = fs::file_size(folder / "single.h5");
+  const auto shard_size = fs::file_size(shards[3]);
+  std::printf("shard_test: 4096 points: single run %ju bytes, shard 3/8 %ju bytes\n",
+              static_cast<std::uintmax_t>(single_size), static_cast<std::uintmax_t>(shard_size));
+  EXPECT_LT(shard_size * 3, single_size);
+  const fs::path merged = folder / "merged.h5";
+  const auto o = run("merge" + join(shards) + " --output " + merged.string());
+  ASSERT_EQ(o.status, 0) << o.text;
+  const auto same = compare(folder / "single.h5", merged);
+  EXPECT_EQ(same.status, 0) << same.text;
+  EXPECT_GT(fs::file_size(merged) * 2, single_size)
+      << "the merged file is stored as a single run's";
 }
 
 // Inside a Slurm array job, the task's shard is the default: task 5 of --array=4-6 is 1/3.
