@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -35,6 +36,13 @@ enum Tag : int {
 };
 
 using Clock = std::chrono::steady_clock;
+
+// Batch sizing: a batch starts at one window per worker thread and doubles while its round
+// trip is shorter than this, up to kMaxBatchWindows windows. Cheap points (a coarse rod) would
+// otherwise cost a message per few milliseconds of work, and rank 0's answers, not the points,
+// would set the pace.
+constexpr double kBatchRoundTripSeconds = 0.25;
+constexpr long kMaxBatchWindows = 4096;
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -208,12 +216,8 @@ int serve_mpi_worker() {
       case kTagWork: {
         const std::vector<long> indices = receive_array<long>(probed, MPI_LONG);
         if (!served) break;  // the plan failed to load here; rank 0 knows and is stopping
-        if (indices.size() > served->rows.status.size()) {
-          send_text(rank + ": a batch of " + std::to_string(indices.size()) +
-                        " points is more than the " + std::to_string(served->rows.status.size()) +
-                        " it asked for",
-                    0, kTagError);
-          break;
+        if (indices.size() > served->rows.status.size()) {  // rank 0 made the batches larger
+          served->rows = empty_results(served->plan, *served->points, indices.size());
         }
         if (const auto error = compute_batch(*served, indices)) {
           send_text(rank + ": " + *error, 0, kTagError);
@@ -274,7 +278,9 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   // as MPI_THREAD_FUNNELED asks), the others compute windows when rank 0 computes. The mutex
   // guards `results` and everything below it.
   std::mutex mutex;
-  std::vector<int> batch_windows(static_cast<std::size_t>(ranks_), 0);  // a worker's threads
+  std::vector<int> threads_of(static_cast<std::size_t>(ranks_), 0);      // 0 until Ready
+  std::vector<long> batch_windows(static_cast<std::size_t>(ranks_), 0);  // its batch size now
+  std::vector<std::deque<Clock::time_point>> sent_at(static_cast<std::size_t>(ranks_));
   std::vector<long> out(static_cast<std::size_t>(ranks_), 0);           // batches out per worker
   std::vector<long> computed_by(static_cast<std::size_t>(ranks_), 0);   // points per rank
   long next_window = 0, done = 0, unstable = 0, out_total = 0;
@@ -282,16 +288,21 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   std::optional<std::string> error;
   const auto stopping = [&] { return error || (options.stop && options.stop->load()); };
 
-  // Sends the worker its next batch, if any is left. Thread 0, mutex held.
+  // Sends the worker its next batch, if any is left. Thread 0, mutex held. Near the end batches
+  // shrink (a share of what is left, but at least a window per thread), so that no worker gets
+  // a large last batch while the others wait.
   const auto give = [&](int worker) {
     if (stopping() || next_window >= window_count) return;
+    const auto w = static_cast<std::size_t>(worker);
+    const long left = window_count - next_window;
     const long windows =
-        std::min<long>(batch_windows[static_cast<std::size_t>(worker)], window_count - next_window);
+        std::min({batch_windows[w], left, std::max<long>(threads_of[w], left / (2L * ranks_))});
     const long first = next_window * kBatchLanes;
     const long last = std::min(count, (next_window + windows) * kBatchLanes);
     MPI_Send(todo.data() + first, static_cast<int>(last - first), MPI_LONG, worker, kTagWork,
              MPI_COMM_WORLD);
-    ++out[static_cast<std::size_t>(worker)];
+    ++out[w];
+    sent_at[w].push_back(Clock::now());
     ++out_total;
     next_window += windows;
   };
@@ -309,7 +320,8 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
         int threads = 1;
         MPI_Recv(&threads, 1, MPI_INT, worker, kTagReady, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         std::lock_guard lock(mutex);
-        batch_windows[w] = std::max(1, threads);
+        threads_of[w] = std::max(1, threads);
+        batch_windows[w] = threads_of[w];
         ++ready;
         give(worker);
         give(worker);  // the second batch, computed while rank 0 answers the first
@@ -334,6 +346,15 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
           if (results.status[i] != 0) ++unstable;
         }
         if (out[w] > 0) --out[w], --out_total;
+        if (!sent_at[w].empty()) {
+          // Cheap points: double the batch until a batch's round trip (its own time plus the
+          // wait behind the one before it) reaches kBatchRoundTripSeconds.
+          const double round_trip = seconds_since(sent_at[w].front());
+          sent_at[w].pop_front();
+          if (round_trip < kBatchRoundTripSeconds && batch_windows[w] < kMaxBatchWindows) {
+            batch_windows[w] *= 2;
+          }
+        }
         give(worker);
         break;
       }
@@ -341,10 +362,11 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
         const std::string message = receive_text(probed);
         std::lock_guard lock(mutex);
         if (!error) error = message;
-        if (batch_windows[w] == 0) {
+        if (threads_of[w] == 0) {
           ++ready;  // it failed on the plan, before Ready
         } else if (out[w] > 0) {
           --out[w], --out_total;
+          if (!sent_at[w].empty()) sent_at[w].pop_front();
         }
         break;
       }

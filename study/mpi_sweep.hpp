@@ -9,7 +9,8 @@
 // and the batched kernel's unit, study/sweep.hpp) as the worker has threads, taken in order
 // from the points still to compute. Each worker holds two batches, so it computes the second
 // while rank 0 answers the first; every finished batch brings the next. Static splits would
-// leave ranks idle: an unstable point stops early, so batches differ in cost.
+// leave ranks idle: an unstable point stops early, so batches differ in cost. A worker's batch
+// doubles while its round trip is short (cheap points), and shrinks near the end (mpi_sweep.cpp).
 //
 // Rank 0's main thread serves the workers (the one thread that calls MPI: MPI_THREAD_FUNNELED)
 // and writes the checkpoints. When the job has at most kMasterComputesUpToRanks ranks, rank 0's

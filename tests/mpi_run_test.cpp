@@ -161,9 +161,20 @@ std::string read_text(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-// SIGKILL of one rank after the first checkpoint ends the job (mpirun takes the others down);
-// the file is a complete results file of part of the plan, and --resume on 3 ranks computes
-// only the rest and ends with the single process's file.
+// Points done in the file so far; 0 while there is none (checkpoints replace it atomically, so a
+// file that exists is complete).
+long points_saved(const fs::path& file) {
+  if (!fs::exists(file)) return 0;
+  try {
+    return read_results(file).points_done();
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+// SIGKILL of one rank after the first checkpoint with a point in it ends the job (mpirun takes the
+// others down); the file is a complete results file of part of the plan, and --resume on 3 ranks
+// computes only the rest and ends with the single process's file.
 void kill_rank_then_resume(int rank) {
   const Study& s = study();
   const fs::path out = scratch("killed" + std::to_string(rank) + ".h5");
@@ -176,7 +187,7 @@ void kill_rank_then_resume(int rank) {
   bool ended = false;
   while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
     if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
-    if (!ended && fs::exists(out) && (victim = rank_pid(mpirun, rank))) break;
+    if (!ended && points_saved(out) > 0 && (victim = rank_pid(mpirun, rank))) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   ASSERT_FALSE(ended) << "the job ended before a kill:\n" << read_text(log);
