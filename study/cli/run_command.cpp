@@ -8,20 +8,24 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <iostream>
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <span>
 
 #include "study/cli/command_line.hpp"
 #include "study/formats/hdf5_file.hpp"
+#include "study/formats/utc_time.hpp"
 #include "study/io/history_file.hpp"
 #include "study/io/results_file.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/point_set.hpp"
 #include "study/studies/optimizer.hpp"
 #include "study/studies/practical_range.hpp"
+#include "study/studies/shard.hpp"
 #include "study/studies/spectral_study.hpp"
 #include "study/studies/sweep.hpp"
 #include "study/studies/work_precision.hpp"
@@ -66,15 +70,6 @@ class StopOnSignals {
   struct sigaction previous_int_ {};
   struct sigaction previous_term_ {};
 };
-
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buffer;
-}
 
 std::string duration_text(double seconds) {
   if (!std::isfinite(seconds)) return "?";
@@ -259,23 +254,28 @@ std::optional<StudyResults> existing_results(const std::filesystem::path& output
 
 // The time histories of every point, one file each, for plots of the signals themselves
 // (a sweep keeps only indicators). Serial: lists of this kind are short.
-void write_point_histories(const PointSet& points, const std::filesystem::path& folder) {
+void write_point_histories(const PointSet& points, std::span<const long> indices,
+                           const std::filesystem::path& folder) {
   SimulationWorkspace workspace;
-  for (long index = 0; index < points.size(); ++index) {
+  for (const long index : indices) {
     Simulation simulation = std::get<Simulation>(build(points.settings(index)));
     simulation.run.record_history = true;
     evaluate(simulation, workspace);  // the rod's or a scene of bodies' run, as the sweep's
     write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation, workspace.trace,
                   simulation.model ? &*workspace.model_reference : nullptr);
   }
-  std::fprintf(stderr, "impactid run: wrote the time histories of %ld points to %s/\n",
-               points.size(), folder.string().c_str());
+  std::fprintf(stderr, "impactid run: wrote the time histories of %zu points to %s/\n",
+               indices.size(), folder.string().c_str());
 }
 
 // The last line of a run that was stopped: how to continue it. Returns the exit status.
-int report_interrupted(const RunArguments& args) {
-  std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s --resume%s\n",
-               args.plan.c_str(), args.output.empty() ? "" : (" --output " + args.output).c_str());
+// A shard's file is named in full (its name may be derived from --output).
+int report_interrupted(const RunArguments& args, std::optional<Shard> shard = std::nullopt,
+                       const std::filesystem::path& output = {}) {
+  const std::string file = shard ? output.string() : args.output;
+  std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s%s --resume%s\n",
+               args.plan.c_str(), shard ? (" --shard " + to_string(*shard)).c_str() : "",
+               file.empty() ? "" : (" --output " + file).c_str());
   return kExitInterrupted;
 }
 
@@ -402,7 +402,7 @@ int run_work_precision_plan(const Plan& plan, const RunArguments& args,
 
 }  // namespace
 
-int run_plan(const RunArguments& args) {
+int run_plan(const RunArguments& args, const SweepRunner& runner) {
   Plan plan;
   try {
     plan = args.plan_text.empty() ? load_plan(args.plan) : parse_plan(args.plan_text, args.plan);
@@ -410,8 +410,32 @@ int run_plan(const RunArguments& args) {
     std::cerr << e.what() << '\n';
     return kExitBadInput;
   }
-  const std::filesystem::path output =
+  // --shard K/N, or inside a Slurm array job the task's shard (study/studies/shard.hpp).
+  std::optional<Shard> shard;
+  try {
+    shard = args.shard.empty() ? slurm_array_shard(std::getenv) : parse_shard(args.shard);
+  } catch (const ShardError& e) {
+    std::cerr << "impactid run: " << e.what() << '\n';
+    return kExitBadInput;
+  }
+  if (shard && plan.kind != StudyKind::grid && plan.kind != StudyKind::list) {
+    std::cerr << "impactid run: "
+              << (args.shard.empty()
+                      ? "in a Slurm array job (SLURM_ARRAY_TASK_ID is set), the task's shard"
+                      : "--shard " + args.shard)
+              << ": a " << to_string(plan.kind)
+              << " study runs as a whole; only grid and list studies are split in shards\n";
+    return kExitBadInput;
+  }
+  if (shard && args.shard.empty()) {
+    std::fprintf(stderr, "impactid run: shard %s, from the Slurm array task\n",
+                 to_string(*shard).c_str());
+  }
+  // A shard's default file is named after it. So is --output's in an array job (the shard from
+  // Slurm): every task gets the same command line, and must not write the same file.
+  std::filesystem::path output =
       args.output.empty() ? plan.output.file : std::filesystem::path(args.output);
+  if (shard && (args.output.empty() || args.shard.empty())) output = shard_file(output, *shard);
   if (plan.kind == StudyKind::work_precision && args.threads > 1) {
     // Validate, never clamp: a silently serial run would not be what was asked for.
     std::cerr << "impactid run: --threads " << args.threads
@@ -447,6 +471,21 @@ int run_plan(const RunArguments& args) {
                 << " differ from those of the plan; it was left untouched\n";
       return kExitBadInput;
     }
+    std::optional<ShardMark> mark;
+    try {
+      mark = shard_mark(*previous);
+    } catch (const ShardError& e) {
+      std::cerr << "impactid run: --resume: " << output.string() << ": " << e.what() << '\n';
+      return kExitBadInput;
+    }
+    if ((mark ? std::optional(mark->shard) : std::nullopt) != shard) {
+      std::cerr << "impactid run: --resume: " << output.string() << " holds "
+                << (mark ? "shard " + to_string(mark->shard) : std::string("the whole plan"))
+                << ", not "
+                << (shard ? "shard " + to_string(*shard) : std::string("the whole plan"))
+                << "; it was left untouched\n";
+      return kExitBadInput;
+    }
   }
   if (!args.resume) previous.reset();
   const double previous_wall_time = previous ? previous->wall_time_s : 0.0;
@@ -454,7 +493,11 @@ int run_plan(const RunArguments& args) {
   std::optional<StopOnSignals> stop_on_signals(std::in_place);
   const auto save = [&](StudyResults results, double wall_time_s) {
     stamp(results, threads, previous_wall_time + wall_time_s);
-    write_results(output, results);
+    if (shard) {
+      write_results_compressed(output, results);  // the other shards' points are NaN
+    } else {
+      write_results(output, results);
+    }
   };
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
@@ -503,8 +546,14 @@ int run_plan(const RunArguments& args) {
       StudyResults results = previous ? std::move(*previous) : empty_results(plan, points);
       // The practical range is derived from the rest of the table: recomputed below.
       remove_practical_range(results);
-      std::vector<long> indices(static_cast<std::size_t>(points.size()));
-      std::iota(indices.begin(), indices.end(), 0L);
+      std::vector<long> indices;
+      if (shard) {
+        indices = shard_points(points.size(), *shard);
+        mark_shard(results, *shard, plan.path);
+      } else {
+        indices.resize(static_cast<std::size_t>(points.size()));
+        std::iota(indices.begin(), indices.end(), 0L);
+      }
       SweepOptions options;
       options.threads = threads;
       options.checkpoint_seconds = plan.output.checkpoint_seconds;
@@ -513,9 +562,14 @@ int run_plan(const RunArguments& args) {
         progress.update(p.done, p.total, p.unstable, p.elapsed_s);
       };
       options.stop = &g_stop_requested;
-      const SweepOutcome outcome = run_sweep(points, indices, results, options);
+      const SweepOutcome outcome = runner ? runner(plan, points, indices, results, options)
+                                          : run_sweep(points, indices, results, options);
       progress.finish();
-      if (!plan.practical.empty()) {
+      if (!plan.practical.empty() && shard) {
+        std::fprintf(stderr,
+                     "impactid run: practical range: computed by impactid merge over "
+                     "every shard\n");
+      } else if (!plan.practical.empty()) {
         const PracticalRange range = practical_range(results, plan.practical);
         store_practical_range(results, range);
         std::fprintf(stderr, "impactid run: practical range (%s): %s\n", range.thresholds.c_str(),
@@ -523,12 +577,12 @@ int run_plan(const RunArguments& args) {
       }
       save(std::move(results), elapsed());
       if (plan.output.histories && !outcome.interrupted) {
-        write_point_histories(points, *plan.output.histories);
+        write_point_histories(points, indices, *plan.output.histories);
       }
       computed = outcome.computed;
       reused = outcome.reused;
       unstable = outcome.unstable;
-      total = points.size();
+      total = static_cast<long>(indices.size());
       interrupted = outcome.interrupted;
     }
   } catch (const std::exception& e) {
@@ -540,14 +594,15 @@ int run_plan(const RunArguments& args) {
 
   const double seconds = elapsed();
   std::fprintf(stderr,
-               "impactid run: %s: %ld computed, %ld reused, %ld not ok, of %ld; %.3g s on %d "
+               "impactid run: %s%s: %ld computed, %ld reused, %ld not ok, of %ld; %.3g s on %d "
                "thread(s); %swrote %s\n",
-               plan.name.c_str(), computed, reused, unstable, total, seconds, threads,
+               plan.name.c_str(), shard ? (" shard " + to_string(*shard)).c_str() : "", computed,
+               reused, unstable, total, seconds, threads,
                extra.empty() ? "" : (extra + "; ").c_str(), output.string().c_str());
-  return interrupted ? report_interrupted(args) : 0;
+  return interrupted ? report_interrupted(args, shard, output) : 0;
 }
 
-std::function<int()> add_run_command(CLI::App& app) {
+std::function<int()> add_run_command(CLI::App& app, SweepRunner runner) {
   auto* command = app.add_subcommand("run",
                                      "Run a plan file (grid, list, optimize, spectral or "
                                      "work-precision study) and write its HDF5 results");
@@ -567,11 +622,19 @@ std::function<int()> add_run_command(CLI::App& app) {
       ->type_name("FILE");
   command->add_flag("--resume", args->resume,
                     "Keep the points already in the results file; compute only the rest");
+  command
+      ->add_option("--shard", args->shard,
+                   "Compute only shard K of N (0 <= K < N: every N-th window of 16 points, "
+                   "from the K-th) into its own file (default: <output>.shard-K-of-N.h5); "
+                   "join the shards with impactid merge. Default inside a Slurm array job: "
+                   "the task's shard, from SLURM_ARRAY_TASK_ID, _MIN, _STEP and _COUNT, "
+                   "written to <output>.shard-K-of-N.h5 also when --output is given")
+      ->type_name("K/N");
   command->add_flag("--dry-run", args->dry_run,
                     "Print the points per axis and in total, and a time estimate; run nothing");
-  return [command, args]() -> int {
+  return [command, args, runner = std::move(runner)]() -> int {
     if (!command->parsed()) return -1;
-    return run_plan(*args);
+    return run_plan(*args, runner);
   };
 }
 

@@ -6,7 +6,10 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <span>
 #include <string>
+
+#include "study/studies/sweep.hpp"
 
 namespace impactid {
 
@@ -20,15 +23,22 @@ struct RunArguments {
   int threads = 0;
   bool resume = false;
   bool dry_run = false;
+  std::string shard;  ///< "K/N", or "" (then a Slurm array task's, or the whole plan)
 };
+
+/// How the points of a grid or list plan are computed: by default run_sweep (the threads of
+/// this process); impactid-mpi passes its master (study/cli/mpi_sweep.hpp), which hands them out
+/// to other ranks. Same contract as run_sweep.
+using SweepRunner = std::function<SweepOutcome(const Plan&, const PointSet&, std::span<const long>,
+                                               StudyResults&, const SweepOptions&)>;
 
 /// Runs a plan as `impactid run` does: progress and the summary on stderr, every error on
 /// std::cerr; SIGINT and SIGTERM stop it with what is finished saved (the previous handlers come
 /// back when it returns). Returns the exit status: 0, kExitBadInput, kExitFailure, or 130 when
 /// it was interrupted.
-int run_plan(const RunArguments& args);
+int run_plan(const RunArguments& args, const SweepRunner& runner = {});
 
-std::function<int()> add_run_command(CLI::App& app);
+std::function<int()> add_run_command(CLI::App& app, SweepRunner runner = {});
 std::function<int()> add_export_command(CLI::App& app);
 
 }  // namespace impactid

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <numeric>
@@ -90,16 +91,36 @@ H5::DSetCreatPropList dataset_properties() {
   return properties;
 }
 
+// Chunks of at most 2^16 elements (512 KB of doubles, inside HDF5's default 1 MB chunk cache),
+// whole along the last dimensions first, so that a row-major table is cut into runs of
+// consecutive points.
+Hdf5Dims chunk_shape(const Hdf5Dims& dims) {
+  Hdf5Dims chunk(dims.size(), 1);
+  hsize_t budget = hsize_t{1} << 16;
+  for (std::size_t d = dims.size(); d-- > 0 && budget > 1;) {
+    chunk[d] = std::min(dims[d], budget);
+    budget /= chunk[d];
+  }
+  return chunk;
+}
+
 template <class T>
 void write_numeric_dataset(H5::H5File& file, const std::filesystem::path& path,
                            const std::string& name, std::span<const T> data, const Hdf5Dims& dims,
-                           const H5::PredType& type) {
+                           const H5::PredType& type, bool compressed) {
   if (element_count(dims) != data.size()) {
     throw Hdf5Error(path.string() + ": " + name + ": data size does not match its shape");
   }
   guarded(path, name, [&] {
     H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
-    H5::DataSet d = file.createDataSet(name, type, space, dataset_properties());
+    H5::DSetCreatPropList properties = dataset_properties();
+    if (compressed && !dims.empty() && data.size() >= 4096) {
+      const Hdf5Dims chunk = chunk_shape(dims);
+      properties.setChunk(static_cast<int>(chunk.size()), chunk.data());
+      properties.setShuffle();
+      properties.setDeflate(1);
+    }
+    H5::DataSet d = file.createDataSet(name, type, space, properties);
     if (!data.empty()) d.write(data.data(), type);  // a zero-size dataset has nothing to write
   });
 }
@@ -257,16 +278,16 @@ void Hdf5Writer::group(const std::string& path) {
 
 void Hdf5Writer::dataset(const std::string& path, std::span<const double> data,
                          const Hdf5Dims& dims) {
-  write_numeric_dataset(*file_, path_, path, data, dims, H5::PredType::NATIVE_DOUBLE);
+  write_numeric_dataset(*file_, path_, path, data, dims, H5::PredType::NATIVE_DOUBLE, compressed_);
 }
 
 void Hdf5Writer::dataset(const std::string& path, std::span<const long> data,
                          const Hdf5Dims& dims) {
-  write_numeric_dataset(*file_, path_, path, data, dims, H5::PredType::NATIVE_LONG);
+  write_numeric_dataset(*file_, path_, path, data, dims, H5::PredType::NATIVE_LONG, compressed_);
 }
 
 void Hdf5Writer::dataset(const std::string& path, std::span<const int> data, const Hdf5Dims& dims) {
-  write_numeric_dataset(*file_, path_, path, data, dims, H5::PredType::NATIVE_INT);
+  write_numeric_dataset(*file_, path_, path, data, dims, H5::PredType::NATIVE_INT, compressed_);
 }
 
 void Hdf5Writer::dataset(const std::string& path, const std::vector<std::string>& data) {

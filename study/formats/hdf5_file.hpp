@@ -47,6 +47,10 @@ class Hdf5Writer {
   void attribute(const std::string& object, const std::string& name, std::span<const int> values);
 
   void group(const std::string& path);
+  /// Numeric datasets of 4096 elements or more created after this call are stored in chunks,
+  /// shuffled and deflated (zlib level 1): a shard's file, whose other shards' points are NaN,
+  /// shrinks to about its own points. Readers need nothing: HDF5 undoes it.
+  void compress_large_datasets(bool on) { compressed_ = on; }
   /// A row-major dataset of the given shape (product of dims == data.size()).
   void dataset(const std::string& path, std::span<const double> data, const Hdf5Dims& dims);
   void dataset(const std::string& path, std::span<const long> data, const Hdf5Dims& dims);
@@ -67,6 +71,7 @@ class Hdf5Writer {
  private:
   std::filesystem::path path_, temporary_;
   std::optional<H5::H5File> file_;
+  bool compressed_ = false;
 };
 
 /// Read access to a results file. Throws Hdf5Error naming the file for a missing, truncated or

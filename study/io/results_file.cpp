@@ -363,12 +363,16 @@ void write_matrix(std::ostream& out, const StudyResults& r, const ResultColumn& 
 
 }  // namespace
 
-void write_results(const std::filesystem::path& path, const StudyResults& results) {
+namespace {
+
+void write_results_file(const std::filesystem::path& path, const StudyResults& results,
+                        bool compressed) {
   if (const auto problem = inconsistency(results)) {
     throw Hdf5Error(path.string() + ": not written: " + *problem);
   }
   const StudyResults& r = results;
   Hdf5Writer file(path);  // removes its temporary file if anything below throws
+  file.compress_large_datasets(compressed);
 
   file.attribute("/", "format", std::string(kFormat));
   file.attribute("/", "impactid_version", r.impactid_version);
@@ -424,6 +428,16 @@ void write_results(const std::filesystem::path& path, const StudyResults& result
     }
   }
   file.commit();
+}
+
+}  // namespace
+
+void write_results(const std::filesystem::path& path, const StudyResults& results) {
+  write_results_file(path, results, false);
+}
+
+void write_results_compressed(const std::filesystem::path& path, const StudyResults& results) {
+  write_results_file(path, results, true);
 }
 
 StudyResults read_results(const std::filesystem::path& path) {

@@ -22,6 +22,9 @@
 namespace impactid {
 
 void write_results(const std::filesystem::path& path, const StudyResults& results);
+/// The same with the per-point datasets compressed (Hdf5Writer::compress_large_datasets): for
+/// shard files, which hold the whole grid but compute a part of it (study/studies/shard.hpp).
+void write_results_compressed(const std::filesystem::path& path, const StudyResults& results);
 /// Reads a file written by write_results. Throws Hdf5Error naming the file for a missing,
 /// truncated, corrupt or foreign file.
 StudyResults read_results(const std::filesystem::path& path);

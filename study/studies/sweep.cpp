@@ -115,12 +115,16 @@ void store_reference_columns(StudyResults& results, std::size_t i, const Evaluat
 }
 
 StudyResults empty_results(const Plan& plan, const PointSet& points) {
+  return empty_results(plan, points, static_cast<std::size_t>(points.size()));
+}
+
+StudyResults empty_results(const Plan& plan, const PointSet& points, std::size_t rows) {
   StudyResults r;
   r.plan_name = plan.name;
   r.plan_text = plan.text;
   r.study_kind = to_string(plan.kind);
   r.method = to_string(plan.base.method.kind);
-  const auto size = static_cast<std::size_t>(points.size());
+  const std::size_t size = rows;
   for (std::size_t d = 0; d < points.dimension_names().size(); ++d) {
     const std::string& name = points.dimension_names()[d];
     r.dimensions.push_back(
@@ -166,7 +170,12 @@ StudyResults empty_results(const Plan& plan, const PointSet& points) {
 
 void store_point(StudyResults& results, const PointSet& points, long index,
                  const Simulation& simulation, const Evaluation& evaluation) {
-  const auto i = static_cast<std::size_t>(index);
+  store_point_row(results, static_cast<std::size_t>(index), points, index, simulation, evaluation);
+}
+
+void store_point_row(StudyResults& results, std::size_t row, const PointSet& points, long index,
+                     const Simulation& simulation, const Evaluation& evaluation) {
+  const std::size_t i = row;
   results.status[i] = static_cast<int>(evaluation.summary.status);
   const std::vector<double> varied = points.parameter_values(index);
   for (ResultColumn& column : results.parameters) {
@@ -193,6 +202,27 @@ void store_point(StudyResults& results, const PointSet& points, long index,
       if (contacts[k] == contact && k < evaluation.contacts.size()) {
         column.values[i] = *contact_indicator(column.name.substr(0, dot), evaluation.contacts[k]);
       }
+    }
+  }
+}
+
+void evaluate_window(const PointSet& points, std::span<const long> window,
+                     WindowWorkspace& workspace) {
+  const std::size_t size = window.size();
+  auto& simulations = workspace.simulations;
+  auto& evaluations = workspace.evaluations;
+  for (std::size_t k = 0; k < size; ++k) {
+    // load_plan() checked every point, so a failure here is a bug, not bad input.
+    simulations[k] = std::get<Simulation>(build(points.settings(window[k])));
+  }
+  for (std::size_t begin = 0, end = 0; begin < size; begin = end) {
+    end = begin + 1;
+    while (end < size && batchable_together(simulations[begin], simulations[end])) ++end;
+    if (end - begin == 1) {
+      evaluations[begin] = evaluate(simulations[begin], workspace.single);
+    } else {
+      evaluate_batch(std::span(simulations).subspan(begin, end - begin), workspace.batch,
+                     std::span(evaluations).subspan(begin, end - begin));
     }
   }
 }
@@ -235,30 +265,16 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, St
 
 #pragma omp parallel num_threads(std::max(1, options.threads))
   {
-    SimulationWorkspace workspace;  // reused for every point this thread runs
-    BatchEvaluationWorkspace batch_workspace;
-    std::array<Simulation, kBatchLanes> simulations;
-    std::array<Evaluation, kBatchLanes> evaluations;
+    WindowWorkspace workspace;  // reused for every window this thread runs
+    const auto& simulations = workspace.simulations;
+    const auto& evaluations = workspace.evaluations;
 #pragma omp for schedule(dynamic, 1)
     for (long w = 0; w < window_count; ++w) {
       if (options.stop && options.stop->load()) continue;
       const long first = w * kBatchLanes;
       const auto size = static_cast<std::size_t>(std::min<long>(kBatchLanes, count - first));
       const long* window = todo.data() + first;  // the flat indices of its points
-      for (std::size_t k = 0; k < size; ++k) {
-        // load_plan() checked every point, so a failure here is a bug, not bad input.
-        simulations[k] = std::get<Simulation>(build(points.settings(window[k])));
-      }
-      for (std::size_t begin = 0, end = 0; begin < size; begin = end) {
-        end = begin + 1;
-        while (end < size && batchable_together(simulations[begin], simulations[end])) ++end;
-        if (end - begin == 1) {
-          evaluations[begin] = evaluate(simulations[begin], workspace);
-        } else {
-          evaluate_batch(std::span(simulations).subspan(begin, end - begin), batch_workspace,
-                         std::span(evaluations).subspan(begin, end - begin));
-        }
-      }
+      evaluate_window(points, std::span(window, size), workspace);
 
       std::optional<StudyResults> snapshot;
       std::optional<SweepProgress> progress;

@@ -15,6 +15,7 @@
 // (wall_time_s aside).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <span>
@@ -57,6 +58,9 @@ struct SweepOutcome {
 
 /// The empty table of a grid or list plan: every point not done, every value NaN.
 StudyResults empty_results(const Plan& plan, const PointSet& points);
+/// The same columns with `rows` rows rather than one per point: a buffer for some of the points
+/// (an MPI worker's batch, study/cli/mpi_sweep.hpp), filled by store_point_row.
+StudyResults empty_results(const Plan& plan, const PointSet& points, std::size_t rows);
 
 /// The columns and attributes that record a scene's reference at every point (a scene of bodies'
 /// or a model's: reference_refinements, reference_change, and for a model reference_dt and the
@@ -68,6 +72,23 @@ void store_reference_columns(StudyResults& results, std::size_t i, const Evaluat
 /// Stores one evaluated point (status, varied parameters, β, γ, indicators) at `index`.
 void store_point(StudyResults& results, const PointSet& points, long index,
                  const Simulation& simulation, const Evaluation& evaluation);
+/// The same into row `row` of a table of fewer rows than points (empty_results with rows).
+void store_point_row(StudyResults& results, std::size_t row, const PointSet& points, long index,
+                     const Simulation& simulation, const Evaluation& evaluation);
+
+/// What one thread needs to run windows of points, reused from window to window.
+struct WindowWorkspace {
+  SimulationWorkspace single;  ///< a point run on its own
+  BatchEvaluationWorkspace batch;
+  std::array<Simulation, kBatchLanes> simulations;
+  std::array<Evaluation, kBatchLanes> evaluations;
+};
+
+/// Builds and runs up to kBatchLanes points (their flat indices), batching consecutive points
+/// that can share a batch, into workspace.simulations[k] and workspace.evaluations[k]: the
+/// sweep's unit of work, shared by every way of scheduling it (threads, MPI ranks).
+void evaluate_window(const PointSet& points, std::span<const long> window,
+                     WindowWorkspace& workspace);
 
 /// Computes those of `indices` that `results` does not have yet.
 SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, StudyResults& results,

@@ -1,0 +1,61 @@
+// A grid or list plan's sweep over MPI ranks: `mpirun -np N impactid-mpi run PLAN.toml`
+// (study/cli/main_mpi.cpp). A dedicated master, as Dakota's: rank 0 reads the plan and the existing
+// results file (run_command.cpp, unchanged), hands the points out in batches, gathers their
+// rows and writes the one results file with its checkpoints, progress and --resume as a single
+// process does. Ranks 1..N−1 are workers that compute what they are given with their OpenMP
+// threads.
+//
+// Work is handed out dynamically: a batch is as many windows of kBatchLanes points (the sweep's
+// and the batched kernel's unit, study/studies/sweep.hpp) as the worker has threads, taken in order
+// from the points still to compute. Each worker holds two batches, so it computes the second
+// while rank 0 answers the first; every finished batch brings the next. Static splits would
+// leave ranks idle: an unstable point stops early, so batches differ in cost. A worker's batch
+// doubles while its round trip is short (cheap points), and shrinks near the end (mpi_sweep.cpp).
+//
+// Rank 0's main thread serves the workers (the one thread that calls MPI: MPI_THREAD_FUNNELED)
+// and writes the checkpoints. When the job has at most kMasterComputesUpToRanks ranks, rank 0's
+// --threads more threads compute windows too, taken one at a time from the same queue: there
+// rank 0's cores are a quarter or more of the job. With more ranks rank 0 only serves, so that
+// its answers, and the checkpoints of a large table, never wait for its own computing.
+//
+// Determinism: a point's numbers depend only on its flat index (study/studies/sweep.hpp), so the
+// file is the single run's bit for bit (timing aside) for any number of ranks and threads.
+//
+// Errors: a worker that fails on a point (an exception while building or running it) reports
+// the point and the message; rank 0 stops handing out work, collects what is still running,
+// saves everything computed and fails the run with "rank R: point I (name =
+// value, ...): message". A killed rank ends the job (mpirun); --resume continues from the
+// last checkpoint. For tests, IMPACTID_MPI_FAIL_AT_POINT=I makes whichever rank computes
+// point I fail on it.
+#pragma once
+
+#include <span>
+
+#include "study/io/results_file.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/point_set.hpp"
+#include "study/studies/sweep.hpp"
+
+namespace impactid {
+
+inline constexpr int kMasterComputesUpToRanks = 4;
+
+/// Rank 0's side. One object for the life of the program; MPI must be initialised (at least
+/// MPI_THREAD_FUNNELED) and every call made from the thread that initialised it.
+class MpiMaster {
+ public:
+  MpiMaster();
+  /// run_sweep's contract (SweepRunner, study/cli/run_command.hpp), over every rank.
+  SweepOutcome run(const Plan& plan, const PointSet& points, std::span<const long> indices,
+                   StudyResults& results, const SweepOptions& options);
+  /// Tells every worker to end (serve_mpi_worker returns). Once, before MPI_Finalize.
+  void release_workers();
+
+ private:
+  int ranks_ = 1;
+};
+
+/// Ranks 1..N−1: serves the master until it releases the workers. Returns the exit status.
+int serve_mpi_worker();
+
+}  // namespace impactid

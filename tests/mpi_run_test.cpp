@@ -1,0 +1,255 @@
+// `mpirun -np N impactid-mpi run PLAN` (study/cli/mpi_sweep.hpp) on this machine's cores: the file
+// equals a single process's bit for bit (scripts/compare-results) on 1, 2 and 3 ranks and
+// other thread counts; after SIGKILL of a worker or of rank 0, --resume computes only what is
+// missing and ends with the same file; an error on a worker names the point and keeps what was
+// computed. Registered only when impactid-mpi is built (tests/CMakeLists.txt says so otherwise).
+#include <dirent.h>
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "study/io/results_file.hpp"
+#include "test_files.hpp"
+
+namespace impactid {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+fs::path scratch(const std::string& name) {
+  return testing::scratch_path("mpi_run_test", name);
+}
+
+// mpirun as root in CI, more ranks than cores here.
+const std::string kMpirun = std::string(IMPACTID_MPIEXEC) + " --oversubscribe --allow-run-as-root";
+
+testing::CommandOutput shell(const std::string& command) {
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
+  std::string text;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) text += buffer;
+  const int raw = pclose(pipe.release());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
+}
+
+testing::CommandOutput mpi_run(int ranks, const std::string& arguments,
+                               const std::string& environment = "") {
+  return shell(kMpirun + " -np " + std::to_string(ranks) + " " + environment + " " +
+               IMPACTID_MPI_EXECUTABLE + " " + arguments);
+}
+
+testing::CommandOutput compare(const fs::path& expected, const fs::path& actual) {
+  return shell("/usr/bin/python3 " IMPACTID_SOURCE_DIR "/scripts/compare-results " +
+               expected.string() + " " + actual.string());
+}
+
+// 441 HHT points on a 500-element rod with a practical range: about a second on one
+// core, long enough to kill a job between checkpoints (every 0.05 s).
+const char* kPlan = R"(
+[scene]
+elements = 500
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0.0, partitions = 20 }
+delta = { from = 0.0, to = 1.0, partitions = 20 }
+[study.practical]
+eps_p = 0.05
+[output]
+checkpoint_seconds = 0.05
+)";
+constexpr long kPoints = 441;
+
+struct Study {
+  fs::path plan, single;
+};
+
+// The plan and its single-process run (impactid, 2 threads), once for the whole suite.
+const Study& study() {
+  static const Study s = [] {
+    Study s;
+    s.plan = testing::write_file(scratch("grid.toml"), kPlan);
+    s.single = scratch("single.h5");
+    const auto o = testing::run_impactid("run " + s.plan.string() + " --threads 2 --output " +
+                                         s.single.string());
+    EXPECT_EQ(o.status, 0) << o.text;
+    return s;
+  }();
+  return s;
+}
+
+TEST(MpiRun, TheFileIsTheSingleProcessOnesOnOneTwoOrThreeRanks) {
+  const Study& s = study();
+  struct Case {
+    int ranks;
+    const char* environment;  // mpirun -x: each rank's OpenMP threads
+  };
+  for (const Case c : {Case{1, ""}, Case{2, "-x OMP_NUM_THREADS=1"},
+                       Case{2, "-x OMP_NUM_THREADS=2"}, Case{3, "-x OMP_NUM_THREADS=1"}}) {
+    SCOPED_TRACE(std::to_string(c.ranks) + " ranks " + c.environment);
+    const fs::path out = scratch("ranks" + std::to_string(c.ranks) + ".h5");
+    const auto o =
+        mpi_run(c.ranks, "run " + s.plan.string() + " --output " + out.string(), c.environment);
+    ASSERT_EQ(o.status, 0) << o.text;
+    EXPECT_NE(o.text.find(std::to_string(kPoints) + " computed, 0 reused"), std::string::npos)
+        << o.text;
+    if (c.ranks > 1) {
+      EXPECT_NE(o.text.find(std::to_string(c.ranks) + " ranks (rank 0 serving and computing): "
+                                                      "points computed per rank: "),
+                std::string::npos)
+          << o.text;
+    }
+    const auto same = compare(s.single, out);
+    EXPECT_EQ(same.status, 0) << same.text;
+  }
+}
+
+// The pid of rank `rank` among mpirun's children (OMPI_COMM_WORLD_RANK in its environment).
+std::optional<pid_t> rank_pid(pid_t mpirun, int rank) {
+  const std::string wanted = "OMPI_COMM_WORLD_RANK=" + std::to_string(rank);
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string pid, comm, state;
+    long parent = 0;
+    if (!(stat >> pid >> comm >> state >> parent) || parent != mpirun) continue;
+    std::ifstream environ(entry.path() / "environ", std::ios::binary);
+    const std::string env{std::istreambuf_iterator<char>(environ), {}};
+    std::size_t at = 0;
+    for (std::size_t end; (end = env.find('\0', at)) != std::string::npos; at = end + 1) {
+      if (env.compare(at, end - at, wanted) == 0) return static_cast<pid_t>(std::stol(name));
+    }
+  }
+  return std::nullopt;
+}
+
+// mpirun -np 3 in a child process (output to a log), its pid.
+pid_t start_mpirun(const fs::path& out, const fs::path& log, bool resume) {
+  const pid_t child = fork();
+  if (child == 0) {
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    std::string command = "exec " + kMpirun + " -np 3 -x OMP_NUM_THREADS=1 " +
+                          IMPACTID_MPI_EXECUTABLE + " run " + study().plan.string() + " --output " +
+                          out.string() + (resume ? " --resume" : "");
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return child;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Points done in the file so far; 0 while there is none (checkpoints replace it atomically, so a
+// file that exists is complete).
+long points_saved(const fs::path& file) {
+  if (!fs::exists(file)) return 0;
+  try {
+    return read_results(file).points_done();
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+// SIGKILL of one rank after the first checkpoint with a point in it ends the job (mpirun takes the
+// others down); the file is a complete results file of part of the plan, and --resume on 3 ranks
+// computes only the rest and ends with the single process's file.
+void kill_rank_then_resume(int rank) {
+  const Study& s = study();
+  const fs::path out = scratch("killed" + std::to_string(rank) + ".h5");
+  const fs::path log = scratch("killed" + std::to_string(rank) + ".log");
+  const auto start = Clock::now();
+  const pid_t mpirun = start_mpirun(out, log, false);
+  ASSERT_GT(mpirun, 0);
+  std::optional<pid_t> victim;
+  int raw = 0;
+  bool ended = false;
+  while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    if (!ended && points_saved(out) > 0 && (victim = rank_pid(mpirun, rank))) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_FALSE(ended) << "the job ended before a kill:\n" << read_text(log);
+  ASSERT_TRUE(victim) << "rank " << rank << " not found";
+  ASSERT_EQ(kill(*victim, SIGKILL), 0);
+  ASSERT_EQ(waitpid(mpirun, &raw, 0), mpirun);
+  EXPECT_FALSE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0)
+      << "the job went on without rank " << rank << ":\n"
+      << read_text(log);
+
+  StudyResults partial;
+  ASSERT_NO_THROW(partial = read_results(out)) << "not a complete results file";
+  const long saved = partial.points_done();
+  EXPECT_GT(saved, 0);
+  std::printf("mpi_run_test: rank %d killed; %ld of %ld points saved\n", rank, saved, kPoints);
+
+  const pid_t resumed = start_mpirun(out, log, true);
+  ASSERT_EQ(waitpid(resumed, &raw, 0), resumed);
+  const std::string text = read_text(log);
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text;
+  EXPECT_NE(text.find(std::to_string(kPoints - saved) + " computed, " + std::to_string(saved) +
+                      " reused"),
+            std::string::npos)
+      << text;
+  const auto same = compare(s.single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
+}
+
+TEST(MpiRun, SigkillOfAWorkerThenResumeEndsWithTheSameFile) {
+  kill_rank_then_resume(1);
+}
+
+TEST(MpiRun, SigkillOfRankZeroThenResumeEndsWithTheSameFile) {
+  kill_rank_then_resume(0);
+}
+
+// A worker that fails on point 200 stops the job: the message names the rank, the point with
+// its parameters, and the cause; what was computed is saved; --resume finishes the file.
+TEST(MpiRun, AnErrorOnAWorkerNamesThePointAndKeepsWhatWasComputed) {
+  const Study& s = study();
+  const fs::path out = scratch("error.h5");
+  const auto o = mpi_run(3, "run " + s.plan.string() + " --output " + out.string(),
+                         "-x OMP_NUM_THREADS=1 -x IMPACTID_MPI_FAIL_AT_POINT=200");
+  EXPECT_EQ(o.status, 1) << o.text;
+  // Point 200 is alpha index 9, delta index 11 of the 21 x 21 grid.
+  EXPECT_NE(o.text.find(": point 200 (alpha = -0.275, delta = 0.55): failure injected by "
+                        "IMPACTID_MPI_FAIL_AT_POINT=200"),
+            std::string::npos)
+      << o.text;
+  EXPECT_NE(o.text.find("impactid run: rank "), std::string::npos) << o.text;
+  const StudyResults partial = read_results(out);
+  EXPECT_EQ(partial.status[200], kStatusNotDone);
+  EXPECT_GT(partial.points_done(), 0);
+
+  const auto resumed = mpi_run(2, "run " + s.plan.string() + " --resume --output " + out.string(),
+                               "-x OMP_NUM_THREADS=1");
+  ASSERT_EQ(resumed.status, 0) << resumed.text;
+  EXPECT_NE(resumed.text.find(std::to_string(partial.points_done()) + " reused"), std::string::npos)
+      << resumed.text;
+  const auto same = compare(s.single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
+}
+
+}  // namespace
+}  // namespace impactid
