@@ -122,9 +122,37 @@ Eigen::Matrix<Scalar, 3, 3> houbolt_companion(double omega_dt) {
   return a;
 }
 
+// The Noh–Bathe explicit step (core/noh_bathe.hpp without damping and contact) on
+// x = (u, Δt·v, Δt²·a), composed from its two sub-steps row by row:
+//   u_p = u + p·V + p²/2·A,                 A_p = −Ω²·u_p,   V_p = V + p/2·(A + A_p),
+//   u₁ = u_p + (1−p)·V_p + (1−p)²/2·A_p,    A₁ = −Ω²·u₁,
+//   V₁ = V_p + (1−p)·(q0·A + (½ + q1)·A_p + q2·A₁).
+// Entries grow like Ω⁴, harmless within the explicit limit (Ω_crit <= 4).
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 3> noh_bathe_amplification(const NohBatheCoefficients& c,
+                                                    double omega_dt) {
+  using Row = Eigen::Matrix<Scalar, 1, 3>;
+  const Scalar p = c.p, r = 1 - p, q0 = c.q0, q1 = c.q1, q2 = c.q2, omega = omega_dt;
+  const Scalar w2 = omega * omega, half = Scalar(1) / 2;
+  const Row e_u(1, 0, 0), e_v(0, 1, 0), e_a(0, 0, 1);
+  const Row u_p = e_u + p * e_v + (p * p / 2) * e_a;
+  const Row a_p = -w2 * u_p;
+  const Row v_p = e_v + (p / 2) * (e_a + a_p);
+  const Row u1 = u_p + r * v_p + (r * r / 2) * a_p;
+  const Row a1 = -w2 * u1;
+  Eigen::Matrix<Scalar, 3, 3> a;
+  a.row(0) = u1;
+  a.row(1) = v_p + r * (q0 * e_a + (half + q1) * a_p + q2 * a1);
+  a.row(2) = a1;
+  return a;
+}
+
 // The one-step matrix of any method but central difference and Houbolt, on (u, Δt·v, Δt²·a).
 template <class Scalar>
 Eigen::Matrix<Scalar, 3, 3> step_amplification(const MethodParams& params, double omega_dt) {
+  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&params)) {
+    return noh_bathe_amplification<Scalar>(noh_bathe_coefficients(*noh_bathe), omega_dt);
+  }
   if (is_composite(params)) {
     return composite_amplification<Scalar>(composite_coefficients(params), omega_dt);
   }
@@ -362,7 +390,8 @@ SpectralProperties spectral_properties(const MethodParams& params, double omega_
 
 double high_frequency_spectral_radius(const MethodParams& params) {
   if (validate(params)) return kNaN;
-  if (is_central_difference(params)) return kInf;
+  // Explicit: unstable past Ω_crit, ρ grows like Ω² (central difference) or Ω⁴ (Noh–Bathe).
+  if (is_central_difference(params) || kind_of(params) == MethodKind::noh_bathe) return kInf;
   // Houbolt: past Ω = 1 the backward-difference form of eigenvalues() tends to the strictly lower
   // triangular [[0, 0, 0], [−1, 0, 0], [−1, −1, 0]], nilpotent: ρ∞ = 0 exactly (ρ falls like
   // Ω^(−2/3): (2 + Ω²)·λ³ ≈ 1).
@@ -503,6 +532,15 @@ std::vector<StabilityMapPoint> hht_stability_map(const std::vector<double>& alph
     }
   }
   return map;
+}
+
+double stability_limit_omega(const MethodParams& params) {
+  if (validate(params)) return kNaN;
+  if (is_central_difference(params)) return 2.0;
+  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&params)) {
+    return noh_bathe_critical_omega(noh_bathe->p);
+  }
+  return kInf;
 }
 
 double rod_max_omega_dt(MassMatrix mass, double courant) {

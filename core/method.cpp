@@ -1,5 +1,6 @@
 #include "core/method.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -52,6 +53,7 @@ MethodKind kind_of(const MethodParams& params) {
           [](const TrBdf2Params&) { return MethodKind::tr_bdf2; },
           [](const HouboltParams&) { return MethodKind::houbolt; },
           [](const WilsonThetaParams&) { return MethodKind::wilson_theta; },
+          [](const NohBatheParams&) { return MethodKind::noh_bathe; },
       },
       params);
 }
@@ -73,6 +75,8 @@ MethodParams default_params(MethodKind kind) {
       return HouboltParams{};
     case MethodKind::wilson_theta:
       return WilsonThetaParams{};
+    case MethodKind::noh_bathe:
+      return NohBatheParams{};
   }
   return CentralDifferenceParams{};
 }
@@ -125,6 +129,15 @@ std::optional<ParameterError> validate(const MethodParams& params) {
             return require_in_range(
                 "theta", p.theta, kWilsonThetaMinimum, kMax,
                 "must be >= (1+sqrt(3))/2 = 1.3660254 (unconditional stability) and finite");
+          },
+          [](const NohBatheParams& p) -> std::optional<ParameterError> {
+            // Below ½ the determinant of the amplification matrix exceeds 1 at every Ω > 0.
+            if (!(p.p >= 0.5 && p.p < 1.0)) {
+              return ParameterError{"p", format_value(p.p),
+                                    "must lie in [0.5, 1) (below 0.5 the scheme is unstable for "
+                                    "every time step; 1 is excluded)"};
+            }
+            return std::nullopt;
           },
       },
       params);
@@ -204,6 +217,10 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
           [](const WilsonThetaParams&) {
             return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
           },
+          // Explicit: stepped by noh_bathe_coefficients() (core/noh_bathe.hpp).
+          [](const NohBatheParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
       },
       params);
 }
@@ -272,6 +289,26 @@ WilsonThetaCoefficients wilson_theta_coefficients(const WilsonThetaParams& param
   return {params.theta, kLinearAcceleration};
 }
 
+NohBatheCoefficients noh_bathe_coefficients(const NohBatheParams& params) {
+  const double p = params.p;
+  NohBatheCoefficients c{};
+  c.p = p;
+  c.q1 = (1.0 - 2.0 * p) / (2.0 * p * (1.0 - p));
+  c.q2 = 0.5 - p * c.q1;
+  c.q0 = -c.q1 - c.q2 + 0.5;
+  return c;
+}
+
+double noh_bathe_critical_omega(double p) {
+  if (!(p >= 0.5 && p < 1.0)) return std::numeric_limits<double>::quiet_NaN();
+  double omega2 = 4.0 / ((1.0 - p) * (3.0 * p - 1.0));  // eigenvalue +1
+  const double d = (1.0 - p) * (1.0 - p) * (2.0 * p - 1.0);
+  if (d > 0.0) omega2 = std::min(omega2, std::sqrt(8.0 / d));  // det = −1
+  const double c = (1.0 - p) * (4.0 * p * p - 3.0 * p + 1.0);
+  if (c < 0.25) omega2 = std::min(omega2, 8.0 / (1.0 + std::sqrt(1.0 - 4.0 * c)));  // −1
+  return std::sqrt(omega2);
+}
+
 std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
   switch (kind_of(params)) {
     case MethodKind::central_difference:
@@ -281,6 +318,7 @@ std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
     case MethodKind::tr_bdf2:
     case MethodKind::houbolt:
     case MethodKind::wilson_theta:
+    case MethodKind::noh_bathe:
       return std::nullopt;
     default: {
       const ImplicitCoefficients c = implicit_coefficients(params);

@@ -24,7 +24,8 @@ enum class MethodKind {
   rho_bathe,
   tr_bdf2,
   houbolt,
-  wilson_theta
+  wilson_theta,
+  noh_bathe
 };
 /// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha", …: the names used alike on the
 /// command line, in plan files and in HDF5 attributes (core/method_registry.hpp holds them).
@@ -155,9 +156,32 @@ struct WilsonThetaParams {
   double theta = 1.4;  ///< θ >= (1 + √3)/2 and finite; 1.4, the value in common use
 };
 
+/// The Noh–Bathe explicit scheme (Noh & Bathe 2013, "An explicit time integration scheme for the
+/// analysis of wave propagations", Computers & Structures 129:178–193,
+/// doi:10.1016/j.compstruc.2013.06.007): two explicit sub-steps per step, t → t + pΔt → t + Δt,
+///   u_p = u₀ + pΔt·v₀ + (pΔt)²/2·a₀,             M·a_p = −K·u_p − C·(v₀ + pΔt·a₀),
+///   v_p = v₀ + pΔt/2·(a₀ + a_p),
+///   u₁ = u_p + (1−p)Δt·v_p + ((1−p)Δt)²/2·a_p,    M·a₁ = −K·u₁ − C·(v_p + (1−p)Δt·a_p),
+///   v₁ = v_p + (1−p)Δt·(q0·a₀ + (½ + q1)·a_p + q2·a₁),
+/// q1 = (1 − 2p)/(2p(1 − p)), q2 = ½ − p·q1, q0 = −q1 − q2 + ½ (the weights sum to 1, and q2 makes
+/// the velocity exact for a linear acceleration: second order). Without the ½ on a_p, as the
+/// formula is often quoted, the weights sum to ½ and the scheme is inconsistent.
+/// Undamped (ü + ω²u = 0, Ω = ωΔt) its amplification matrix has
+///   det = 1 − (1−p)²(2p−1)·Ω⁴/4,   trace = 2 − Ω² + p²(1−p)·Ω⁴/2,
+/// so p < ½ makes det > 1 for every Ω > 0: unconditionally unstable (negative dissipation,
+/// ρ ≈ 1 + (1−p)²(1−2p)Ω⁴/8), although the paper's family is written for p ∈ (0, 1). p = ½ is two
+/// velocity-Verlet (central difference) half steps: no dissipation, Ω_crit = 4. Hence the range
+/// [½, 1). Period error −(3p − 2)²/24·Ω², damping ratio ξ̄ ≈ (1−p)²(2p−1)/8·Ω³: second order.
+/// The stability limit Ω_crit(p) is noh_bathe_critical_omega(); 3.7450 at the default p = 0.54,
+/// where an eigenvalue leaves the unit circle through +1. Explicit: needs a factorisation of M
+/// only (diagonal for a lumped mass), two solves per step. Contact: core/noh_bathe.hpp.
+struct NohBatheParams {
+  double p = 0.54;  ///< sub-step ratio p ∈ [½, 1); 0.54, the paper's recommended value
+};
+
 using MethodParams = std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams,
                                   HhtParams, GeneralizedAlphaParams, BatheParams, RhoBatheParams,
-                                  TrBdf2Params, HouboltParams, WilsonThetaParams>;
+                                  TrBdf2Params, HouboltParams, WilsonThetaParams, NohBatheParams>;
 
 MethodKind kind_of(const MethodParams& params);
 /// Default parameters of a method.
@@ -227,6 +251,26 @@ struct WilsonThetaCoefficients {
   ImplicitCoefficients extended;
 };
 WilsonThetaCoefficients wilson_theta_coefficients(const WilsonThetaParams& params);
+
+/// The Noh–Bathe explicit scheme's sub-step ratio and velocity weights (NohBatheParams).
+struct NohBatheCoefficients {
+  double p;
+  double q0, q1, q2;
+};
+NohBatheCoefficients noh_bathe_coefficients(const NohBatheParams& params);
+
+/// Ω_crit(p) = ω_max·Δt_crit of the Noh–Bathe explicit scheme without damping, p ∈ [½, 1): the
+/// largest Ω at which both eigenvalues of its amplification matrix lie in the closed unit disk
+/// (Jury's conditions |det| <= 1, |trace| <= 1 + det on the formulas at NohBatheParams):
+///   1 − trace + det >= 0 (eigenvalue +1):   Ω² <= 4/((1 − p)(3p − 1));
+///   det >= −1:                              Ω⁴ <= 8/((1 − p)²(2p − 1));
+///   1 + trace + det >= 0 (eigenvalue −1):   with c = (1 − p)(4p² − 3p + 1), only when c < ¼
+///                                           (p > ¾): Ω² <= 8/(1 + √(1 − 4c)).
+/// The smallest bound holds: 4 at p = ½ (two central-difference half steps), 3.7450 at p = 0.54,
+/// 2√3 = 3.4641 at p = ⅔ (the least on [½, ¾]), 3.5777 at p = ¾; just above ¾ the eigenvalue −1
+/// condition starts to bind and Ω_crit drops to 2√2 = 2.83, then falls towards 2 as p → 1 (no
+/// better than central difference's per step, at twice its cost). NaN outside [½, 1).
+double noh_bathe_critical_omega(double p);
 
 /// γ₀(ρ∞) = (2 − √(2 + 2ρ∞))/(1 − ρ∞), ½ at ρ∞ = 1: ρ∞-Bathe's default sub-step ratio.
 double rho_bathe_default_gamma(double rho_inf);

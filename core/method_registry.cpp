@@ -9,7 +9,7 @@ using Values = std::vector<ReportedValue>;
 using Choices = std::vector<std::pair<const char*, std::string>>;
 using Made = std::variant<MethodParams, ParameterError>;
 
-constexpr std::array<MethodParameter, 9> kParameters{{
+constexpr std::array<MethodParameter, 10> kParameters{{
     {"delta", false,
      "delta of eq. 13: beta = (1+delta)^2/4, gamma = 1/2+delta (newmark: default 0.3; hht: default "
      "-alpha), >= 0",
@@ -29,6 +29,10 @@ constexpr std::array<MethodParameter, 9> kParameters{{
     {"theta", false,
      "wilson-theta theta: equilibrium at t + theta*dt (default 1.4), >= (1+sqrt(3))/2 = 1.3660254 "
      "(unconditionally stable from there on)",
+     ""},
+    {"p", false,
+     "noh-bathe sub-step ratio p: the first explicit sub-step ends at t + p*dt (default 0.54), in "
+     "[0.5, 1); stable up to omega*dt = Omega_crit(p), 3.745 at 0.54",
      ""},
     {"cdm_velocity", true,
      "central difference velocity: eq. 3 central or eq. 6/7 backward (default central)",
@@ -207,8 +211,26 @@ Values wilson_theta_values(const MethodParams& params) {
   return {{"theta", std::get<WilsonThetaParams>(params).theta, false}};
 }
 
+// --- Noh–Bathe explicit (core/noh_bathe.hpp) ---
+constexpr const char* kNohBatheParameters[] = {"p"};
+Made make_noh_bathe(const MethodArguments& given) {
+  NohBatheParams p;
+  if (const auto value = given.number("p")) p.p = *value;
+  return p;
+}
+// p, then the velocity weights and the stability limit Ω_crit(p) (derived).
+Values noh_bathe_values(const MethodParams& params) {
+  const auto& p = std::get<NohBatheParams>(params);
+  const NohBatheCoefficients c = noh_bathe_coefficients(p);
+  return {{"p", p.p, false},
+          {"q0", c.q0, true},
+          {"q1", c.q1, true},
+          {"q2", c.q2, true},
+          {"omega_crit", noh_bathe_critical_omega(p.p), true}};
+}
+
 // The registry: one entry per method, in MethodKind's order.
-const std::array<MethodDescriptor, 10> kMethods{{
+const std::array<MethodDescriptor, 11> kMethods{{
     {MethodKind::central_difference, "cdm",
      "central difference with Carpenter's forward-increment multiplier (eqs 1-7; Carpenter, Taylor "
      "& Katona 1991, doi:10.1002/nme.1620320107): explicit, second order, no numerical "
@@ -274,6 +296,11 @@ const std::array<MethodDescriptor, 10> kMethods{{
      "unconditionally stable for theta >= 1.366, rho_inf 0.78 at theta = 1.4; contact enforced "
      "at t + dt",
      kWilsonThetaParameters, make_wilson_theta, wilson_theta_values, no_choices},
+    {MethodKind::noh_bathe, "noh-bathe",
+     "Noh-Bathe explicit (Noh & Bathe 2013, doi:10.1016/j.compstruc.2013.06.007): two explicit "
+     "sub-steps, to t + p*dt and t + dt; second order, dissipative for p > 1/2, stable up to "
+     "omega*dt = Omega_crit(p) (3.745 at p = 0.54); contact enforced at both sub-steps",
+     kNohBatheParameters, make_noh_bathe, noh_bathe_values, no_choices},
 }};
 
 std::string join(const auto& items, const auto& name_of) {

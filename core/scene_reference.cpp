@@ -66,6 +66,9 @@ bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
            std::get<CentralDifferenceParams>(b.method).velocity;
   }
   if (kind_of(a.method) == MethodKind::houbolt) return true;  // no parameter
+  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&a.method)) {
+    return noh_bathe->p == std::get<NohBatheParams>(b.method).p;
+  }
   if (const auto* wilson = std::get_if<WilsonThetaParams>(&a.method)) {
     return wilson->theta == std::get<WilsonThetaParams>(b.method).theta;
   }

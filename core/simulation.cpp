@@ -230,6 +230,34 @@ bool run_multistep(const System& system, const MethodParams& method, double dt,
   return false;
 }
 
+// The Noh–Bathe explicit scheme (core/noh_bathe.hpp): Lagrange multipliers only; its stable step
+// is reported, and a step above it is flagged before the run starts (the run still goes, as
+// central difference's does: the energy bound then stops it).
+template <class Run>
+void run_noh_bathe(const SecondOrderSystem& system, const NohBatheParams& params, double dt,
+                   const ContactPenalties& contact, NohBatheExplicit& stepper, State& state,
+                   RunSummary& summary, Run&& run) {
+  if (!contact.lagrange()) {
+    summary.status = RunStatus::failed;
+    summary.message = std::string("noh-bathe: contact = ") + to_string(contact.law) +
+                      " is not available; it takes Lagrange multipliers";
+    return;
+  }
+  if (!stepper.initialize(system, noh_bathe_coefficients(params), dt, state)) {
+    summary.status = RunStatus::failed;
+    summary.message = "noh-bathe: singular mass matrix";
+    return;
+  }
+  summary.stable_dt = stepper.stable_step();
+  if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
+    summary.warning = "dt = " + format_value(dt) + " s exceeds noh-bathe's stable step " +
+                      format_value(stepper.stable_step()) +
+                      " s (Omega_crit = " + format_value(noh_bathe_critical_omega(params.p)) +
+                      " at p = " + format_value(params.p) + "): lower the step";
+  }
+  run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+}
+
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
 // stepper that cannot start marks the run failed.
 template <class Run>
@@ -237,6 +265,10 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
                 const ContactPenalties& contact, SimulationWorkspace& ws, State& state,
                 RunSummary& summary, Run&& run) {
   if (run_multistep(system, method, dt, contact, ws.houbolt, ws.wilson_theta, summary, run)) {
+    return;
+  }
+  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&method)) {
+    run_noh_bathe(system, *noh_bathe, dt, contact, ws.noh_bathe, state, summary, run);
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
@@ -291,6 +323,13 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
                        SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
   if (run_multistep(system, method, dt, ContactPenalties{}, ws.sparse_houbolt,
                     ws.sparse_wilson_theta, summary, run)) {
+    return;
+  }
+  if (std::holds_alternative<NohBatheParams>(method)) {
+    summary.status = RunStatus::failed;
+    summary.message =
+        "noh-bathe: a model of sparse matrices is not available (the scheme runs on tridiagonal "
+        "systems: the rod, scenes of bodies, models of tridiagonal matrices)";
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {

@@ -17,6 +17,7 @@
 #include "core/implicit_integrator.hpp"
 #include "core/method.hpp"
 #include "core/model_reference.hpp"
+#include "core/noh_bathe.hpp"
 #include "core/rod_scene.hpp"
 #include "core/run_record.hpp"
 #include "core/scene_assembly.hpp"
@@ -70,6 +71,7 @@ struct SimulationWorkspace {
   Houbolt<SparseImplicitIntegrator, SparseSystem> sparse_houbolt;
   WilsonTheta<ImplicitIntegrator, SecondOrderSystem> wilson_theta;
   WilsonTheta<SparseImplicitIntegrator, SparseSystem> sparse_wilson_theta;
+  NohBatheExplicit noh_bathe;  ///< tridiagonal systems only
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace (study/

@@ -22,7 +22,8 @@ constexpr MethodKind kEveryKind[] = {MethodKind::central_difference,
                                      MethodKind::rho_bathe,
                                      MethodKind::tr_bdf2,
                                      MethodKind::houbolt,
-                                     MethodKind::wilson_theta};
+                                     MethodKind::wilson_theta,
+                                     MethodKind::noh_bathe};
 
 TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   ASSERT_EQ(method_registry().size(), std::size(kEveryKind));
@@ -37,7 +38,7 @@ TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   }
   EXPECT_EQ(method_names(),
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta");
+            "wilson-theta|noh-bathe");
   EXPECT_FALSE(method_kind_from_string("rk4"));
 }
 
@@ -82,6 +83,7 @@ TEST(MethodRegistry, GivenParametersAreReportedBackUnchanged) {
            : name == "rho_inf" ? 0.37
            : name == "gamma"   ? 0.61
            : name == "theta"   ? 1.55
+           : name == "p"       ? 0.62
                                : 0.33;
   };
   int checked = 0;
@@ -117,7 +119,7 @@ TEST(MethodRegistry, GivenParametersAreReportedBackUnchanged) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 12);
+  EXPECT_EQ(checked, 13);
 }
 
 TEST(MethodRegistry, RefusesAKeyTheMethodDoesNotTakeOrABadCombination) {

@@ -36,6 +36,10 @@ TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
   EXPECT_TRUE(contains(o.text, "wilson-theta\n  Wilson-theta (Wilson, Farhoomand & Bathe 1972"))
       << o.text;
   EXPECT_TRUE(contains(o.text, "--theta          default 1.4 ")) << o.text;
+  // Noh–Bathe explicit with its p, and its stability limit among the derived values.
+  EXPECT_TRUE(contains(o.text, "noh-bathe\n  Noh-Bathe explicit (Noh & Bathe 2013")) << o.text;
+  EXPECT_TRUE(contains(o.text, "--p              default 0.54 ")) << o.text;
+  EXPECT_TRUE(contains(o.text, "derived: q0, q1, q2, omega_crit")) << o.text;
 }
 
 TEST(MethodsCommand, JsonGivesTheSameList) {

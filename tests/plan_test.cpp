@@ -299,7 +299,7 @@ TEST(PlanErrors, UnknownKeys) {
             "method, study, output)");
   EXPECT_EQ(error_of("[method]\nname = \"hht\"\nrho = 0.8\n"),
             "bad.toml:3:7: method.rho = 0.8: unknown key (method keys: name, delta, alpha, beta, "
-            "gamma, rho_inf, substep_ratio, theta, cdm_velocity, hht_contact)");
+            "gamma, rho_inf, substep_ratio, theta, p, cdm_velocity, hht_contact)");
   // A scene parameter is not a method key.
   EXPECT_STARTS_WITH(error_of("[method]\nelements = 3\n"),
                      "bad.toml:2:12: method.elements = 3: unknown key (method keys: name,");
@@ -328,7 +328,7 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
             "bad.toml:2:8: method.name = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta");
+            "wilson-theta|noh-bathe");
   EXPECT_EQ(error_of("scene = 3\n"),
             "bad.toml:1:9: scene = 3: must be a table ([scene]) or the name of a scene file");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
@@ -500,7 +500,7 @@ courant = 1
                 "contact, penalty_stiffness, penalty_factor, "
                 "augmented_tolerance, augmented_max_iterations, "
                 "rayleigh_mass, rayleigh_stiffness, courant, dt, t_end, method, delta, alpha, "
-                "beta, gamma, rho_inf, substep_ratio, theta, cdm_velocity, hht_contact, "
+                "beta, gamma, rho_inf, substep_ratio, theta, p, cdm_velocity, hht_contact, "
                 "peak_prominence, "
                 "reference_tolerance, reference_method, reference_max_refinements, "
                 "energy_growth_limit)");
@@ -925,11 +925,11 @@ TEST(PlanSpectral, ErrorsAreLocated) {
       error_of(head + omega + "methods = [{ delta = 0.3 }]\n"),
       "bad.toml:4:12: study.methods[0].method = (missing): each method needs method = "
       "one of cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-      "wilson-theta");
+      "wilson-theta|noh-bathe");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"rk4\" }]\n"),
             "bad.toml:4:23: study.methods[0].method = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta");
+            "wilson-theta|noh-bathe");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"cdm\" }, { method = \"cdm\" }]\n"),
             "bad.toml:4:32: study.methods[1] = { method = \"cdm\" }: repeats study.methods[0] "
             "(cdm)");

@@ -24,6 +24,7 @@ METHODS = {
     "tr-bdf2": ("TR-BDF2", "#332288"),
     "houbolt": ("Houbolt", "#999933"),
     "wilson-theta": ("Wilson-θ", "#AA4499"),
+    "noh-bathe": ("Noh–Bathe explicit", "#661100"),
 }
 UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
 EXACT_COLOR = "black"
@@ -112,6 +113,8 @@ def method_params(method, params, sep=", "):
             parts.append(f"γ = {num(round(get('substep_ratio'), 4))}")
     if method == "wilson-theta" and get("theta") is not None:
         parts.append(f"θ = {num(round(get('theta'), 4))}")
+    if method == "noh-bathe" and get("p") is not None:
+        parts.append(f"p = {num(round(get('p'), 4))}")
     if method == "generalized-alpha" and get("rho_inf") is not None:
         parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")
     if method == "cdm" and get("cdm_velocity") not in (None, "central"):

@@ -40,6 +40,13 @@ void write_contact_law(const Simulation& sim, const Evaluation& e) {
   if (std::isfinite(e.summary.stable_dt) && c.law == ContactLaw::penalty) {
     std::printf("stable dt   %.6g s (central difference with the penalty springs)\n",
                 e.summary.stable_dt);
+  } else if (std::holds_alternative<NohBatheParams>(sim.method)) {
+    if (e.summary.stable_dt > 0.0) {
+      std::printf("stable dt   %.6g s (noh-bathe: Omega_crit(p) over the bound on omega_max)\n",
+                  e.summary.stable_dt);
+    } else {
+      std::printf("stable dt   not certified (noh-bathe: it needs a diagonal mass)\n");
+    }
   }
   if (!e.summary.warning.empty()) std::printf("warning     %s\n", e.summary.warning.c_str());
 }

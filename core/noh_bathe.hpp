@@ -1,0 +1,105 @@
+// The Noh–Bathe explicit scheme (Noh & Bathe 2013, "An explicit time integration scheme for the
+// analysis of wave propagations", Computers & Structures 129:178–193,
+// doi:10.1016/j.compstruc.2013.06.007; formulas, range of p and stability limit at NohBatheParams,
+// core/method.hpp) on the tridiagonal systems (the rod, scenes of bodies, a model of tridiagonal
+// matrices), with Lagrange-multiplier contact.
+//
+// Contact: a forward increment at each sub-step, as central difference's (Carpenter, Taylor &
+// Katona 1991, core/central_difference.hpp). The acceleration a sub-step computes fixes the
+// displacement at the next point of the time grid t, t + pΔt, t + Δt, t + Δt + pΔt, …, linearly:
+//   sub-step 1 (equilibrium at t + pΔt):  u₁ = u_p + (1−p)Δt·(v₀ + pΔt/2·a₀) + c₁·a_p,
+//                                         c₁ = (1−p)Δt·pΔt/2 + ((1−p)Δt)²/2 = (1−p)Δt²/2;
+//   sub-step 2 (equilibrium at t + Δt):   u_{1+p} = u₁ + pΔt·v₁ + (pΔt)²/2·a₁
+//                                         = (terms without a₁) + c₂·a₁,
+//                                         c₂ = Δt²·p·((1−p)·q2 + p/2).
+// Each sub-step's multipliers λ >= 0 are the forces in its equilibrium (M·a = −K·u − C·ṽ − Gᵀλ)
+// that put that next displacement exactly on the wall where the contact-free one would penetrate:
+// the complementarity problem g_next − c·G·M⁻¹·Gᵀ·λ <= 0, λ >= 0, complementary (one wall: one
+// division; two walls: core/two_wall_contact.hpp; a list: core/contact_lcp.hpp, Delassus matrix
+// c·G·M⁻¹·Gᵀ). The displacement of the next point is computed once, there, snapped onto its wall,
+// and used as such by the following sub-step (it equals the scheme's formula for it up to
+// round-off). So:
+//   - the constraints hold at every point of the grid: at each sample t + Δt (enforced by the
+//     multiplier at t + pΔt) and at each sub-step t + pΔt (by the multiplier at t);
+//   - the multiplier reported with the sample t + Δt is that of its own equilibrium, λ₁ >= 0,
+//     complementary to the gap at the next sub-step t + Δt + pΔt (as central difference's λ_t is
+//     to the gap at t + Δt); the sub-step's λ_p (substep_state()) is complementary to the gap at
+//     t + Δt.
+// Why a forward increment: an explicit sub-step cannot change its own displacement, which the
+// previous one fixed; the force it can still choose acts on the next. Enforcing it at both
+// sub-steps keeps every point of the grid admissible, so that neither sub-step starts from a
+// penetrating state (see core/bathe_composite.hpp for what that costs the implicit composites).
+// The first sub-step's displacement u_p of the first step is fixed in initialize() the same way,
+// by a multiplier at the start (coefficient (pΔt)²/2), which then belongs to the start's
+// acceleration.
+//
+// Not offered (the run is refused with a message, core/simulation.cpp): penalty and augmented-
+// Lagrangian contact, and a model of sparse matrices (it would need a sparse factorisation of M).
+//
+// Per step: two solves with the factorised M (diagonal for a lumped mass), two products with K
+// (and with C when damped), O(n) vector work, no allocation once sized (initialize sizes all).
+//
+// Thread safety: one object per thread.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "core/method.hpp"
+#include "core/second_order_system.hpp"
+#include "core/state.hpp"
+#include "core/tridiagonal.hpp"
+
+namespace impactid {
+
+class NohBatheExplicit {
+ public:
+  /// Factors M and fixes the first sub-step's displacement u_p = u₀ + pΔt·v₀ + (pΔt)²/2·a₀ from
+  /// `start` (a₀ consistent), with the contact at the start (the header): start.a and its
+  /// multipliers (lambda, far_lambda or multipliers) then include that force. False if M is
+  /// singular.
+  bool initialize(const SecondOrderSystem& system, const NohBatheCoefficients& coefficients,
+                  double dt, State& start);
+
+  /// Advances state from t to t + Δt (u, v, a and the multipliers of the equilibrium at t + Δt).
+  /// Returns true if a constraint pushes at t + Δt.
+  bool step(const SecondOrderSystem& system, State& state);
+
+  /// The state at t + pΔt of the last step (u_p, v_p, a_p, its multipliers, t + pΔt).
+  const State& substep_state() const { return sub_; }
+  /// The largest step certified stable without damping: Ω_crit(p)/ω_bound with core/
+  /// stable_step.hpp's Gershgorin bound ω_bound on ω_max [s]; 0 when none can be certified (a
+  /// mass that is not diagonal).
+  double stable_step() const { return stable_step_; }
+  /// Whether Δt is within stable_step() (up to a relative 1e-12).
+  bool within_stability_limit() const { return within_limit_; }
+
+ private:
+  // The contact of one sub-step: `next` holds the contact-free displacement of the next grid
+  // point, to which `scale`·M⁻¹·(force) is the response; corrects `a` and `next` and writes the
+  // multipliers into `at`. Returns true if a constraint pushes.
+  bool enforce(const SecondOrderSystem& system, double scale, const Eigen::MatrixXd& delassus,
+               Eigen::VectorXd& a, Eigen::VectorXd& next, State& at);
+  // M·a = −K·u − C·v_predicted.
+  void solve_acceleration(const SecondOrderSystem& system, const Eigen::VectorXd& u,
+                          const Eigen::VectorXd& v_predicted, Eigen::VectorXd& a);
+
+  NohBatheCoefficients c_{};
+  double dt_ = 0.0;
+  double scale_start_ = 0.0, scale_first_ = 0.0, scale_second_ = 0.0;  // (pΔt)²/2, c₁, c₂
+  double stable_step_ = 0.0;
+  bool within_limit_ = false;
+  TridiagonalFactorization mass_;
+  Eigen::VectorXd contact_influence_;  // M⁻¹·e_c
+  Eigen::VectorXd far_influence_;      // M⁻¹·e_far; empty without a far wall
+  // The constraint list's columns M⁻¹·G_kᵀ, their non-zero rows, and c·G·M⁻¹·Gᵀ per sub-step.
+  Eigen::MatrixXd constraint_influence_;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
+  Eigen::MatrixXd delassus_start_, delassus_first_, delassus_second_;
+  Eigen::VectorXd violation_, forces_, scaled_forces_;
+  State sub_;               // the state at t + pΔt
+  Eigen::VectorXd u_next_;  // the displacement of the next sub-step point, fixed by the last
+  Eigen::VectorXd scratch_;
+};
+
+}  // namespace impactid
