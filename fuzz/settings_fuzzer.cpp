@@ -28,11 +28,12 @@
 #include <vector>
 
 #include "study/cli/command_line.hpp"
-#include "study/studies/evaluation.hpp"
-#include "study/formats/json_writer.hpp"
+#include "study/cli/merge_command.hpp"
 #include "study/cli/run_command.hpp"
 #include "study/cli/simulate_command.hpp"
+#include "study/formats/json_writer.hpp"
 #include "study/plan/simulation_settings.hpp"
+#include "study/studies/evaluation.hpp"
 
 namespace {
 
@@ -71,10 +72,9 @@ void parse_whole_command_line(const Argv& args) {
   // Kept alive through parse(), as main() keeps them: the options' callbacks write into state
   // that these functions own (compare's given options, for one).
   const std::function<int()> commands[] = {
-      impactid::add_simulate_command(app),
-      impactid::add_compare_command(app),
-      impactid::add_run_command(app),
-      impactid::add_export_command(app),
+      impactid::add_simulate_command(app), impactid::add_compare_command(app),
+      impactid::add_run_command(app),      impactid::add_export_command(app),
+      impactid::add_merge_command(app),
   };
   try {
     app.parse(args.argc(), args.argv());
