@@ -26,8 +26,8 @@
 #include "core/scene_reference.hpp"
 #include "core/simulation.hpp"
 #include "signorini_check.hpp"
-#include "study/plan.hpp"
-#include "study/simulation_settings.hpp"
+#include "study/plan/plan.hpp"
+#include "study/plan/simulation_settings.hpp"
 #include "test_support.hpp"
 
 namespace impactid {
