@@ -248,6 +248,31 @@ elements = [20, 40]
 courant = [0.5, 2.0]
 repeats = 1
 """,
+    # The two-parameter maps of rho-Bathe and Noh-Bathe explicit (points past its limit: not ok).
+    "rho-bathe": """
+name = "rho-bathe"
+""" + SCENE + """
+[method]
+name = "rho-bathe"
+[study]
+kind = "grid"
+[study.axes]
+rho_inf = { from = 0.0, to = 0.4, partitions = 2 }
+substep_ratio = { from = 0.7, to = 0.9, partitions = 2 }
+[study.practical]
+eps_p = 0.03
+""",
+    "noh-bathe": """
+name = "noh-bathe"
+""" + SCENE + """
+[method]
+name = "noh-bathe"
+[study]
+kind = "grid"
+[study.axes]
+p = { values = [0.5, 0.54, 0.7] }
+courant = { values = [0.5, 1.9] }
+""",
     # The contact laws as a choice axis crossed with the penalty stiffness.
     "contact-laws": """
 name = "contact-laws"
@@ -345,6 +370,8 @@ FIGURES = {
     "block-contact-force.png": ["block-identical-dissipation"],
     "block-work-precision.png": ["block-work-precision"],
     "fig_contact_laws.png": ["contact-laws"],
+    "fig_rho_bathe.png": ["rho-bathe"],
+    "fig_noh_bathe.png": ["noh-bathe"],
 }
 
 

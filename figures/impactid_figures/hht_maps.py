@@ -23,10 +23,10 @@ from .scene import contact_text, primary_contact, results_scene
 from .style import CHATTER_COLOR, PRACTICAL_COLOR, STATUS_TEXT, num
 
 
-def outline_practical(ax, r):
+def outline_practical(ax, r, xdim="delta", ydim="alpha"):
     if not r.has("practical"):
         return []
-    x, y, pr = grid_2d(r, "practical")
+    x, y, pr = grid_2d(r, "practical", xdim, ydim)
     pr = np.where(np.isfinite(pr), pr, 0.0)
     if not np.any(pr == 1):  # say so, as the 1-D figures do
         thresholds = practical_thresholds(r)

@@ -29,8 +29,14 @@ def grid_2d(r, key, xdim="delta", ydim="alpha"):
 def hht_map(ax, r, key, norm_kind="log", cbar_label="", fig=None, valid=None):
     """pcolormesh of an HHT (δ, α) surface over the cells `valid` (default: the ok ones); the
     others are hatched grey. Returns (x, y, z, status)."""
-    x, y, z = grid_2d(r, key)
-    _, _, st = grid_2d(r, "status")
+    return grid_map(ax, r, key, "delta", "alpha", "δ [−]", "α [−]", norm_kind, cbar_label, fig, valid)
+
+
+def grid_map(ax, r, key, xdim, ydim, xlabel, ylabel, norm_kind="log", cbar_label="", fig=None, valid=None):
+    """pcolormesh of the surface `key` of a 2-D grid over (xdim, ydim), on the cells `valid`
+    (default: the ok ones); the others are hatched grey. Returns (x, y, z, status)."""
+    x, y, z = grid_2d(r, key, xdim, ydim)
+    _, _, st = grid_2d(r, "status", xdim, ydim)
     if valid is None:
         valid = st == 0
     zm = np.ma.masked_where(~valid | ~np.isfinite(z), z)
@@ -54,8 +60,8 @@ def hht_map(ax, r, key, norm_kind="log", cbar_label="", fig=None, valid=None):
         log_axis_plain(cb.ax.yaxis)
     ax.set_xlim(xe.min(), xe.max())
     ax.set_ylim(ye.min(), ye.max())
-    ax.set_xlabel("δ [−]")
-    ax.set_ylabel("α [−]")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     ax.grid(False)
     ax.impactid_norm = norm
     return x, y, z, st
