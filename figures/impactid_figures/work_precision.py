@@ -97,6 +97,7 @@ def work_precision_figure(results_dir, out_dir, name, png, heading="Work–preci
     done = status >= 0
     bad = status > 0
     fig = plt.figure(figsize=(5.4 * len(panels), 6.0), layout="constrained")
+    not_ok_text = ""
     gs = fig.add_gridspec(2 if np.any(bad) else 1, len(panels), height_ratios=[1, 12] if np.any(bad) else [1])
     for n, (key, sym) in enumerate(panels):
         ax = fig.add_subplot(gs[-1, n])
@@ -128,7 +129,9 @@ def work_precision_figure(results_dir, out_dir, name, png, heading="Work–preci
                             for i in range(M.size) if np.any(bad[i]))
             band = fig.add_subplot(gs[0, n], sharex=ax)
             runs_text = f"{int(bad.sum())} run{'' if bad.sum() == 1 else 's'}"
-            unstable_band(band, t_ms[ii, jj, kk], [colors[i] for i in ii], f"{runs_text}, no {sym}: {who}")
+            # which runs, once under the title: in the strip a long list squeezes the panels
+            unstable_band(band, t_ms[ii, jj, kk], [colors[i] for i in ii], f"{runs_text}, no {sym}")
+            not_ok_text = f"\nNot ok (× on the grey strips): {who}."
         tt = t_ms[done & np.isfinite(t_ms)]
         if tt.size:
             ax.set_xlim(tt.min() / 1.6, tt.max() * 1.6)
@@ -180,5 +183,5 @@ def work_precision_figure(results_dir, out_dir, name, png, heading="Work–preci
         scene = f" {scene}, {mesh_text}, Courant {num(C.min())}–{num(C.max())}"
     fig.suptitle(f"{heading}: wall time against accuracy, each method at its recommended parameters;{scene}\n"
                  f"Lower left is better: at a time budget, the lowest curve is the most accurate method. Wall time: "
-                 f"{timing}.", fontsize=10)
+                 f"{timing}.{not_ok_text}", fontsize=10)
     return [save(fig, out_dir, png)]
