@@ -88,6 +88,27 @@ void PlanReader::read_grid(const toml::table& study) {
   }
 }
 
+std::vector<double> PlanReader::listed_values(const toml::node& values,
+                                              const std::string& values_key, bool positive) const {
+  const auto* array = values.as_array();
+  if (!array) fail(values, values_key, "must be an array of numbers");
+  if (array->empty()) fail(values, values_key, "must hold at least one value");
+  if (array->size() > static_cast<std::size_t>(kMaxGridPoints)) {
+    fail(values, values_key, "holds more than " + std::to_string(kMaxGridPoints) + " values");
+  }
+  std::vector<double> out;
+  for (std::size_t k = 0; k < array->size(); ++k) {
+    const std::string item_key = values_key + "[" + std::to_string(k) + "]";
+    const double v = number(*array->get(k), item_key);
+    if (positive && !(v > 0.0)) fail(*array->get(k), item_key, "must be > 0");
+    if (std::find(out.begin(), out.end(), v) != out.end()) {
+      fail(*array->get(k), item_key, "repeats an earlier value");
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
 std::vector<double> PlanReader::axis_values(const toml::table& axis, const std::string& key) const {
   const toml::node *from = nullptr, *to = nullptr, *partitions = nullptr, *values = nullptr;
   for (const Entry& e : in_file_order(axis)) {
@@ -107,23 +128,7 @@ std::vector<double> PlanReader::axis_values(const toml::table& axis, const std::
     if (from || to || partitions) {
       fail(axis, key, "give either values or from, to and partitions, not both");
     }
-    const auto* array = values->as_array();
-    const std::string values_key = key + ".values";
-    if (!array) fail(*values, values_key, "must be an array of numbers");
-    if (array->empty()) fail(*values, values_key, "must hold at least one value");
-    if (array->size() > static_cast<std::size_t>(kMaxGridPoints)) {
-      fail(*values, values_key, "holds more than " + std::to_string(kMaxGridPoints) + " values");
-    }
-    std::vector<double> out;
-    for (std::size_t k = 0; k < array->size(); ++k) {
-      const std::string item_key = values_key + "[" + std::to_string(k) + "]";
-      const double v = number(*array->get(k), item_key);
-      if (std::find(out.begin(), out.end(), v) != out.end()) {
-        fail(*array->get(k), item_key, "repeats an earlier value");
-      }
-      out.push_back(v);
-    }
-    return out;
+    return listed_values(*values, key + ".values");
   }
   if (!from) {
     fail_missing(axis, key + ".from", "an axis needs from, to and partitions, or values");

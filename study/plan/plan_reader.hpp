@@ -226,6 +226,10 @@ class PlanReader {
   void read_grid(const toml::table& study);
 
   // { from, to, partitions } (Dakota's convention: k partitions, k + 1 values) or { values }.
+  // `{ values = [..] }` of an axis: numbers, at least one, none twice (and each > 0 when
+  // `positive`), each error at its item.
+  std::vector<double> listed_values(const toml::node& values, const std::string& values_key,
+                                    bool positive = false) const;
   std::vector<double> axis_values(const toml::table& axis, const std::string& key) const;
   // A choice axis, `{ values = ["word", …] }`: its words, each checked against the parameter.
   std::vector<std::string> choice_axis_labels(const toml::table& axis, const std::string& key,

@@ -83,24 +83,7 @@ std::vector<double> PlanReader::log_axis_values(const toml::node& node,
     if (from || to || points) {
       fail(axis, key, "give either values or from, to and points, not both");
     }
-    const auto* array = values->as_array();
-    const std::string values_key = key + ".values";
-    if (!array) fail(*values, values_key, "must be an array of numbers");
-    if (array->empty()) fail(*values, values_key, "must hold at least one value");
-    if (array->size() > static_cast<std::size_t>(kMaxGridPoints)) {
-      fail(*values, values_key, "holds more than " + std::to_string(kMaxGridPoints) + " values");
-    }
-    std::vector<double> out;
-    for (std::size_t k = 0; k < array->size(); ++k) {
-      const std::string item_key = values_key + "[" + std::to_string(k) + "]";
-      const double v = number(*array->get(k), item_key);
-      if (!(v > 0.0)) fail(*array->get(k), item_key, "must be > 0");
-      if (std::find(out.begin(), out.end(), v) != out.end()) {
-        fail(*array->get(k), item_key, "repeats an earlier value");
-      }
-      out.push_back(v);
-    }
-    return out;
+    return listed_values(*values, key + ".values", true);
   }
   if (!from) fail_missing(axis, key + ".from", "omega_dt needs from, to and points, or values");
   if (!to) fail_missing(axis, key + ".to", "omega_dt needs from, to and points, or values");
