@@ -258,14 +258,7 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   if (ranks_ == 1) return run_sweep(points, indices, results, options);
   const auto start = Clock::now();
   SweepOutcome outcome;
-  std::vector<long> todo;
-  for (const long index : indices) {
-    if (results.status[static_cast<std::size_t>(index)] == kStatusNotDone) {
-      todo.push_back(index);
-    } else {
-      ++outcome.reused;
-    }
-  }
+  const std::vector<long> todo = points_to_compute(indices, results, outcome.reused);
   const long count = static_cast<long>(todo.size());
   const long window_count = (count + kBatchLanes - 1) / kBatchLanes;
   const std::size_t width = row_width(results);

@@ -227,6 +227,19 @@ void evaluate_window(const PointSet& points, std::span<const long> window,
   }
 }
 
+std::vector<long> points_to_compute(std::span<const long> indices, const StudyResults& results,
+                                    long& reused) {
+  std::vector<long> todo;
+  for (const long index : indices) {
+    if (results.status[static_cast<std::size_t>(index)] == kStatusNotDone) {
+      todo.push_back(index);
+    } else {
+      ++reused;
+    }
+  }
+  return todo;
+}
+
 SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, StudyResults& results,
                        const SweepOptions& options) {
   using Clock = std::chrono::steady_clock;
@@ -236,14 +249,7 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, St
   };
 
   SweepOutcome outcome;
-  std::vector<long> todo;
-  for (const long index : indices) {
-    if (results.status[static_cast<std::size_t>(index)] == kStatusNotDone) {
-      todo.push_back(index);
-    } else {
-      ++outcome.reused;
-    }
-  }
+  const std::vector<long> todo = points_to_compute(indices, results, outcome.reused);
 
   // The points to compute are taken kBatchLanes at a time, in order: a thread builds the points
   // of the window it takes, runs them and stores them. Built all at once before the runs, two

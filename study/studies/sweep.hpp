@@ -90,6 +90,10 @@ struct WindowWorkspace {
 void evaluate_window(const PointSet& points, std::span<const long> window,
                      WindowWorkspace& workspace);
 
+/// Those of `indices` that `results` does not have yet, in order; `reused` counts the others.
+std::vector<long> points_to_compute(std::span<const long> indices, const StudyResults& results,
+                                    long& reused);
+
 /// Computes those of `indices` that `results` does not have yet.
 SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, StudyResults& results,
                        const SweepOptions& options);
