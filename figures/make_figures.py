@@ -45,6 +45,7 @@ FIGURES = [
     ("fig8_compare_velocity.png", comparison_bars.fig8),
     ("fig_spectral.png", spectral.fig_spectral),
     ("fig_optimize.png", optimize.fig_optimize),
+    ("fig_multistart.png", optimize.fig_multistart),
     ("fig_stability_map.png", stability_map.fig_stability_map),
     ("fig_work_precision.png", work_precision.fig_work_precision),
     ("block-work-precision.png", work_precision.fig_block_work_precision),

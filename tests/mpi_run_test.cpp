@@ -2,7 +2,9 @@
 // equals a single process's bit for bit (scripts/compare-results) on 1, 2 and 3 ranks and
 // other thread counts; after SIGKILL of a worker or of rank 0, --resume computes only what is
 // missing and ends with the same file; an error on a worker names the point and keeps what was
-// computed. Registered only when impactid-mpi is built (tests/CMakeLists.txt says so otherwise).
+// computed; shards run over MPI merge to the same file; SIGUSR1 to mpirun stops the job with
+// everything computed saved; an optimisation's searches, spread over the ranks, give the same file
+// too. Registered only when impactid-mpi is built (tests/CMakeLists.txt says so otherwise).
 #include <dirent.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -224,6 +226,69 @@ TEST(MpiRun, SigkillOfRankZeroThenResumeEndsWithTheSameFile) {
   kill_rank_then_resume(0);
 }
 
+// Shards (study/studies/shard.hpp) and MPI together: each shard on two ranks, then merged; the
+// merged file is the single process's.
+TEST(MpiRun, ShardsRunOverMpiMergeToTheSingleProcessFile) {
+  const Study& s = study();
+  std::string files;
+  for (int k = 0; k < 2; ++k) {
+    const fs::path out = scratch("shard" + std::to_string(k) + ".h5");
+    const auto o = mpi_run(
+        2,
+        "run " + s.plan.string() + " --shard " + std::to_string(k) + "/2 --output " + out.string(),
+        "-x OMP_NUM_THREADS=1");
+    ASSERT_EQ(o.status, 0) << o.text;
+    EXPECT_NE(o.text.find("shard " + std::to_string(k) + "/2"), std::string::npos) << o.text;
+    files += " " + out.string();
+  }
+  const fs::path merged = scratch("shards-merged.h5");
+  const auto m = testing::run_impactid("merge" + files + " --output " + merged.string());
+  ASSERT_EQ(m.status, 0) << m.text;
+  const auto same = compare(s.single, merged);
+  EXPECT_EQ(same.status, 0) << same.text;
+}
+
+// SIGUSR1 to mpirun, which passes it to every rank, stops the job as Ctrl-C stops a single
+// process: rank 0 hands out no more work, collects what is running, saves it and exits with 130
+// ("interrupted"); the workers ignore the signal. --resume then ends with the single run's file.
+TEST(MpiRun, SigusrOneToMpirunStopsTheJobWithEverythingComputedSaved) {
+  const Study& s = study();
+  const fs::path out = scratch("usr1.h5");
+  const fs::path log = scratch("usr1.log");
+  const auto start = Clock::now();
+  const pid_t mpirun = start_mpirun(out, log, false);
+  ASSERT_GT(mpirun, 0);
+  int raw = 0;
+  bool ended = false;
+  long before = 0;
+  while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    if (!ended && (before = points_saved(out)) > 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_FALSE(ended) << "the job ended before the signal:\n" << read_text(log);
+  ASSERT_EQ(kill(mpirun, SIGUSR1), 0);
+  ASSERT_EQ(waitpid(mpirun, &raw, 0), mpirun);
+  const std::string text = read_text(log);
+  // Rank 0's status is mpirun's, unless the run ended on its own before the signal reached it.
+  ASSERT_TRUE(WIFEXITED(raw)) << text;
+  const long saved = points_saved(out);
+  if (WEXITSTATUS(raw) == 0) {
+    GTEST_SKIP() << "the run ended before rank 0 saw the signal (" << saved << " points)";
+  }
+  EXPECT_EQ(WEXITSTATUS(raw), 130) << text;
+  EXPECT_NE(text.find("impactid run: interrupted; continue with:"), std::string::npos) << text;
+  // Everything computed is saved: at least the checkpoint's points, and what followed it.
+  EXPECT_GE(saved, before);
+  EXPECT_LT(saved, kPoints);
+
+  const pid_t resumed = start_mpirun(out, log, true);
+  ASSERT_EQ(waitpid(resumed, &raw, 0), resumed);
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << read_text(log);
+  const auto same = compare(s.single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
+}
+
 // A worker that fails on point 200 stops the job: the message names the rank, the point with
 // its parameters, and the cause; what was computed is saved; --resume finishes the file.
 TEST(MpiRun, AnErrorOnAWorkerNamesThePointAndKeepsWhatWasComputed) {
@@ -246,6 +311,84 @@ TEST(MpiRun, AnErrorOnAWorkerNamesThePointAndKeepsWhatWasComputed) {
                                "-x OMP_NUM_THREADS=1");
   ASSERT_EQ(resumed.status, 0) << resumed.text;
   EXPECT_NE(resumed.text.find(std::to_string(partial.points_done()) + " reused"), std::string::npos)
+      << resumed.text;
+  const auto same = compare(s.single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
+}
+
+// --- an optimisation's searches over the ranks -------------------------------------------------
+
+// Six COBYLA searches of at most 40 evaluations each on an 80-element rod.
+const char* kSearchPlan = R"(
+[scene]
+elements = 80
+[method]
+name = "hht"
+[study]
+kind = "optimize"
+algorithm = "COBYLA"
+objective = "eps_p"
+max_evaluations = 40
+starts = 6
+[study.parameters]
+delta = { from = 0.0, to = 1.0 }
+alpha = { from = -0.5, to = 0.0 }
+[study.constraints]
+nop_p = { max = 15 }
+)";
+
+const Study& search_study() {
+  static const Study s = [] {
+    Study s;
+    s.plan = testing::write_file(scratch("optimize.toml"), kSearchPlan);
+    s.single = scratch("optimize-single.h5");
+    const auto o = testing::run_impactid("run " + s.plan.string() + " --threads 2 --output " +
+                                         s.single.string());
+    EXPECT_EQ(o.status, 0) << o.text;
+    return s;
+  }();
+  return s;
+}
+
+TEST(MpiRun, AnOptimisationsSearchesGiveTheSingleProcessFileOnTwoOrThreeRanks) {
+  const Study& s = search_study();
+  for (const auto& [ranks, environment] :
+       {std::pair{2, "-x OMP_NUM_THREADS=1"}, std::pair{2, "-x OMP_NUM_THREADS=2"},
+        std::pair{3, "-x OMP_NUM_THREADS=1"}}) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks " + environment);
+    const fs::path out = scratch("optimize-ranks" + std::to_string(ranks) + ".h5");
+    const auto o =
+        mpi_run(ranks, "run " + s.plan.string() + " --output " + out.string(), environment);
+    ASSERT_EQ(o.status, 0) << o.text;
+    EXPECT_NE(o.text.find(std::to_string(ranks) +
+                          " ranks (rank 0 serving and computing): searches run per rank: "),
+              std::string::npos)
+        << o.text;
+    const auto same = compare(s.single, out);
+    EXPECT_EQ(same.status, 0) << same.text;
+  }
+}
+
+// A search that fails on a worker stops the job with its number and the cause; the searches
+// that ended are saved, and --resume replays them and ends with the single run's file.
+TEST(MpiRun, AnErrorInASearchNamesItAndKeepsTheSearchesThatEnded) {
+  const Study& s = search_study();
+  const fs::path out = scratch("optimize-error.h5");
+  const auto o = mpi_run(3, "run " + s.plan.string() + " --output " + out.string(),
+                         "-x OMP_NUM_THREADS=1 -x IMPACTID_MPI_FAIL_AT_SEARCH=4");
+  EXPECT_EQ(o.status, 1) << o.text;
+  EXPECT_NE(o.text.find(": search 4: failure injected by IMPACTID_MPI_FAIL_AT_SEARCH=4"),
+            std::string::npos)
+      << o.text;
+  EXPECT_NE(o.text.find("every search that ended is saved"), std::string::npos) << o.text;
+  const StudyResults partial = read_results(out);
+  EXPECT_GT(partial.points_total(), 0);
+
+  const auto resumed = mpi_run(2, "run " + s.plan.string() + " --resume --output " + out.string(),
+                               "-x OMP_NUM_THREADS=1");
+  ASSERT_EQ(resumed.status, 0) << resumed.text;
+  EXPECT_NE(resumed.text.find(std::to_string(partial.points_total()) + " reused"),
+            std::string::npos)
       << resumed.text;
   const auto same = compare(s.single, out);
   EXPECT_EQ(same.status, 0) << same.text;

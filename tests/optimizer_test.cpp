@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
+#include <stdexcept>
 
 #include "study/plan/plan.hpp"
 #include "study/studies/evaluation.hpp"
@@ -139,6 +141,175 @@ TEST(Optimizer, ResumeReplaysRecordedEvaluations) {
     if (name.find("wall_time") != std::string::npos) continue;
     EXPECT_EQ(resumed.results.numeric_attributes[k].first, name);
     EXPECT_TRUE(same_bits({value}, {resumed.results.numeric_attributes[k].second})) << name;
+  }
+}
+
+// --- several searches (`starts`) ---------------------------------------------------------------
+
+const ResultColumn& column(const StudyResults& r, const std::string& name) {
+  const ResultColumn* c = r.find_column(name);
+  if (!c) throw std::runtime_error("no column " + name);
+  return *c;
+}
+
+bool same_bits(const std::vector<double>& x, const std::vector<double>& y) {
+  return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
+}
+
+// Every column but the measured run time, bit for bit.
+void expect_same_table(const StudyResults& a, const StudyResults& b) {
+  EXPECT_EQ(a.status, b.status);
+  ASSERT_EQ(a.parameters.size(), b.parameters.size());
+  for (const auto* columns : {&a.parameters, &a.indicators}) {
+    for (const ResultColumn& x : *columns) {
+      if (x.name == "wall_time_s") continue;
+      EXPECT_TRUE(same_bits(x.values, column(b, x.name).values)) << x.name;
+    }
+  }
+  ASSERT_EQ(a.numeric_attributes.size(), b.numeric_attributes.size());
+  for (std::size_t k = 0; k < a.numeric_attributes.size(); ++k) {
+    if (a.numeric_attributes[k].first.find("wall_time") != std::string::npos) continue;
+    EXPECT_EQ(a.numeric_attributes[k].first, b.numeric_attributes[k].first);
+    EXPECT_TRUE(same_bits({a.numeric_attributes[k].second}, {b.numeric_attributes[k].second}))
+        << a.numeric_attributes[k].first;
+  }
+}
+
+std::string two_parameter_plan(long starts, const std::string& start_text = "", unsigned seed = 1) {
+  return R"(
+name = "multi-start-test"
+[scene]
+elements = 40
+[method]
+name = "hht"
+[study]
+kind = "optimize"
+algorithm = "COBYLA"
+objective = "eps_p"
+max_evaluations = 40
+seed = )" +
+         std::to_string(seed) + R"(
+starts = )" +
+         std::to_string(starts) + R"(
+[study.parameters]
+delta = { from = 0.0, to = 1.0)" +
+         start_text + R"( }
+alpha = { from = -0.5, to = 0.0 }
+[study.constraints]
+nop_p = { max = 15 }
+)";
+}
+
+// Halton (1964): the radical inverses of k in bases 2 and 3, scaled to the bounds.
+TEST(MultiStart, SearchKStartsAtTheKthHaltonPoint) {
+  const Plan plan = parse_plan(two_parameter_plan(4), "multi-start-test.toml");
+  const std::vector<std::vector<double>> unit{
+      {0.5, 1.0 / 3.0}, {0.25, 2.0 / 3.0}, {0.75, 1.0 / 9.0}};
+  for (long k = 1; k <= 3; ++k) {
+    const std::vector<double> x = start_point(plan.optimize, k);
+    ASSERT_EQ(x.size(), 2u);
+    EXPECT_DOUBLE_EQ(x[0], unit[k - 1][0]) << k;
+    EXPECT_DOUBLE_EQ(x[1], -0.5 + 0.5 * unit[k - 1][1]) << k;
+  }
+  // Search 0 starts where a one-search plan does: the middle of the bounds here.
+  EXPECT_EQ(start_point(plan.optimize, 0), (std::vector<double>{0.5, -0.25}));
+}
+
+TEST(MultiStart, TheTableIsTheSameOnOneOrThreeThreads) {
+  const Plan plan = parse_plan(two_parameter_plan(5), "multi-start-test.toml");
+  OptimizeOptions one, three;
+  one.threads = 1;
+  three.threads = 3;
+  const OptimizeOutcome a = run_optimization(plan, one);
+  const OptimizeOutcome b = run_optimization(plan, three);
+  EXPECT_EQ(a.computed, b.computed);
+  expect_same_table(a.results, b.results);
+  EXPECT_EQ(a.termination, b.termination);
+}
+
+// The cross-check: search k of a multi-start run is the plain optimisation (one search) started
+// at search k's point with seed + k, evaluation for evaluation.
+TEST(MultiStart, EachSearchIsThePlainOptimisationFromItsStartPoint) {
+  const Plan plan = parse_plan(two_parameter_plan(4), "multi-start-test.toml");
+  OptimizeOptions options;
+  options.threads = 2;
+  const OptimizeOutcome multi = run_optimization(plan, options);
+  const std::vector<double>& start = column(multi.results, "start").values;
+  for (long k = 0; k < 4; ++k) {
+    SCOPED_TRACE("search " + std::to_string(k));
+    const std::vector<double> x = start_point(plan.optimize, k);
+    char delta[64], alpha[64];
+    std::snprintf(delta, sizeof delta, ", start = %.17g", x[0]);
+    std::snprintf(alpha, sizeof alpha, ", start = %.17g }", x[1]);
+    std::string text = two_parameter_plan(1, delta, 1 + static_cast<unsigned>(k));
+    const std::string old_alpha = "alpha = { from = -0.5, to = 0.0 }";
+    text.replace(text.find(old_alpha), old_alpha.size(),
+                 "alpha = { from = -0.5, to = 0.0" + std::string(alpha));
+    const OptimizeOutcome single = run_optimization(parse_plan(text, "single.toml"), {});
+    std::vector<std::size_t> rows;
+    for (std::size_t r = 0; r < start.size(); ++r) {
+      if (start[r] == static_cast<double>(k)) rows.push_back(r);
+    }
+    ASSERT_EQ(rows.size(), single.results.status.size());
+    for (const char* name : {"delta", "alpha", "eps_p", "eps_v", "nop_p", "objective"}) {
+      const std::vector<double>& a = column(multi.results, name).values;
+      const std::vector<double>& b = column(single.results, name).values;
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        EXPECT_TRUE(same_bits({a[rows[i]]}, {b[i]})) << name << " row " << i;
+      }
+    }
+  }
+}
+
+TEST(MultiStart, TheBestIsTheFirstLeastFeasibleObjectiveOfAllSearches) {
+  const Plan plan = parse_plan(two_parameter_plan(4), "multi-start-test.toml");
+  const OptimizeOutcome o = run_optimization(plan, {});
+  const std::vector<double>& objective = column(o.results, "objective").values;
+  const std::vector<double>& feasible = column(o.results, "feasible").values;
+  std::optional<std::size_t> best;
+  for (std::size_t r = 0; r < objective.size(); ++r) {
+    if (feasible[r] == 1.0 && (!best || objective[r] < objective[*best])) best = r;
+  }
+  ASSERT_TRUE(best && o.best);
+  EXPECT_EQ(static_cast<std::size_t>(*o.best), *best);
+  EXPECT_EQ(best_attribute(o, "best_objective"), objective[*best]);
+  EXPECT_EQ(best_attribute(o, "best_start"), column(o.results, "start").values[*best]);
+  // Search 0 alone is the plain optimisation: the best of four is at least as good.
+  const OptimizeOutcome plain =
+      run_optimization(parse_plan(two_parameter_plan(1), "multi-start-test.toml"), {});
+  ASSERT_TRUE(plain.best);
+  EXPECT_LE(objective[*best], best_attribute(plain, "best_objective"));
+}
+
+TEST(MultiStart, AStoppedRunResumesToTheSameTable) {
+  const Plan plan = parse_plan(two_parameter_plan(4), "multi-start-test.toml");
+  OptimizeOptions full_options;
+  full_options.threads = 2;
+  const OptimizeOutcome full = run_optimization(plan, full_options);
+
+  std::atomic<bool> stop{false};
+  std::optional<StudyResults> saved;
+  OptimizeOptions first;
+  first.threads = 2;
+  first.stop = &stop;
+  first.checkpoint_seconds = 0.0;
+  first.checkpoint = [&](const StudyResults& r) { saved = r; };
+  first.progress = [&](long done, long, long, double) {
+    if (done >= 50) stop.store(true);
+  };
+  const OptimizeOutcome stopped = run_optimization(plan, first);
+  EXPECT_TRUE(stopped.interrupted);
+  ASSERT_LT(stopped.results.points_total(), full.results.points_total());
+
+  ASSERT_TRUE(saved);
+  for (const StudyResults* from : {&stopped.results, static_cast<const StudyResults*>(&*saved)}) {
+    OptimizeOptions resume;
+    resume.threads = 2;
+    resume.previous = from;
+    const OptimizeOutcome resumed = run_optimization(plan, resume);
+    EXPECT_FALSE(resumed.interrupted);
+    EXPECT_EQ(resumed.reused, from->points_total());
+    expect_same_table(full.results, resumed.results);
   }
 }
 

@@ -195,6 +195,7 @@ TEST(Plan, OptimizeDefaultsAndShortNames) {
   const std::vector<std::pair<std::string, double>> eps_p{{"eps_p", 1.0}};
   EXPECT_EQ(defaults.optimize.objective, eps_p);
   EXPECT_EQ(defaults.optimize.max_evaluations, 200);
+  EXPECT_EQ(defaults.optimize.starts, 1);
   EXPECT_TRUE(defaults.optimize.constraints.empty());
 
   const std::vector<std::pair<std::string, std::string>> names{
@@ -621,6 +622,13 @@ TEST(PlanErrors, OptimizeErrors) {
   EXPECT_EQ(
       error_of(head + "max_evaluations = 0\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
       "bad.toml:5:19: study.max_evaluations = 0: must lie in [1, 2147483647]");
+  EXPECT_EQ(error_of(head + "starts = 0\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
+            "bad.toml:5:10: study.starts = 0: must lie in [1, 100000]");
+  EXPECT_EQ(
+      error_of(head + "starts = 100001\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
+      "bad.toml:5:10: study.starts = 100001: must lie in [1, 100000]");
+  EXPECT_EQ(error_of(head + "starts = 2.5\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
+            "bad.toml:5:10: study.starts = 2.5: must be an integer");
   EXPECT_STARTS_WITH(
       error_of(head + "objective = \"eps\"\n[study.parameters]\nalpha = { from = -0.5, to = 0 }\n"),
       "bad.toml:5:13: study.objective = \"eps\": unknown indicator (indicators: eps_p, eps_v,");

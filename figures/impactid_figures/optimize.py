@@ -1,8 +1,10 @@
 """The NLopt search over the HHT surface: its evaluations in order over the ε_p map of Fig. 4,
 each constraint as a contour of the grid, the best point, and a zoom on the end of the search.
+With several searches (`starts`), each search's path is its own line from its start (a square).
 
-fig_optimize.png  results/hht-optimize.h5 (plans/hht-optimize.toml) on results/hht-delta-alpha.h5
-                  (plans/hht-delta-alpha.toml)
+fig_optimize.png   results/hht-optimize.h5 (plans/hht-optimize.toml) on results/hht-delta-alpha.h5
+                   (plans/hht-delta-alpha.toml)
+fig_multistart.png results/hht-multistart.h5 (plans/hht-multistart.toml), on the same grid
 """
 
 import matplotlib.pyplot as plt
@@ -32,7 +34,19 @@ def draw_evaluations(ax, o, best_ms=20):
     feas = np.asarray(o.data.get("feasible", np.ones_like(d)), dtype=float) == 1
     ok = o.status == 0
     handles = []
-    ax.plot(d, a, "-", color="white", lw=0.8, alpha=0.9, zorder=5)
+    if o.has("start"):  # several searches: a path each, from its start
+        search = np.asarray(o.data["start"], dtype=float)
+        firsts = np.flatnonzero(np.r_[True, np.diff(search) != 0])
+        for begin, end in zip(firsts, list(firsts[1:]) + [len(d)]):
+            ax.plot(d[begin:end], a[begin:end], "-", color="white", lw=0.8, alpha=0.9, zorder=5)
+        handles += ax.plot(d[firsts], a[firsts], "s", mfc="none", mec="white", mew=1.6, ms=9, zorder=6,
+                           ls="none", label=f"start of a search ({len(firsts)})")
+        for k, begin in enumerate(firsts):
+            ax.annotate(str(int(search[begin])), (d[begin], a[begin]), xytext=(5, 4), textcoords="offset points",
+                        color="white", fontsize=8, fontweight="bold", zorder=7,
+                        path_effects=[mpatheffects.withStroke(linewidth=2.0, foreground="black")])
+    else:
+        ax.plot(d, a, "-", color="white", lw=0.8, alpha=0.9, zorder=5)
     handles += ax.plot(d[feas], a[feas], "o", mfc="white", mec="black", ms=5.5, zorder=6, ls="none",
                        label=f"feasible evaluation ({int(feas.sum())})")
     handles += ax.plot(d[~feas & ok], a[~feas & ok], "o", mfc="0.15", mec="white", ms=5.5, zorder=6, ls="none",
@@ -52,8 +66,8 @@ def draw_evaluations(ax, o, best_ms=20):
     return handles
 
 
-def fig_optimize(results_dir, out_dir):
-    o = load(results_dir, "hht-optimize")
+def fig_optimize(results_dir, out_dir, name="hht-optimize", out="fig_optimize.png"):
+    o = load(results_dir, name)
     for key in ("delta", "alpha"):
         if not o.has(key):
             raise Skip(f"{o.path}: no {key!r} column: the figure needs a search over δ and α")
@@ -92,7 +106,7 @@ def fig_optimize(results_dir, out_dir):
     d = np.asarray(o.data["delta"], dtype=float)
     a = np.asarray(o.data["alpha"], dtype=float)
     tail = slice(len(d) // 2, None)
-    if len(d) >= 6:
+    if len(d) >= 6 and not o.has("start"):
         dl, dh = np.nanmin(d[tail]), np.nanmax(d[tail])
         al, ah = np.nanmin(a[tail]), np.nanmax(a[tail])
         pd = max(0.15 * (dh - dl), 0.01 * np.ptp(x), 0.004)
@@ -116,9 +130,16 @@ def fig_optimize(results_dir, out_dir):
             ax.indicate_inset_zoom(ins, edgecolor="white", alpha=1.0)
     algo = text(o.attr("algorithm", study.get("algorithm", "?")))
     term = text(o.attr("termination", "?"))
+    if o.has("start"):
+        searches = len(np.unique(np.asarray(o.data["start"], dtype=float)))
+        term = f"{searches} searches"
     ax.legend(handles=handles, loc="upper right", fontsize=7.5, framealpha=0.92)
     ax.set_title(f"{algo}: minimise {objective_text(study.get('objective', 'eps_p'))}"
                  + (f" subject to {', '.join(constraint_text)}" if constraint_text else "")
                  + f"; {len(d)} evaluations, {term}", fontsize=9.5)
     fig.suptitle(f"HHT-α parameter search; {results_scene(o)}")
-    return [save(fig, out_dir, "fig_optimize.png")]
+    return [save(fig, out_dir, out)]
+
+
+def fig_multistart(results_dir, out_dir):
+    return fig_optimize(results_dir, out_dir, "hht-multistart", "fig_multistart.png")

@@ -18,7 +18,7 @@
 
 namespace impactid {
 
-int impactid_main(int argc, char** argv, const SweepRunner& runner) {
+int impactid_main(int argc, char** argv, const Runners& runners) {
   CLI::App app{
       "impactid: time-stepping methods for dynamic contact and impact problems "
       "(after Serfozo & Pere 2022, doi:10.1556/606.2022.00599)"};
@@ -27,7 +27,7 @@ int impactid_main(int argc, char** argv, const SweepRunner& runner) {
                        std::string(impactid::kVersion) + " (" + impactid::kGitRevision + ")");
   std::vector<std::function<int()>> commands{
       impactid::add_simulate_command(app), impactid::add_compare_command(app),
-      impactid::add_spectral_command(app), impactid::add_run_command(app, runner),
+      impactid::add_spectral_command(app), impactid::add_run_command(app, runners),
       impactid::add_export_command(app),   impactid::add_export_model_command(app),
       impactid::add_methods_command(app),  impactid::add_merge_command(app),
   };

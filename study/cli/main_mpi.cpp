@@ -27,13 +27,18 @@ int main(int argc, char** argv) {
     status = impactid::impactid_main(argc, argv);
   } else if (rank == 0) {
     impactid::MpiMaster master;
-    status = impactid::impactid_main(
-        argc, argv,
-        [&master](const impactid::Plan& plan, const impactid::PointSet& points,
-                  std::span<const long> indices, impactid::StudyResults& results,
-                  const impactid::SweepOptions& options) {
-          return master.run(plan, points, indices, results, options);
-        });
+    impactid::Runners runners;
+    runners.sweep = [&master](const impactid::Plan& plan, const impactid::PointSet& points,
+                              std::span<const long> indices, impactid::StudyResults& results,
+                              const impactid::SweepOptions& options) {
+      return master.run(plan, points, indices, results, options);
+    };
+    runners.searches = [&master](const impactid::Plan& plan, std::span<const long> starts,
+                                 std::span<const impactid::StudyResults> previous,
+                                 const std::atomic<bool>* stop, const auto& done) {
+      master.run_searches(plan, starts, previous, stop, done);
+    };
+    status = impactid::impactid_main(argc, argv, runners);
     master.release_workers();
   } else {
     status = impactid::serve_mpi_worker();

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
@@ -15,27 +16,15 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "study/cli/command_line.hpp"
+#include "study/cli/mpi_protocol.hpp"
 
 namespace impactid {
 namespace {
 
-// Message tags. Every message is between rank 0 and one worker; MPI keeps the order of the
-// messages between two ranks, which the protocol relies on (a batch before the end of its sweep).
-enum Tag : int {
-  kTagPlan = 1,      ///< 0 → worker: the plan file's path, '\0', the plan text
-  kTagReady = 2,     ///< worker → 0: int, its OpenMP threads (batch size in windows)
-  kTagWork = 3,      ///< 0 → worker: long[], flat indices of a batch
-  kTagResult = 4,    ///< worker → 0: double[], per point: index, status, every column
-  kTagError = 5,     ///< worker → 0: char[], "point I: message" or the plan's error
-  kTagEndSweep = 6,  ///< 0 → worker: no more batches of this plan
-  kTagStop = 7,      ///< 0 → worker: end the program
-};
-
-using Clock = std::chrono::steady_clock;
+using namespace mpi_protocol;
 
 // Batch sizing: a batch starts at one window per worker thread and doubles while its round
 // trip is shorter than this, up to kMaxBatchWindows windows. Cheap points (a coarse rod) would
@@ -43,39 +32,6 @@ using Clock = std::chrono::steady_clock;
 // would set the pace.
 constexpr double kBatchRoundTripSeconds = 0.25;
 constexpr long kMaxBatchWindows = 4096;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-int world_rank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
-
-void send_text(const std::string& text, int destination, int tag) {
-  MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, destination, tag, MPI_COMM_WORLD);
-}
-
-std::string receive_text(const MPI_Status& probed) {
-  int count = 0;
-  MPI_Get_count(&probed, MPI_CHAR, &count);
-  std::string text(static_cast<std::size_t>(count), '\0');
-  MPI_Recv(text.data(), count, MPI_CHAR, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
-           MPI_STATUS_IGNORE);
-  return text;
-}
-
-template <class T>
-std::vector<T> receive_array(const MPI_Status& probed, MPI_Datatype type) {
-  int count = 0;
-  MPI_Get_count(&probed, type, &count);
-  std::vector<T> values(static_cast<std::size_t>(count));
-  MPI_Recv(values.data(), count, type, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
-           MPI_STATUS_IGNORE);
-  return values;
-}
 
 std::size_t row_width(const StudyResults& r) {
   return 2 + r.parameters.size() + r.indicators.size();  // index, status, columns
@@ -187,6 +143,9 @@ void send_rows(const WorkerPlan& w, const std::vector<long>& indices) {
 }  // namespace
 
 int serve_mpi_worker() {
+  // mpirun passes SIGUSR1 to every rank; it is rank 0's to stop the run
+  // (study/cli/run_command.cpp), and a worker stops when rank 0 has no more work for it.
+  std::signal(SIGUSR1, SIG_IGN);
   const std::string rank = "rank " + std::to_string(world_rank());
   std::optional<WorkerPlan> served;
   for (;;) {
@@ -200,16 +159,18 @@ int serve_mpi_worker() {
         WorkerPlan& w = *served;
         try {
           w.plan = parse_plan(message.substr(split + 1), message.substr(0, split));
-          w.points.emplace(w.plan);
+          if (w.plan.kind != StudyKind::optimize) w.points.emplace(w.plan);
         } catch (const std::exception& e) {
           send_text(rank + ": the plan does not load here: " + e.what(), 0, kTagError);
           served.reset();
           break;
         }
         w.threads = std::max(1, omp_get_max_threads());
-        w.rows =
-            empty_results(w.plan, *w.points, static_cast<std::size_t>(w.threads) * kBatchLanes);
-        w.workspaces.resize(static_cast<std::size_t>(w.threads));
+        if (w.points) {
+          w.rows =
+              empty_results(w.plan, *w.points, static_cast<std::size_t>(w.threads) * kBatchLanes);
+          w.workspaces.resize(static_cast<std::size_t>(w.threads));
+        }
         MPI_Send(&w.threads, 1, MPI_INT, 0, kTagReady, MPI_COMM_WORLD);
         break;
       }
@@ -224,6 +185,12 @@ int serve_mpi_worker() {
         } else {
           send_rows(*served, indices);
         }
+        break;
+      }
+      case kTagSearches: {
+        const std::vector<double> searches = receive_array<double>(probed, MPI_DOUBLE);
+        if (!served) break;  // as for kTagWork
+        serve_searches(served->plan, served->threads, searches);
         break;
       }
       case kTagEndSweep:
@@ -302,18 +269,16 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
 
   // Handles one message from a worker if one waits. Thread 0.
   const auto handle = [&]() -> bool {
-    int waiting = 0;
-    MPI_Status probed;
-    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &probed);
+    const std::optional<MPI_Status> waiting = waiting_message();
     if (!waiting) return false;
+    const MPI_Status& probed = *waiting;
     const int worker = probed.MPI_SOURCE;
     const auto w = static_cast<std::size_t>(worker);
     switch (probed.MPI_TAG) {
       case kTagReady: {
-        int threads = 1;
-        MPI_Recv(&threads, 1, MPI_INT, worker, kTagReady, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        const int threads = receive_ready(probed);
         std::lock_guard lock(mutex);
-        threads_of[w] = std::max(1, threads);
+        threads_of[w] = threads;
         batch_windows[w] = threads_of[w];
         ++ready;
         give(worker);
@@ -363,13 +328,11 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
         }
         break;
       }
-      default:
-        receive_text(probed);
+      default: {
+        std::string unexpected = receive_unexpected(probed);
         std::lock_guard lock(mutex);
-        if (!error) {
-          error = "rank " + std::to_string(worker) + " sent an unexpected message (tag " +
-                  std::to_string(probed.MPI_TAG) + ")";
-        }
+        if (!error) error = std::move(unexpected);
+      }
     }
     return true;
   };
@@ -407,23 +370,14 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   };
 
   const bool master_computes = ranks_ <= kMasterComputesUpToRanks;
-  // Thread 0 serves; with rank 0 computing, `threads` more compute (thread 0 mostly sleeps).
-  const int team = master_computes ? 1 + std::max(1, options.threads) : 1;
-#pragma omp parallel num_threads(team)
-  {
-    if (omp_get_thread_num() == 0) {
-      for (;;) {
-        bool busy = false;
-        while (handle()) busy = true;
-        report();
-        {
-          std::lock_guard lock(mutex);
-          const bool more = !stopping() && next_window < window_count;
-          if (ready == ranks_ - 1 && out_total == 0 && !more) break;
-        }
-        if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(200));
-      }
-    } else {
+  const auto finished = [&] {
+    std::lock_guard lock(mutex);
+    const bool more = !stopping() && next_window < window_count;
+    return ready == ranks_ - 1 && out_total == 0 && !more;
+  };
+  // With rank 0 computing, `threads` more threads take windows from the queue.
+  serve_and_compute(
+      master_computes ? std::max(1, options.threads) : 0, handle, report, finished, [&] {
       WindowWorkspace workspace;
       for (;;) {
         long window = 0;
@@ -450,8 +404,7 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
           if (workspace.evaluations[k].summary.status != RunStatus::ok) ++unstable;
         }
       }
-    }
-  }
+      });
   for (int r = 1; r < ranks_; ++r) MPI_Send(nullptr, 0, MPI_CHAR, r, kTagEndSweep, MPI_COMM_WORLD);
 
   std::string shares;

@@ -29,11 +29,14 @@
 // point I fail on it.
 #pragma once
 
+#include <atomic>
+#include <functional>
 #include <span>
 
 #include "study/io/results_file.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/point_set.hpp"
+#include "study/studies/optimizer.hpp"
 #include "study/studies/sweep.hpp"
 
 namespace impactid {
@@ -48,6 +51,15 @@ class MpiMaster {
   /// run_sweep's contract (SweepRunner, study/cli/run_command.hpp), over every rank.
   SweepOutcome run(const Plan& plan, const PointSet& points, std::span<const long> indices,
                    StudyResults& results, const SweepOptions& options);
+  /// SearchRunner's contract (study/studies/optimizer.hpp): an optimisation's searches over
+  /// every rank (study/cli/mpi_search.cpp). A search is handed out whole; a worker gets as many
+  /// at a time as it has threads, and rank 0 runs them too under kMasterComputesUpToRanks. A
+  /// stop hands out no more searches and waits for those running (each ends within its
+  /// max_evaluations). A worker's error is thrown, as the sweep's. For tests,
+  /// IMPACTID_MPI_FAIL_AT_SEARCH=S makes whichever rank runs search S fail on it.
+  void run_searches(const Plan& plan, std::span<const long> starts,
+                    std::span<const StudyResults> previous, const std::atomic<bool>* stop,
+                    const std::function<void(long, SearchOutcome)>& done);
   /// Tells every worker to end (serve_mpi_worker returns). Once, before MPI_Finalize.
   void release_workers();
 

@@ -34,7 +34,7 @@
 namespace impactid {
 namespace {
 
-// Set by SIGINT/SIGTERM. The one mutable global of the program: a signal handler can reach
+// Set by SIGINT/SIGTERM/SIGUSR1. The one mutable global of the program: a signal handler can reach
 // nothing else. Lock-free, so setting it is async-signal-safe.
 std::atomic<bool> g_stop_requested{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
@@ -45,9 +45,11 @@ extern "C" void request_stop(int) {
 
 constexpr int kExitInterrupted = 130;
 
-// While it lives, SIGINT and SIGTERM ask the running study to stop (g_stop_requested) rather
-// than kill the process; the previous handlers come back when it goes, on every path out (the
-// defaults in the program; Python's own when `import impactid` runs a plan).
+// While it lives, SIGINT, SIGTERM and SIGUSR1 ask the running study to stop (g_stop_requested)
+// rather than kill the process; the previous handlers come back when it goes, on every path out
+// (the defaults in the program; Python's own when `import impactid` runs a plan). SIGUSR1 is
+// the one a batch system can send ahead of a job's end (Slurm's `--signal=USR1@SECONDS`) and the
+// one mpirun passes on to its ranks: SIGINT and SIGTERM to mpirun end the ranks outright.
 class StopOnSignals {
  public:
   StopOnSignals() {
@@ -58,10 +60,12 @@ class StopOnSignals {
     stop.sa_flags = SA_RESTART;  // as std::signal had it: a checkpoint's write is not cut short
     sigaction(SIGINT, &stop, &previous_int_);
     sigaction(SIGTERM, &stop, &previous_term_);
+    sigaction(SIGUSR1, &stop, &previous_usr1_);
   }
   ~StopOnSignals() {
     sigaction(SIGINT, &previous_int_, nullptr);
     sigaction(SIGTERM, &previous_term_, nullptr);
+    sigaction(SIGUSR1, &previous_usr1_, nullptr);
   }
   StopOnSignals(const StopOnSignals&) = delete;
   StopOnSignals& operator=(const StopOnSignals&) = delete;
@@ -69,6 +73,7 @@ class StopOnSignals {
  private:
   struct sigaction previous_int_ {};
   struct sigaction previous_term_ {};
+  struct sigaction previous_usr1_ {};
 };
 
 std::string duration_text(double seconds) {
@@ -202,10 +207,19 @@ int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) 
     evaluate(std::get<Simulation>(build(start_point)), workspace);
     const double t =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("evaluations at most %ld (%s), one at a time\n", plan.optimize.max_evaluations,
-                plan.optimize.algorithm.c_str());
-    std::printf("estimate    %s (%.3g s per evaluation, measured on the start point)\n",
-                duration_text(t * plan.optimize.max_evaluations).c_str(), t);
+    const long starts = plan.optimize.starts;
+    const long waves = (starts + threads - 1) / threads;  // searches one after another
+    if (starts == 1) {
+      std::printf("evaluations at most %ld (%s), one at a time\n", plan.optimize.max_evaluations,
+                  plan.optimize.algorithm.c_str());
+    } else {
+      std::printf("evaluations at most %ld (%s): %ld searches of %ld, %ld at a time\n",
+                  starts * plan.optimize.max_evaluations, plan.optimize.algorithm.c_str(), starts,
+                  plan.optimize.max_evaluations, std::min<long>(starts, threads));
+    }
+    std::printf(
+        "estimate    %s (%.3g s per evaluation, measured on the start point)\n",
+        duration_text(t * static_cast<double>(waves * plan.optimize.max_evaluations)).c_str(), t);
     return 0;
   }
   const PointSet points(plan);
@@ -402,7 +416,7 @@ int run_work_precision_plan(const Plan& plan, const RunArguments& args,
 
 }  // namespace
 
-int run_plan(const RunArguments& args, const SweepRunner& runner) {
+int run_plan(const RunArguments& args, const Runners& runners) {
   Plan plan;
   try {
     plan = args.plan_text.empty() ? load_plan(args.plan) : parse_plan(args.plan_text, args.plan);
@@ -511,6 +525,8 @@ int run_plan(const RunArguments& args, const SweepRunner& runner) {
   try {
     if (plan.kind == StudyKind::optimize) {
       OptimizeOptions options;
+      options.threads = threads;
+      options.searches = runners.searches;
       options.checkpoint_seconds = plan.output.checkpoint_seconds;
       options.checkpoint = [&](const StudyResults& r) { save(r, elapsed()); };
       options.progress = [&](long done, long max, long unstable, double) {
@@ -562,8 +578,9 @@ int run_plan(const RunArguments& args, const SweepRunner& runner) {
         progress.update(p.done, p.total, p.unstable, p.elapsed_s);
       };
       options.stop = &g_stop_requested;
-      const SweepOutcome outcome = runner ? runner(plan, points, indices, results, options)
-                                          : run_sweep(points, indices, results, options);
+      const SweepOutcome outcome = runners.sweep
+                                       ? runners.sweep(plan, points, indices, results, options)
+                                       : run_sweep(points, indices, results, options);
       progress.finish();
       if (!plan.practical.empty() && shard) {
         std::fprintf(stderr,
@@ -602,7 +619,7 @@ int run_plan(const RunArguments& args, const SweepRunner& runner) {
   return interrupted ? report_interrupted(args, shard, output) : 0;
 }
 
-std::function<int()> add_run_command(CLI::App& app, SweepRunner runner) {
+std::function<int()> add_run_command(CLI::App& app, Runners runners) {
   auto* command = app.add_subcommand("run",
                                      "Run a plan file (grid, list, optimize, spectral or "
                                      "work-precision study) and write its HDF5 results");
@@ -632,9 +649,9 @@ std::function<int()> add_run_command(CLI::App& app, SweepRunner runner) {
       ->type_name("K/N");
   command->add_flag("--dry-run", args->dry_run,
                     "Print the points per axis and in total, and a time estimate; run nothing");
-  return [command, args, runner = std::move(runner)]() -> int {
+  return [command, args, runners = std::move(runners)]() -> int {
     if (!command->parsed()) return -1;
-    return run_plan(*args, runner);
+    return run_plan(*args, runners);
   };
 }
 

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 
+#include "study/studies/optimizer.hpp"
 #include "study/studies/sweep.hpp"
 
 namespace impactid {
@@ -32,13 +33,19 @@ struct RunArguments {
 using SweepRunner = std::function<SweepOutcome(const Plan&, const PointSet&, std::span<const long>,
                                                StudyResults&, const SweepOptions&)>;
 
+/// Where a plan's work runs: unset members run on this process's threads.
+struct Runners {
+  SweepRunner sweep;      ///< a grid's or list's points
+  SearchRunner searches;  ///< an optimisation's searches (study/studies/optimizer.hpp)
+};
+
 /// Runs a plan as `impactid run` does: progress and the summary on stderr, every error on
 /// std::cerr; SIGINT and SIGTERM stop it with what is finished saved (the previous handlers come
 /// back when it returns). Returns the exit status: 0, kExitBadInput, kExitFailure, or 130 when
 /// it was interrupted.
-int run_plan(const RunArguments& args, const SweepRunner& runner = {});
+int run_plan(const RunArguments& args, const Runners& runners = {});
 
-std::function<int()> add_run_command(CLI::App& app, SweepRunner runner = {});
+std::function<int()> add_run_command(CLI::App& app, Runners runners = {});
 std::function<int()> add_export_command(CLI::App& app);
 
 }  // namespace impactid

@@ -35,9 +35,9 @@ constexpr std::array<Algorithm, 20> kAlgorithms{{
 
 void PlanReader::read_optimize(const toml::table& study) {
   OptimizeStudy& out = plan_->optimize;
-  const std::vector<std::string> known{"kind",       "algorithm", "objective", "max_evaluations",
-                                       "xtol_rel",   "ftol_rel",  "seed",      "parameters",
-                                       "constraints"};
+  const std::vector<std::string> known{"kind",       "algorithm",  "objective", "max_evaluations",
+                                       "xtol_rel",   "ftol_rel",   "seed",      "starts",
+                                       "parameters", "constraints"};
   const toml::node* parameters = nullptr;
   for (const Entry& e : in_file_order(study)) {
     const std::string key = "study." + e.key;
@@ -72,6 +72,12 @@ void PlanReader::read_optimize(const toml::table& study) {
              "must lie in [0, " + std::to_string(std::numeric_limits<unsigned>::max()) + "]");
       }
       out.seed = static_cast<unsigned>(v);
+    } else if (e.key == "starts") {
+      const std::int64_t v = integer(node, key);
+      if (v < 1 || v > kMaxOptimizeStarts) {
+        fail(node, key, "must lie in [1, " + std::to_string(kMaxOptimizeStarts) + "]");
+      }
+      out.starts = static_cast<long>(v);
     } else if (e.key == "parameters") {
       parameters = &node;
     } else if (e.key == "constraints") {

@@ -110,6 +110,9 @@ struct WorkPrecisionStudy {
   int repeats = 5;
 };
 
+/// The most independent searches an optimize study may ask for (`starts`).
+inline constexpr long kMaxOptimizeStarts = 100000;
+
 struct OptimizeStudy {
   /// NLopt's full name, always: GN_DIRECT, GN_DIRECT_L, GN_ORIG_DIRECT, GN_ORIG_DIRECT_L,
   /// GN_CRS2_LM, GN_ISRES, GN_ESCH, LN_COBYLA, LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX or LN_PRAXIS.
@@ -124,6 +127,10 @@ struct OptimizeStudy {
   double xtol_rel = 1e-4;
   double ftol_rel = 0.0;  ///< 0: not used
   unsigned seed = 1;      ///< for the stochastic algorithms (CRS2, ISRES): results repeat
+  /// Independent searches (multi-start, study/studies/optimizer.hpp): search 0 from the
+  /// parameters' `start`, search k >= 1 from the k-th point of a Halton sequence in the bounds
+  /// and with seed + k. Each has its own max_evaluations; they run in parallel.
+  long starts = 1;
 };
 
 struct OutputSpec {

@@ -1,0 +1,126 @@
+// The messages between rank 0 and the workers of impactid-mpi (study/cli/mpi_sweep.hpp), and
+// the small helpers both sides use to send and receive them.
+#pragma once
+
+#include <mpi.h>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "study/plan/plan.hpp"
+
+namespace impactid::mpi_protocol {
+
+// Message tags. Every message is between rank 0 and one worker; MPI keeps the order of the
+// messages between two ranks, which the protocol relies on (a batch before the end of its sweep,
+// a search's rows before its termination).
+enum Tag : int {
+  kTagPlan = 1,      ///< 0 → worker: the plan file's path, '\0', the plan text
+  kTagReady = 2,     ///< worker → 0: int, its OpenMP threads (batch size in windows)
+  kTagWork = 3,      ///< 0 → worker: long[], flat indices of a batch
+  kTagResult = 4,    ///< worker → 0: double[], per point: index, status, every column
+  kTagError = 5,     ///< worker → 0: char[], "point I: message" or the plan's error
+  kTagEndSweep = 6,  ///< 0 → worker: no more work of this plan
+  kTagStop = 7,      ///< 0 → worker: end the program
+  /// 0 → worker: double[], searches of an optimisation to run: per search its index, the
+  /// number of its previous rows, then those rows (status, every column)
+  kTagSearches = 8,
+  /// worker → 0: double[], a finished search: index, computed, reused, interrupted, the number
+  /// of rows, the rows; followed by kTagSearchEnd
+  kTagSearchRows = 9,
+  kTagSearchEnd = 10,  ///< worker → 0: char[], that search's termination
+};
+
+using Clock = std::chrono::steady_clock;
+
+inline double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+inline int world_rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+inline void send_text(const std::string& text, int destination, int tag) {
+  MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, destination, tag, MPI_COMM_WORLD);
+}
+
+inline std::string receive_text(const MPI_Status& probed) {
+  int count = 0;
+  MPI_Get_count(&probed, MPI_CHAR, &count);
+  std::string text(static_cast<std::size_t>(count), '\0');
+  MPI_Recv(text.data(), count, MPI_CHAR, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+  return text;
+}
+
+template <class T>
+std::vector<T> receive_array(const MPI_Status& probed, MPI_Datatype type) {
+  int count = 0;
+  MPI_Get_count(&probed, type, &count);
+  std::vector<T> values(static_cast<std::size_t>(count));
+  MPI_Recv(values.data(), count, type, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+  return values;
+}
+
+/// The message waiting from any worker, if one does (not received yet).
+inline std::optional<MPI_Status> waiting_message() {
+  int waiting = 0;
+  MPI_Status probed;
+  MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &probed);
+  if (!waiting) return std::nullopt;
+  return probed;
+}
+
+/// Receives a worker's kTagReady: its OpenMP threads, at least 1.
+inline int receive_ready(const MPI_Status& probed) {
+  int threads = 1;
+  MPI_Recv(&threads, 1, MPI_INT, probed.MPI_SOURCE, kTagReady, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return std::max(1, threads);
+}
+
+/// Receives a message of a tag rank 0 does not expect here; the error it makes.
+inline std::string receive_unexpected(const MPI_Status& probed) {
+  receive_text(probed);
+  return "rank " + std::to_string(probed.MPI_SOURCE) + " sent an unexpected message (tag " +
+         std::to_string(probed.MPI_TAG) + ")";
+}
+
+/// Rank 0's threads while it hands out work. Thread 0 serves: `handle()` takes one waiting
+/// message (false when none waits), `finished()` says when the work is over, and `between()`
+/// runs after each round of messages (progress, checkpoints); it sleeps a little when a round
+/// found nothing. It is the only thread that calls MPI (MPI_THREAD_FUNNELED). With
+/// `computing` > 0 that many more threads run `compute()`, which returns when nothing is left.
+template <class Handle, class Between, class Finished, class Compute>
+void serve_and_compute(int computing, Handle handle, Between between, Finished finished,
+                       Compute compute) {
+#pragma omp parallel num_threads(1 + std::max(0, computing))
+  {
+    if (omp_get_thread_num() == 0) {
+      for (;;) {
+        bool busy = false;
+        while (handle()) busy = true;
+        between();
+        if (finished()) break;
+        if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    } else {
+      compute();
+    }
+  }
+}
+
+/// A worker's answer to kTagSearches: runs the searches on its threads, then sends each one's
+/// kTagSearchRows and kTagSearchEnd, or kTagError (study/cli/mpi_search.cpp).
+void serve_searches(const Plan& plan, int threads, const std::vector<double>& message);
+
+}  // namespace impactid::mpi_protocol
