@@ -47,26 +47,46 @@ std::optional<ParameterError> validate(const ContactTreatment& t) {
   return std::nullopt;
 }
 
-ContactPenalties resolve_contact(const ContactTreatment& t, const SecondOrderSystem& system) {
+namespace {
+
+// The law and its numbers, with the springs of a constraint list; `k(dof)` is K's diagonal entry.
+template <class Diagonal>
+ContactPenalties resolve_listed(const ContactTreatment& t,
+                                const std::vector<Constraint>& constraints, Diagonal&& k) {
   ContactPenalties out;
   out.law = t.law;
   out.tolerance = t.augmented_tolerance;
   out.max_iterations = t.augmented_max_iterations;
   if (t.law == ContactLaw::lagrange) return out;
-  const Eigen::VectorXd& k = system.stiffness.diag;
-  const auto penalty = [&](double dof_stiffness) {
-    return t.penalty_stiffness ? *t.penalty_stiffness : t.penalty_factor * dof_stiffness;
-  };
-  out.main = penalty(k[system.contact_dof]);
-  out.far = penalty(k[system.far_contact_dof]);
-  out.listed.reserve(system.constraints.size());
-  for (const Constraint& c : system.constraints) {
+  out.listed.reserve(constraints.size());
+  for (const Constraint& c : constraints) {
     double smaller = std::numeric_limits<double>::infinity();
-    if (c.plus >= 0) smaller = std::min(smaller, k[c.plus]);
-    if (c.minus >= 0) smaller = std::min(smaller, k[c.minus]);
-    out.listed.push_back(penalty(smaller));
+    if (c.plus >= 0) smaller = std::min(smaller, k(c.plus));
+    if (c.minus >= 0) smaller = std::min(smaller, k(c.minus));
+    out.listed.push_back(penalty_stiffness(t, smaller));
   }
   return out;
+}
+
+}  // namespace
+
+double penalty_stiffness(const ContactTreatment& t, double dof_stiffness) {
+  return t.penalty_stiffness ? *t.penalty_stiffness : t.penalty_factor * dof_stiffness;
+}
+
+ContactPenalties resolve_contact(const ContactTreatment& t, const SecondOrderSystem& system) {
+  const Eigen::VectorXd& k = system.stiffness.diag;
+  ContactPenalties out =
+      resolve_listed(t, system.constraints, [&](Eigen::Index dof) { return k[dof]; });
+  if (t.law == ContactLaw::lagrange) return out;
+  out.main = penalty_stiffness(t, k[system.contact_dof]);
+  out.far = penalty_stiffness(t, k[system.far_contact_dof]);
+  return out;
+}
+
+ContactPenalties resolve_contact(const ContactTreatment& t, const SparseSystem& system) {
+  return resolve_listed(t, system.constraints,
+                        [&](Eigen::Index dof) { return system.stiffness.coeff(dof, dof); });
 }
 
 double single_contact_force(double p, double d, double compliance,

@@ -38,6 +38,7 @@
 
 #include "core/parameter_error.hpp"
 #include "core/second_order_system.hpp"
+#include "core/sparse_system.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {
@@ -66,6 +67,10 @@ struct ContactTreatment {
 /// augmented_max_iterations), or nothing.
 std::optional<ParameterError> validate(const ContactTreatment& treatment);
 
+/// [N/mm] the spring k of a contact whose dof has stiffness K_cc: penalty_stiffness if given,
+/// otherwise penalty_factor·K_cc.
+double penalty_stiffness(const ContactTreatment& treatment, double dof_stiffness);
+
 /// A treatment resolved for one system: the law and each constraint's penalty stiffness k [N/mm]
 /// (unused for lagrange). What the integrators' initialize() take.
 struct ContactPenalties {
@@ -81,6 +86,8 @@ struct ContactPenalties {
 
 ContactPenalties resolve_contact(const ContactTreatment& treatment,
                                  const SecondOrderSystem& system);
+/// The same for a model of sparse matrices: its constraint list (main and far unused).
+ContactPenalties resolve_contact(const ContactTreatment& treatment, const SparseSystem& system);
 
 /// Iterations of one step's contact solve (augmented-lagrangian; 0 for the others).
 struct ContactIterations {

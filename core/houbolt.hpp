@@ -11,7 +11,8 @@
 // (M·2/Δt² + C·11/(6Δt) + K)·u_{n+1} = … on the effective matrix M + (11/12)·Δt·C + ½·Δt²·K.
 // Its contact is the integrator's: the constraints hold at t_{n+1} and the multipliers there
 // are >= 0 (single wall, two walls, a constraint list, a sparse model alike), and that is the
-// multiplier a sample reports.
+// multiplier a sample reports. The penalty and augmented-Lagrangian laws come the same way: each
+// integrator's spring acts at t_{n+1}, λ = k·max(0, g_{n+1}) (core/contact_treatment.hpp).
 //
 // The start-up. The cubic needs u_{n−1} and u_{n−2}, which do not exist for the first two steps.
 // They take the same cubic with the initial velocity and acceleration standing in for the
@@ -44,6 +45,7 @@
 // Thread safety: one object per thread (it holds the past displacements).
 #pragma once
 
+#include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/state.hpp"
 
@@ -56,12 +58,24 @@ class Houbolt {
   /// Factors the three effective matrices and starts a new run (the next step is step 1). False
   /// if one is singular (or not positive definite, for the sparse integrator, whose failure()
   /// then says why).
-  bool initialize(const System& system, double dt) {
+  /// `contact`: the contact law of all three (core/contact_treatment.hpp).
+  bool initialize(const System& system, double dt, const ContactPenalties& contact = {}) {
     const HouboltCoefficients c = houbolt_coefficients();
     dt_ = dt;
     taken_ = 0;
-    return first_.initialize(system, c.first, dt) && second_.initialize(system, c.second, dt) &&
-           steady_.initialize(system, c.steady, dt);
+    return first_.initialize(system, c.first, dt, contact) &&
+           second_.initialize(system, c.second, dt, contact) &&
+           steady_.initialize(system, c.steady, dt, contact);
+  }
+
+  /// The augmented-Lagrangian iterations of the three integrators, and their steps at the cap.
+  long contact_iterations() const {
+    return first_.contact_iterations() + second_.contact_iterations() +
+           steady_.contact_iterations();
+  }
+  long unconverged_contact_steps() const {
+    return first_.unconverged_contact_steps() + second_.unconverged_contact_steps() +
+           steady_.unconverged_contact_steps();
   }
 
   /// Advances state from t to t + Δt; the first step's acceleration must be consistent with u

@@ -244,13 +244,18 @@ ContactIterations solve_listed_augmented(const Eigen::MatrixXd& delassus,
                                          const Eigen::VectorXd& compliance,
                                          const Eigen::VectorXd& violation,
                                          const ContactPenalties& contact, Eigen::VectorXd& forces,
-                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted) {
+                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted,
+                                         ContactLcpWorkspace* workspace) {
   const auto m = static_cast<int>(violation.size());
   return augmented_lagrangian(
       m, compliance.data(), violation.maxCoeff(), contact, forces.data(), shift.data(),
       [&](const double* sh, double* out) {
         for (int j = 0; j < m; ++j) shifted[j] = violation[j] + sh[j];
-        solve_contact_lcp(penalized.data(), shifted.data(), m, out);
+        if (workspace) {
+          solve_contact_lcp(penalized.data(), shifted.data(), m, out, *workspace);
+        } else {
+          solve_contact_lcp(penalized.data(), shifted.data(), m, out);
+        }
       },
       [&](const double* out, int j) {
         double g = violation[j];

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/contact_lcp.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
@@ -117,13 +118,15 @@ class ImplicitIntegrator {
 
 /// The augmented-Lagrangian iterations of a list of m constraints (core/contact_treatment.hpp):
 /// Delassus matrix D, D + diag(compliance), the contact-free violations; writes the forces, and
-/// uses shift and shifted (m) as scratch. Central difference's forward increment uses it too.
+/// uses shift and shifted (m) as scratch. Central difference's forward increment uses it too, and
+/// the sparse integrator with its `workspace` (any m; without one, m <= kMaxConstraints).
 ContactIterations solve_listed_augmented(const Eigen::MatrixXd& delassus,
                                          const Eigen::MatrixXd& penalized,
                                          const Eigen::VectorXd& compliance,
                                          const Eigen::VectorXd& violation,
                                          const ContactPenalties& contact, Eigen::VectorXd& forces,
-                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted);
+                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted,
+                                         ContactLcpWorkspace* workspace = nullptr);
 
 /// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with
 /// the equation of motion.

@@ -173,11 +173,17 @@ auto plain_energy(const System& system) {
   return [&system](const State& s) { return system.energy(s.u, s.v); };
 }
 
-// Copies a stepper's contact-law counters into the summary.
+// Copies a stepper's contact-law counters into the summary, with a warning when steps ended at
+// the iteration cap.
 template <class Stepper>
 void count_contact_iterations(const Stepper& stepper, RunSummary& summary) {
   summary.contact_iterations = stepper.contact_iterations();
   summary.unconverged_contact_steps = stepper.unconverged_contact_steps();
+  if (summary.unconverged_contact_steps > 0 && summary.warning.empty()) {
+    summary.warning = std::to_string(summary.unconverged_contact_steps) +
+                      " step(s) ended the augmented-Lagrangian iterations at the cap before the "
+                      "tolerance: raise augmented_max_iterations or the penalty stiffness";
+  }
 }
 
 // The failure message of a stepper of several integrators (the sparse ones say why).
@@ -199,18 +205,19 @@ template <class HouboltStepper, class WilsonStepper, class System, class Run>
 bool run_multistep(const System& system, const MethodParams& method, double dt,
                    const ContactPenalties& contact, HouboltStepper& houbolt, WilsonStepper& wilson,
                    RunSummary& summary, Run&& run) {
-  const bool houbolt_method = std::holds_alternative<HouboltParams>(method);
-  if ((houbolt_method || std::holds_alternative<WilsonThetaParams>(method)) &&
-      !contact.lagrange()) {
+  // Wilson-θ's constraint sits at t + Δt through a gap shifted on its extended step
+  // (core/wilson_theta.hpp): a spring there would act on the extended step's penetration, θ³
+  // times the sample's, so its penalty law is not offered.
+  if (std::holds_alternative<WilsonThetaParams>(method) && !contact.lagrange()) {
     summary.status = RunStatus::failed;
-    summary.message = std::string(to_string(kind_of(method))) +
-                      ": contact = " + to_string(contact.law) +
+    summary.message = std::string("wilson-theta: contact = ") + to_string(contact.law) +
                       " is not available; it takes Lagrange multipliers";
     return true;
   }
-  if (houbolt_method) {
-    if (houbolt.initialize(system, dt)) {
+  if (std::holds_alternative<HouboltParams>(method)) {
+    if (houbolt.initialize(system, dt, contact)) {
       run(LoopStepper{[&](State& s) { houbolt.step(system, s); }, plain_energy(system)});
+      count_contact_iterations(houbolt, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string("houbolt: ") +
@@ -310,19 +317,15 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
       summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
     }
   }
-  if (summary.unconverged_contact_steps > 0 && summary.warning.empty()) {
-    summary.warning = std::to_string(summary.unconverged_contact_steps) +
-                      " step(s) ended the augmented-Lagrangian iterations at the cap before the "
-                      "tolerance: raise augmented_max_iterations or the penalty stiffness";
-  }
 }
 
 // run_method for a model's sparse system.
 template <class Run>
 void run_sparse_method(const SparseSystem& system, const MethodParams& method, double dt,
-                       SimulationWorkspace& ws, State& state, RunSummary& summary, Run&& run) {
-  if (run_multistep(system, method, dt, ContactPenalties{}, ws.sparse_houbolt,
-                    ws.sparse_wilson_theta, summary, run)) {
+                       const ContactPenalties& contact, SimulationWorkspace& ws, State& state,
+                       RunSummary& summary, Run&& run) {
+  if (run_multistep(system, method, dt, contact, ws.sparse_houbolt, ws.sparse_wilson_theta, summary,
+                    run)) {
     return;
   }
   if (std::holds_alternative<NohBatheParams>(method)) {
@@ -333,6 +336,13 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
+    if (!contact.lagrange()) {  // core/sparse_integrators.hpp says why
+      summary.status = RunStatus::failed;
+      summary.message = std::string("cdm: contact = ") + to_string(contact.law) +
+                        " is not available on a model of sparse matrices; it takes Lagrange "
+                        "multipliers there (choose an implicit method)";
+      return;
+    }
     SparseCentralDifference& stepper = ws.sparse_central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state)) {
       stepper.step(system, state);  // the state at t_k
@@ -344,8 +354,9 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     }
   } else if (is_composite(method)) {
     auto& stepper = ws.sparse_composite;
-    if (stepper.initialize(system, composite_coefficients(method), dt)) {
+    if (stepper.initialize(system, composite_coefficients(method), dt, contact)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+      count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": " +
@@ -354,8 +365,9 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     }
   } else {
     SparseImplicitIntegrator& stepper = ws.sparse_implicit;
-    if (stepper.initialize(system, implicit_coefficients(method), dt)) {
+    if (stepper.initialize(system, implicit_coefficients(method), dt, contact)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+      count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": " + stepper.failure();
@@ -498,15 +510,11 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
 
   if (scene.sparse) {  // a user's model with sparse matrices
     const SparseSystem& sparse = *scene.sparse;
-    if (options.contact.law != ContactLaw::lagrange) {
-      summary.status = RunStatus::failed;
-      summary.message = std::string("contact = ") + to_string(options.contact.law) +
-                        ": a model of sparse matrices is solved with Lagrange multipliers only";
-      return summary;
-    }
-    run_sparse_method(sparse, method, scene.dt, ws, state, summary, [&](const auto& stepper) {
-      run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, stepper);
-    });
+    const ContactPenalties contact = resolve_contact(options.contact, sparse);
+    run_sparse_method(
+        sparse, method, scene.dt, contact, ws, state, summary, [&](const auto& stepper) {
+          run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, stepper);
+        });
     summary.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;

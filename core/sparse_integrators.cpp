@@ -6,6 +6,7 @@
 #include "core/central_difference.hpp"
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
+#include "core/implicit_integrator.hpp"
 #include "core/stable_step.hpp"
 
 namespace impactid {
@@ -57,14 +58,13 @@ std::string pivot_failure(const char* what, const SparseFactorization& f) {
 }
 
 // The contact forces of a step from the free prediction `free` (u at t + Δt without new forces,
-// read through `position`): violations, the complementarity problem, and the correction
-// scale·A⁻¹·Gᵀ·μ subtracted from `x` by one solve. Returns whether a force acts. `gap` gives
-// constraint j's gap (shifted or not).
-template <class Position, class Gap>
-bool contact_forces(const std::vector<Constraint>& constraints, const Eigen::MatrixXd& delassus,
-                    const SparseFactorization& a, Position&& position, Gap&& gap,
-                    Eigen::VectorXd& violation, Eigen::VectorXd& forces, ContactLcpWorkspace& lcp,
-                    Eigen::VectorXd& correction, Eigen::VectorXd& x) {
+// read through `position`): violations, the forces by `solve(violation, forces)`, and the
+// correction A⁻¹·Gᵀ·μ subtracted from `x` by one solve. Returns whether a force acts. `gap`
+// gives constraint j's gap (shifted or not).
+template <class Position, class Gap, class Solve>
+bool contact_forces(const std::vector<Constraint>& constraints, const SparseFactorization& a,
+                    Position&& position, Gap&& gap, Solve&& solve, Eigen::VectorXd& violation,
+                    Eigen::VectorXd& forces, Eigen::VectorXd& correction, Eigen::VectorXd& x) {
   const auto m = static_cast<int>(constraints.size());
   if (m == 0) return false;
   for (int j = 0; j < m; ++j) {
@@ -74,7 +74,7 @@ bool contact_forces(const std::vector<Constraint>& constraints, const Eigen::Mat
     if (c.minus >= 0) g -= position(c.minus);
     violation[j] = g;
   }
-  solve_contact_lcp(delassus.data(), violation.data(), m, forces.data(), lcp);
+  solve();
   bool active = false;
   for (int j = 0; j < m; ++j) active = active || forces[j] > 0.0;
   if (!active) return false;
@@ -93,11 +93,8 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
   c_ = coefficients;
   dt_ = dt;
   failure_.clear();
-  if (!contact.lagrange()) {
-    failure_ = std::string("contact = ") + to_string(contact.law) +
-               ": a model of sparse matrices is solved with Lagrange multipliers only";
-    return false;
-  }
+  contact_ = contact;
+  iterations_ = unconverged_ = 0;
   const double k_weight = (1.0 - c_.alpha_f) * c_.b1 * dt * dt;
   const double c_weight = (1.0 - c_.alpha_f) * c_.g1 * dt;
   SparseMatrix effective = (1.0 - c_.alpha_m) * system.mass + k_weight * system.stiffness;
@@ -117,7 +114,32 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
   forces_.setZero(m);
   gap_offsets_.setZero(m);
   lcp_.resize(m);
+  if (!contact_.lagrange()) {
+    // The compliance of the weighted force w·λ: a spring k acting through the weight w.
+    compliance_.resize(m);
+    for (int j = 0; j < m; ++j) {
+      compliance_[j] = 1.0 / (c_.contact_weight * contact_.listed[static_cast<std::size_t>(j)]);
+    }
+    penalized_ = delassus_;
+    penalized_.diagonal() += compliance_;
+    shift_.resize(m);
+    shifted_.resize(m);
+  }
   return true;
+}
+
+void SparseImplicitIntegrator::solve_contacts() {
+  const auto m = static_cast<int>(violation_.size());
+  if (contact_.lagrange()) {
+    solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data(), lcp_);
+  } else if (contact_.law == ContactLaw::penalty || !(violation_.maxCoeff() > 0.0)) {
+    solve_contact_lcp(penalized_.data(), violation_.data(), m, forces_.data(), lcp_);
+  } else {
+    const ContactIterations it = solve_listed_augmented(
+        delassus_, penalized_, compliance_, violation_, contact_, forces_, shift_, shifted_, &lcp_);
+    iterations_ += it.iterations;
+    if (!it.converged) ++unconverged_;
+  }
 }
 
 bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
@@ -144,10 +166,10 @@ bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
 
   const double k = c_.b1 * dt2;
   const bool active = contact_forces(
-      system.constraints, delassus_, factorization_,
+      system.constraints, factorization_,
       [&](Eigen::Index i) { return std::fma(k, rhs_[i], u_predicted_[i]); },
       [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap + gap_offsets_[j]; },
-      violation_, forces_, lcp_, correction_, rhs_);
+      [&] { solve_contacts(); }, violation_, forces_, correction_, rhs_);
   const double g1_dt = c_.g1 * dt;
   for (Eigen::Index i = 0; i < n; ++i) {
     s.a[i] = rhs_[i];
@@ -157,7 +179,7 @@ bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
   for (Eigen::Index j = 0; j < forces_.size(); ++j) {
     s.multipliers[j] = active ? forces_[j] / c_.contact_weight : 0.0;
   }
-  if (active) snap_walls(system.constraints, forces_, s.u, gap_offsets_);
+  if (active && contact_.lagrange()) snap_walls(system.constraints, forces_, s.u, gap_offsets_);
   s.t += dt;
   return active;
 }
@@ -212,9 +234,13 @@ bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
   }
   factorization_.solve_in_place(u_next_);
   const bool active = contact_forces(
-      system.constraints, delassus_, factorization_, [&](Eigen::Index i) { return u_next_[i]; },
-      [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; }, violation_,
-      forces_, lcp_, correction_, u_next_);
+      system.constraints, factorization_, [&](Eigen::Index i) { return u_next_[i]; },
+      [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; },
+      [&] {
+        solve_contact_lcp(delassus_.data(), violation_.data(), static_cast<int>(violation_.size()),
+                          forces_.data(), lcp_);
+      },
+      violation_, forces_, correction_, u_next_);
   if (active) snap_walls(system.constraints, forces_, u_next_);
 
   at_t.u = u_;

@@ -20,6 +20,13 @@
 // zero off the active set, the gap is closed on it: walls exactly, by snap_walls, pairs to
 // round-off). The run's largest penetration is recorded (RunSummary::max_penetration).
 //
+// The implicit integrator takes the penalty and augmented-Lagrangian laws as the tridiagonal one
+// does (core/contact_treatment.hpp): the same problem with D + diag(1/(w·k)), and Uzawa's
+// iterations on it, counted; walls are then not snapped (the penalty's node stands in the wall by
+// λ/k). Central difference on a sparse model keeps Lagrange's multipliers only: its explicit
+// penalty would need the stable step of M⁻¹(K + springs), which core/stable_step.hpp bounds for
+// tridiagonal systems only.
+//
 // Central difference needs a diagonal M (a lumped mass): initialize() refuses another with a
 // message that says so. With stiffness-proportional or other non-diagonal damping the left-hand
 // matrix M/Δt² + C/(2Δt) is factored like an implicit one.
@@ -42,7 +49,7 @@ class SparseImplicitIntegrator {
  public:
   /// Builds and factors the effective matrix. Returns false (with failure() saying why, naming
   /// the DOF of the failed pivot) when it is not positive definite.
-  /// The constraints are Lagrange's: another `contact` law fails here, with failure() saying so.
+  /// `contact`: the law of every constraint (resolve_contact of the model).
   bool initialize(const SparseSystem& system, const ImplicitCoefficients& coefficients, double dt,
                   const ContactPenalties& contact = {});
   /// Advances state from t to t + Δt (its acceleration consistent: consistent_acceleration).
@@ -53,16 +60,26 @@ class SparseImplicitIntegrator {
   Eigen::VectorXd& gap_offsets() { return gap_offsets_; }
   const std::string& failure() const { return failure_; }
   const SparseFactorization& factorization() const { return factorization_; }
+  /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
+  long contact_iterations() const { return iterations_; }
+  long unconverged_contact_steps() const { return unconverged_; }
 
  private:
+  // The step's weighted forces from the violations, by the contact law.
+  void solve_contacts();
+
   ImplicitCoefficients c_{};
   double dt_ = 0.0;
+  ContactPenalties contact_;
   SparseFactorization factorization_;
   Eigen::VectorXd u_predicted_, v_predicted_, u_alpha_, v_alpha_, rhs_, correction_;
   Eigen::MatrixXd delassus_;
+  Eigen::MatrixXd penalized_;                     // D + diag(compliance_): penalty laws only
+  Eigen::VectorXd compliance_, shift_, shifted_;  // penalty laws only
   Eigen::VectorXd violation_, forces_;
   Eigen::VectorXd gap_offsets_;  // gap_offsets()
   ContactLcpWorkspace lcp_;
+  long iterations_ = 0, unconverged_ = 0;
   std::string failure_;
 };
 

@@ -83,6 +83,15 @@ struct TwoMasses {
     const double s = t - impact();
     return s > 0.0 && s < kPi / omega() ? v0 * std::sqrt(k * m) * std::sin(omega() * s) : 0.0;
   }
+  /// Both at rest relative to each other, flying at v0; the contact force zero.
+  State start() const {
+    State s;
+    s.u = Eigen::Vector2d::Zero();
+    s.v = Eigen::Vector2d::Constant(v0);
+    s.a = Eigen::Vector2d::Zero();
+    s.multipliers = Eigen::VectorXd::Zero(1);
+    return s;
+  }
   SparseSystem system() const {
     SparseSystem out;
     out.mass = sparse(Eigen::Matrix2d{{m, 0.0}, {0.0, m}});
@@ -93,6 +102,16 @@ struct TwoMasses {
   }
 };
 
+// The same two masses as a tridiagonal system (a chain), for the tridiagonal integrators.
+SecondOrderSystem as_chain(const SparseSystem& system) {
+  SecondOrderSystem chain;
+  chain.mass = *as_tridiagonal(system.mass);
+  chain.stiffness = *as_tridiagonal(system.stiffness);
+  chain.damping = Tridiagonal::zero(system.size());
+  chain.constraints = system.constraints;
+  return chain;
+}
+
 // The implicit family does not stop the node at the impact (a position constraint at the end of
 // the step reverses its velocity: the spurious oscillations the paper counts), so the closed form
 // is central difference's test below; here the Signorini conditions at every step, and the same
@@ -100,22 +119,14 @@ struct TwoMasses {
 TEST(SparseImplicitIntegrator, TwoMassesOnAWallKeepTheContactConditionsAsTheChainIntegrator) {
   const TwoMasses model;
   const SparseSystem system = model.system();
-  SecondOrderSystem chain;
-  chain.mass = *as_tridiagonal(system.mass);
-  chain.stiffness = *as_tridiagonal(system.stiffness);
-  chain.damping = Tridiagonal::zero(2);
-  chain.constraints = system.constraints;
+  const SecondOrderSystem chain = as_chain(system);
   const double dt = (kPi / model.omega()) / 400.0;
   const ImplicitCoefficients c = implicit_coefficients(HhtParams{.alpha = -0.3});
   SparseImplicitIntegrator stepper;
   ImplicitIntegrator reference;
   ASSERT_TRUE(stepper.initialize(system, c, dt));
   ASSERT_TRUE(reference.initialize(chain, c, dt));
-  State s;
-  s.u = Eigen::Vector2d::Zero();
-  s.v = Eigen::Vector2d::Constant(model.v0);
-  s.a = Eigen::Vector2d::Zero();
-  s.multipliers = Eigen::VectorXd::Zero(1);
+  State s = model.start();
   State r = s;
   int active = 0;
   const double end = model.impact() + 3.0 * kPi / model.omega();
@@ -138,11 +149,7 @@ TEST(SparseCentralDifference, TwoMassesOnAWallFollowTheClosedForm) {
   const TwoMasses model;
   const SparseSystem system = model.system();
   const double dt = (kPi / model.omega()) / 4000.0;
-  State s;
-  s.u = Eigen::Vector2d::Zero();
-  s.v = Eigen::Vector2d::Constant(model.v0);
-  s.a = Eigen::Vector2d::Zero();
-  s.multipliers = Eigen::VectorXd::Zero(1);
+  State s = model.start();
   SparseCentralDifference stepper;
   ASSERT_TRUE(stepper.initialize(system, CdmVelocity::central, dt, s));
   const double peak = model.v0 * std::sqrt(model.k * model.m);
@@ -314,6 +321,123 @@ TEST(ModelScene, ChoosesTheTridiagonalPathForAChainAndTheSparseOneOtherwise) {
   EXPECT_EQ(run.status, RunStatus::ok) << run.message;
   EXPECT_GT(*std::max_element(ws.trace.pressure.begin(), ws.trace.pressure.end()), 0.0);
   EXPECT_LE(run.max_penetration, 1e-12);
+}
+
+// The penalty and augmented-Lagrangian laws on a sparse model (core/sparse_integrators.hpp): the
+// same numbers as the tridiagonal integrator's constraint list with the same springs, and the
+// penalty's force is the spring of the step's end, λ = k·max(0, g), at every step.
+TEST(SparseImplicitIntegrator, PenaltyAndAugmentedLagrangianAsTheChainIntegrator) {
+  const TwoMasses model;
+  const SparseSystem system = model.system();
+  const SecondOrderSystem chain = as_chain(system);
+  const double dt = (kPi / model.omega()) / 400.0;
+  const ImplicitCoefficients c = implicit_coefficients(HhtParams{.alpha = -0.3});
+  const double impulse_scale = model.v0 * std::sqrt(model.k * model.m);
+  for (const ContactLaw law : {ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+    SCOPED_TRACE(to_string(law));
+    // Uzawa's error shrinks by 1/(1 + w·k·d) per iteration (d ≈ Δt²/m here): a stiff spring.
+    const double factor = law == ContactLaw::penalty ? 3.0 : 1e5;
+    const ContactTreatment treatment{.law = law,
+                                     .penalty_factor = factor,
+                                     .augmented_tolerance = 1e-9,
+                                     .augmented_max_iterations = 1000};
+    const ContactPenalties sparse_contact = resolve_contact(treatment, system);
+    const ContactPenalties chain_contact = resolve_contact(treatment, chain);
+    ASSERT_EQ(sparse_contact.listed.size(), 1u);
+    EXPECT_EQ(sparse_contact.listed, chain_contact.listed);
+    EXPECT_EQ(sparse_contact.listed[0], factor * model.k);  // K's diagonal at the contact DOF
+    SparseImplicitIntegrator stepper;
+    ImplicitIntegrator reference;
+    ASSERT_TRUE(stepper.initialize(system, c, dt, sparse_contact));
+    ASSERT_TRUE(reference.initialize(chain, c, dt, chain_contact));
+    State s = model.start();
+    State r = s;
+    int active = 0;
+    double deepest = 0.0;
+    const double end = model.impact() + 3.0 * kPi / model.omega();
+    while (s.t < end) {
+      stepper.step(system, s);
+      reference.step(chain, r);
+      const double penetration = s.u[1] - model.gap;
+      ASSERT_GE(s.multipliers[0], 0.0);
+      if (law == ContactLaw::penalty) {
+        EXPECT_NEAR(s.multipliers[0], 3.0 * model.k * std::max(0.0, penetration),
+                    1e-9 * impulse_scale)
+            << "t = " << s.t;
+      } else {
+        EXPECT_LE(penetration, 1e-9 * model.gap) << "t = " << s.t;
+      }
+      active += s.multipliers[0] > 0.0;
+      deepest = std::max(deepest, penetration);
+      ASSERT_NEAR(s.u[0], r.u[0], 1e-12 * model.gap) << "t = " << s.t;
+      ASSERT_NEAR(s.multipliers[0], r.multipliers[0], 1e-9 * impulse_scale) << "t = " << s.t;
+    }
+    EXPECT_GT(active, 0);
+    if (law == ContactLaw::penalty) EXPECT_GT(deepest, 0.0);
+    EXPECT_EQ(stepper.contact_iterations(), reference.contact_iterations());
+    EXPECT_EQ(stepper.unconverged_contact_steps(), 0);
+    if (law == ContactLaw::augmented_lagrangian) EXPECT_GT(stepper.contact_iterations(), 0);
+  }
+}
+
+// Through simulate() on a model that only the sparse path takes (K beyond the band): every
+// implicit method runs the penalty and augmented-Lagrangian laws with λ >= 0 at every sample;
+// the penalty leaves the node in the wall, the augmented Lagrangian within its tolerance of
+// Lagrange's; central difference says it takes Lagrange's multipliers there.
+TEST(ModelScene, SparseModelsTakeThePenaltyAndAugmentedLagrangianLaws) {
+  auto triangle = std::make_shared<Model>();
+  const Eigen::Matrix3d k{{2, -1, -1}, {-1, 2, -1}, {-1, -1, 2}};
+  triangle->mass = sparse(Eigen::Matrix3d::Identity());
+  triangle->stiffness = sparse(100.0 * k);
+  triangle->initial_velocity = Eigen::Vector3d::Constant(1.0);
+  triangle->initial_displacement = Eigen::Vector3d::Zero();
+  triangle->contacts = {{"wall", 1, -1, 0.3, 1.0, 1}};
+  const AssembledScene scene = assemble(ModelScene{triangle, 1e-3, 2.0});
+  ASSERT_TRUE(scene.sparse);
+  const RunOptions base{.energy_growth_limit = 1e3};
+  for (const auto& [name, method] :
+       std::vector<std::pair<const char*, MethodParams>>{{"hht", HhtParams{.alpha = -0.1}},
+                                                         {"rho-bathe", RhoBatheParams{}},
+                                                         {"houbolt", HouboltParams{}}}) {
+    SCOPED_TRACE(name);
+    SimulationWorkspace ws;
+    const RunSummary lagrange = simulate(scene, method, base, ws);
+    ASSERT_EQ(lagrange.status, RunStatus::ok) << lagrange.message;
+    const std::vector<double> lagrange_pressure = ws.trace.pressure;
+
+    RunOptions penalty = base;
+    penalty.contact = {.law = ContactLaw::penalty, .penalty_factor = 10.0};
+    const RunSummary p = simulate(scene, method, penalty, ws);
+    ASSERT_EQ(p.status, RunStatus::ok) << p.message;
+    EXPECT_GT(p.max_penetration, 0.0);
+    for (const double pressure : ws.trace.pressure) ASSERT_GE(pressure, 0.0);
+
+    RunOptions augmented = base;
+    // A stiff spring: Uzawa's error shrinks by 1/(1 + w·k·d) per iteration, d ≈ Δt²/m.
+    augmented.contact = {.law = ContactLaw::augmented_lagrangian,
+                         .penalty_factor = 1e6,
+                         .augmented_tolerance = 1e-12,
+                         .augmented_max_iterations = 1000};
+    const RunSummary al = simulate(scene, method, augmented, ws);
+    ASSERT_EQ(al.status, RunStatus::ok) << al.message;
+    EXPECT_GT(al.contact_iterations, 0);
+    EXPECT_EQ(al.unconverged_contact_steps, 0);
+    EXPECT_LT(al.max_penetration, 1e-8 * 0.3);
+    ASSERT_EQ(ws.trace.pressure.size(), lagrange_pressure.size());
+    const double scale = *std::max_element(lagrange_pressure.begin(), lagrange_pressure.end());
+    for (std::size_t i = 0; i < lagrange_pressure.size(); ++i) {
+      ASSERT_NEAR(ws.trace.pressure[i], lagrange_pressure[i], 1e-6 * scale) << "sample " << i;
+    }
+  }
+  SimulationWorkspace ws;
+  RunOptions penalty = base;
+  penalty.contact.law = ContactLaw::penalty;
+  const RunSummary cdm = simulate(scene, CentralDifferenceParams{}, penalty, ws);
+  EXPECT_EQ(cdm.status, RunStatus::failed);
+  EXPECT_NE(cdm.message.find("cdm: contact = penalty is not available on a model of sparse "
+                             "matrices"),
+            std::string::npos)
+      << cdm.message;
 }
 
 }  // namespace
