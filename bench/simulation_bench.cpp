@@ -6,11 +6,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <string>
+#include <variant>
 #include <vector>
 
 #include "core/batched_chain.hpp"
 #include "core/batched_simulation.hpp"
 #include "core/function_versions.hpp"
+#include "core/method_registry.hpp"
 #include "core/scene.hpp"
 #include "core/scene_assembly.hpp"
 #include "core/simulation.hpp"
@@ -130,6 +133,61 @@ void BM_SceneBatchedRun(benchmark::State& state) {
       dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_SceneBatchedRun)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+
+// The stages a method's step takes (solves of an implicit method, force evaluations of an
+// explicit one): the unit of issue 19's bound, "no method more than 2.5× HHT's batched time
+// per dof-step per stage". A method not listed takes one.
+int stages_per_step(MethodKind kind) {
+  switch (kind) {
+    case MethodKind::bathe:
+    case MethodKind::rho_bathe:
+    case MethodKind::tr_bdf2:
+    case MethodKind::noh_bathe:
+      return 2;
+    default:
+      return 1;
+  }
+}
+
+// Every method of the registry with its defaults on the default scene (201 dof, 1222 steps),
+// on the path a sweep takes it: kBatchLanes runs of it through the rod's batched kernel where
+// it is batchable (core/batched_simulation.hpp), one run through simulate() otherwise. Arg: its
+// index in method_registry(). Counters: ns/dof-step per run (per lane, over the samples each
+// run stepped: a run that ends unstable early counts the samples it stepped), stages,
+// batched. bench/report prints each method's time per dof-step and its ratio to HHT's per
+// stage.
+void BM_MethodDofStep(benchmark::State& state) {
+  const MethodDescriptor& method = method_registry()[static_cast<std::size_t>(state.range(0))];
+  const auto made = method.make(MethodArguments{});
+  const MethodParams params = std::get<MethodParams>(made);
+  const RodScene scene;
+  const bool batched = batchable(scene, params, RunOptions{});
+  state.SetLabel(std::string(method.name) + (batched ? " batched" : " scalar"));
+  const std::vector<RodScene> scenes(kBatchLanes, scene);
+  const std::vector<MethodParams> methods(kBatchLanes, params);
+  std::vector<RunSummary> summaries(batched ? kBatchLanes : 1);
+  BatchWorkspace batch_workspace;
+  SimulationWorkspace workspace;
+  double dof_steps = 0.0;
+  for (auto _ : state) {
+    if (batched) {
+      simulate_batch(scenes, methods, RunOptions{}, batch_workspace, summaries);
+    } else {
+      summaries[0] = simulate(scene, params, RunOptions{}, workspace);
+    }
+    for (const RunSummary& s : summaries) {
+      dof_steps += (scene.elements + 1.0) * static_cast<double>(s.steps - s.skipped_steps);
+    }
+    benchmark::DoNotOptimize(summaries[0].final_energy);
+  }
+  state.counters["stages"] = stages_per_step(method.kind);
+  state.counters["batched"] = batched ? 1.0 : 0.0;
+  state.counters["ns/dof-step"] = benchmark::Counter(
+      dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_MethodDofStep)
+    ->DenseRange(0, static_cast<int>(method_registry().size()) - 1)
+    ->Unit(benchmark::kMicrosecond);
 
 // What each skip saves: HHT on a scene with a long free flight (gap 0.2 mm: 428 of 1650 steps
 // before the impact). 0: every skip on (the defaults); 1: free flight stepped; 2: energy checked

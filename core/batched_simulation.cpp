@@ -1,6 +1,7 @@
 #include "core/batched_simulation.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +26,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // (ImplicitIntegrator: dt2 * c_.b0 is (Δt·Δt)·b0, c_.b1 * dt2 is b1·(Δt·Δt), …).
 struct LaneCoefficients {
   double dt;  // the same in every lane (same_batch), so one register rather than two
+  // Each lane's own step, for the composite schemes' first sub-step (γ·Δt, γ per lane): read
+  // by step_lanes<…, kLaneStep = true> in place of dt.
+  Lanes lane_dt;
   Lanes dt2_b0, dt_g0, af, b1_dt2, g1_dt, minus_am, one_minus_w, w, gap;
   LaneMask mass_term;  // α_m ≠ 0: the scalar step adds −α_m·M·a only then
   // Lanes that start stepping at this sample: set_lane wrote their state as it is (u, v, a),
@@ -84,7 +88,12 @@ template <bool kFirst>
 // contact costs a few flops at the last row only (2 divides among them). Damping: +1 mul
 // 1 FMA in the predictor and 3 mul 3 add for C·v, plus the sign flip; α_m ≠ 0: 4 mul 2 add
 // and a blend.
-template <bool kDamping, bool kMassTerm, bool kStartingLanes>
+//
+// kPlain: every row holds plain u, v, a (the composite schemes' sub-steps start from such
+// states: composite_step_lanes), none the deferred form. kLaneStep: the step is c.lane_dt, one
+// per lane (the composite's first sub-step), not c.dt.
+template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kPlain = false,
+          bool kLaneStep = false>
 [[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays, const LaneCoefficients& c,
                                                const Lanes& lambda) {
   // A local copy, so that the compiler keeps it in registers: a store through a Lanes pointer
@@ -98,7 +107,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   // K's interior rows are one row (checked by simulate_batch): its three values stay in
   // registers instead of three loads and broadcasts per row.
   const Lanes k_lower = splat(x.k_lower), k_diag = splat(x.k_diag);
-  const Lanes dt = splat(c.dt);
+  const Lanes dt = kLaneStep ? c.lane_dt : splat(c.dt);
   const Lanes minus_af = -c.af;  // up − α_f·du = fma(−α_f, du, up), as the scalar predict
 
   // Three arrays per lane. The forward sweep reads u*, v*, a (the previous step's predictors
@@ -117,8 +126,8 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   };
   const auto predict = [&]<bool kLastRow>(Eigen::Index i) __attribute__((always_inline)) {
     const Lanes a = x.a[i];
-    const WeightedRow weighted =
-        predict_row<!kLastRow, kStartingLanes, kDamping>(c, dt, minus_af, &x.u[i], &x.v[i], a);
+    const WeightedRow weighted = predict_row < !kLastRow && !kPlain, kStartingLanes,
+                      kDamping > (c, dt, minus_af, &x.u[i], &x.v[i], a);
     Weighted w;
     w.u = weighted.u;
     w.p = k_lower * w.u;
@@ -251,6 +260,73 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
   return new_lambda;
 }
 
+// The composite schemes' weights of the second sub-step's predictors (CompositeCoefficients),
+// per lane: q0, q1 and (q2 − 1)·Δt, as BatheComposite::step forms them.
+struct CompositeLanes {
+  Lanes q0, q1, q2_minus_1_dt;
+};
+
+// Row i of the state at t of lanes whose rows hold u*, v*, a (the deferred form step_lanes
+// leaves, with c's coefficients; kStartingLanes: plain in c.plain_state's lanes), as the next
+// forward sweep would form it: the same operations, so the same bits. The last row is plain.
+template <bool kStartingLanes>
+[[gnu::always_inline]] inline void state_row(const LaneArrays& x, const LaneCoefficients& c,
+                                             Eigen::Index i, bool last_row, Lanes& u, Lanes& v) {
+  u = x.u[i];
+  v = x.v[i];
+  if (last_row) return;
+  const Lanes a = x.a[i];
+  const Lanes u_updated = fma(c.b1_dt2, a, u), v_updated = fma(c.g1_dt, a, v);
+  u = kStartingLanes ? select(c.plain_state, u, u_updated) : u_updated;
+  v = kStartingLanes ? select(c.plain_state, v, v_updated) : v_updated;
+}
+
+// One step of the composite schemes (core/bathe_composite.hpp: BatheComposite::step) in every
+// lane: `x` holds the state at t in the deferred form of the second sub-step's coefficients
+// `second` (plain in its plain_state lanes), `mid` takes the sub-step's state. Lane by lane
+// the scalar step's operations:
+//   1. mid = state (every row plain: mid_ = state);
+//   2. the first sub-step on mid (step_lanes, coefficients `first`, step γ·Δt per lane);
+//   3. v* = v + Δt·(q0·a + q1·a_γ), u += Δt·(q0·v + q1·v_γ) + ((q2 − 1)·Δt)·v*, v = v*, in
+//      Eigen's order of the scalar expressions (no fused multiply-add: the scalar has none);
+//   4. the second sub-step on the state (step_lanes, coefficients `second`; λ at t, as the
+//      scalar's state.lambda, which the first sub-step does not change).
+// Returns each lane's λ at t + Δt (the second sub-step's).
+//
+// Flops per unknown and lane (no damping; count them here and in step_lanes): step 1, 2 FMA
+// (the deferred update) and 3 stores; each sub-step, step_lanes' 23 flops less the deferred
+// update's 2 FMA (its rows are plain): 3 mul 7 FMA 2 add, 19 flops; step 3, the deferred update
+// of the state 2 FMA and of v_γ 1 FMA (u_γ's is dead code), then 7 mul and 5 add, and 2
+// stores. Total 2·2 + 2·19 + 3·2 + 12 = 60 flops per unknown and step in 41 instructions: 2.6
+// times HHT's 23 for two stages (1.3 per stage). Stores, which bound the step: 3 + 4 + 2 + 4 =
+// 13 per unknown and register, against HHT's 4. Damping: step_lanes' 9 in each sub-step.
+template <bool kDamping, bool kStartingLanes>
+[[gnu::always_inline]] inline Lanes composite_step_lanes(
+    const LaneArrays& arrays, const LaneArrays& mid_arrays, const LaneCoefficients& first,
+    const LaneCoefficients& second, const CompositeLanes& q, const Lanes& lambda) {
+  const LaneArrays x = arrays, mid = mid_arrays;  // local copies: see step_lanes
+  const Eigen::Index n = x.n, last = n - 1;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Lanes u, v;
+    state_row<kStartingLanes>(x, second, i, i == last, u, v);
+    store(&mid.u[i], u);
+    store(&mid.v[i], v);
+    store(&mid.a[i], x.a[i]);
+  }
+  step_lanes<kDamping, false, false, true, true>(mid, first, lambda);
+  const Lanes dt = splat(second.dt);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Lanes u, v, u_mid, v_mid;
+    state_row<kStartingLanes>(x, second, i, i == last, u, v);
+    state_row<false>(mid, first, i, i == last, u_mid, v_mid);
+    const Lanes a = x.a[i], a_mid = mid.a[i];
+    const Lanes v_star = v + dt * (q.q0 * a + q.q1 * a_mid);
+    store(&x.u[i], u + (dt * (q.q0 * v + q.q1 * v_mid) + q.q2_minus_1_dt * v_star));
+    store(&x.v[i], v_star);
+  }
+  return step_lanes<kDamping, false, false, true>(x, second, lambda);
+}
+
 // ½·vᵀMv + ½·uᵀKu of every lane after step_lanes, each form summed in
 // Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy). Every row but the last
 // holds u*, v*, a: u and v are formed as the next forward sweep will form them, so with the
@@ -293,7 +369,13 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes>
 
 struct Batch {
   LaneArrays arrays;
-  LaneCoefficients coefficients;
+  LaneCoefficients coefficients;  // the single-step method's; a composite's second sub-step's
+  // The composite schemes only (composite = true): the first sub-step's coefficients and its
+  // state (arrays: the mid state and the first sub-step's factorisation), the predictor weights.
+  bool composite;
+  LaneArrays mid;
+  LaneCoefficients first;
+  CompositeLanes weights;
   std::array<LaneRun, kBatchLanes> lanes;
   std::array<State, kBatchLanes>* start;
   double area;
@@ -342,7 +424,7 @@ struct TraceChunk {
 // run_steps' bookkeeping happens lane by lane only at events: a lane starting, a lane's energy
 // check or last sample, a non-finite λ or velocity in some lane. Between events the loop only
 // steps, advances every lane's t (as run_steps' state.t += Δt) and buffers the trace.
-template <bool kDamping, bool kMassTerm>
+template <bool kDamping, bool kMassTerm, bool kComposite>
 [[gnu::always_inline]] inline void run_batch(Batch& b) {
   const LaneArrays& x = b.arrays;
   // A local copy, taken once: the compiler then knows that the step's stores through Lanes
@@ -350,6 +432,9 @@ template <bool kDamping, bool kMassTerm>
   // Batch, every field was reloaded after every store; copied at every step (a 2 KB copy) it
   // cost a twentieth of the batch's time.
   LaneCoefficients c = b.coefficients;
+  const LaneCoefficients first = b.first;  // composite only, as the two below
+  const CompositeLanes weights = b.weights;
+  const LaneArrays mid = b.mid;
   std::array<LaneRun, kBatchLanes>& lanes = b.lanes;
   const Eigen::Index contact = x.n - 1;
   const auto [begin, end] = lane_samples(lanes);
@@ -375,7 +460,14 @@ template <bool kDamping, bool kMassTerm>
         run.stepping = true;
       }
     }
-    if (starting) {
+    if constexpr (kComposite) {
+      if (starting) {
+        lambda = composite_step_lanes<kDamping, true>(x, mid, first, c, weights, lambda);
+        c.plain_state = LaneMask{};
+      } else {
+        lambda = composite_step_lanes<kDamping, false>(x, mid, first, c, weights, lambda);
+      }
+    } else if (starting) {
       lambda = step_lanes<kDamping, kMassTerm, true>(x, c, lambda);
       c.plain_state = LaneMask{};
     } else {
@@ -421,10 +513,18 @@ template <bool kDamping, bool kMassTerm>
 // The batch loop for the machine at hand: GCC compiles it for each target and picks one when
 // the program starts. Everything it calls in the step loop is inlined into each version.
 IMPACTID_SIMD_VERSIONS void run_batch_any(Batch& b) {
+  if (b.composite) {  // both sub-steps have α_m = 0
+    if (b.arrays.damping != nullptr) {
+      run_batch<true, false, true>(b);
+    } else {
+      run_batch<false, false, true>(b);
+    }
+    return;
+  }
   with_kernel_flags(
       b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
       [&b]<bool kDamping, bool kMassTerm>()
-          __attribute__((always_inline)) { run_batch<kDamping, kMassTerm>(b); });
+          __attribute__((always_inline)) { run_batch<kDamping, kMassTerm, false>(b); });
 }
 
 // True when a's off-diagonals are one value each (lower in rows 1..n−1, upper in rows
@@ -447,11 +547,13 @@ struct EffectiveWeights {
 // operations of Tridiagonal::combined and TridiagonalFactorization::factor, as
 // ImplicitIntegrator::initialize does them, so the inverse pivots are the same bits; the
 // serial divides of 16 factorisations become those of one. Sets the factorisation's
-// coefficients of b; a lane whose matrix is singular, or every lane when the rod is not uniform,
-// is marked failed and does not run.
+// coefficients k and the inverse pivots; a lane whose matrix is singular, or every lane when the
+// rod is not uniform, is marked failed, taken out of `factored` and does not run. (A composite
+// scheme's lanes are factored twice, once per sub-step: into b.first, b.mid.inverse_pivot, then
+// into b.coefficients, b.arrays.inverse_pivot.)
 void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams> methods,
-                  const EffectiveWeights& w, const LaneMask& factored, bool uniform_interior,
-                  Batch& b) {
+                  const EffectiveWeights& w, LaneMask& factored, bool uniform_interior,
+                  LaneCoefficients& k, Lanes* inverse_pivot, Batch& b) {
   const Tridiagonal& M = system.mass;
   const Tridiagonal& K = system.stiffness;
   const Tridiagonal& C = system.damping;
@@ -470,7 +572,6 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
   const Lanes lower = effective(M.lower, K.lower, C.lower, 1);
   const Lanes upper = effective(M.upper, K.upper, C.upper, 0);
   std::array<bool, kBatchLanes> singular{};
-  const LaneArrays& x = b.arrays;
   Lanes ratio{};
   for (Eigen::Index i = 0; i < n; ++i) {
     Lanes pivot = effective(M.diag, K.diag, C.diag, i);
@@ -479,10 +580,9 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
     for (int l = 0; l < kBatchLanes; ++l) {
       singular[l] = singular[l] || pivot[l] == 0.0 || !std::isfinite(pivot[l]);
     }
-    store(&x.inverse_pivot[i], select(factored, inverse, Lanes{}));
+    store(&inverse_pivot[i], select(factored, inverse, Lanes{}));
     ratio = i + 1 < n ? upper * inverse : Lanes{};
   }
-  LaneCoefficients& k = b.coefficients;
   k.lower = lower;
   k.upper = upper;
   for (int l = 0; l < kBatchLanes; ++l) {
@@ -496,15 +596,16 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
                    : std::string(to_string(kind_of(methods[static_cast<std::size_t>(l)]))) +
                          ": singular effective matrix";
       run = LaneRun{};
-      for (Eigen::Index i = 0; i < n; ++i) x.inverse_pivot[i].set(l, 0.0);
+      factored.set(l, false);
+      for (Eigen::Index i = 0; i < n; ++i) inverse_pivot[i].set(l, 0.0);
       continue;
     }
     // The first row from which the pivots of rows up to n − 2 are one value, bit for bit.
     Eigen::Index converged = n - 1;
-    while (converged > 1 && x.inverse_pivot[converged - 1][l] == x.inverse_pivot[n - 2][l]) {
+    while (converged > 1 && inverse_pivot[converged - 1][l] == inverse_pivot[n - 2][l]) {
       --converged;
     }
-    const double tail_pivot = n > 2 ? x.inverse_pivot[n - 2][l] : 0.0;
+    const double tail_pivot = n > 2 ? inverse_pivot[n - 2][l] : 0.0;
     const double tail_ratio = upper[l] * tail_pivot;
     k.tail_pivot.set(l, tail_pivot);
     k.tail_ratio.set(l, tail_ratio);
@@ -514,19 +615,44 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
   }
 }
 
+// Lane l's constants of a step of the ImplicitCoefficients family over dt, and the weights of
+// its effective matrix, by ImplicitIntegrator::initialize's and ::predict's expressions.
+void set_lane_coefficients(int l, const ImplicitCoefficients& co, double dt, double gap,
+                           LaneCoefficients& k, EffectiveWeights& w) {
+  w.mass.set(l, 1.0 - co.alpha_m);
+  w.stiffness.set(l, (1.0 - co.alpha_f) * co.b1 * dt * dt);
+  w.damping.set(l, (1.0 - co.alpha_f) * co.g1 * dt);
+  const double dt2 = dt * dt;
+  k.lane_dt.set(l, dt);
+  k.dt2_b0.set(l, dt2 * co.b0);
+  k.dt_g0.set(l, dt * co.g0);
+  k.af.set(l, co.alpha_f);
+  k.b1_dt2.set(l, co.b1 * dt2);
+  k.g1_dt.set(l, co.g1 * dt);
+  k.minus_am.set(l, -co.alpha_m);
+  k.mass_term.set(l, co.alpha_m != 0.0);
+  k.one_minus_w.set(l, 1.0 - co.contact_weight);
+  k.w.set(l, co.contact_weight);
+  k.gap.set(l, gap);
+}
+
 }  // namespace
 
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
   // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
   // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
-  // single-step implicit family only (not central difference, not the composite schemes), with
-  // Lagrange multipliers (not the penalty or augmented-Lagrangian contact laws).
-  return is_single_step_implicit(method) && !scene.far_gap && !options.record_history &&
-         options.contact.law == ContactLaw::lagrange;
+  // single-step implicit family and the composite schemes (not central difference, Houbolt,
+  // Wilson-θ or Noh–Bathe), with Lagrange multipliers (not the penalty or augmented-Lagrangian
+  // contact laws).
+  return (is_single_step_implicit(method) || is_composite(method)) && !scene.far_gap &&
+         !options.record_history && options.contact.law == ContactLaw::lagrange;
 }
 
-bool same_batch(const RodScene& a, const RunOptions& options_a, const RodScene& b,
-                const RunOptions& options_b) {
+bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
+                const RodScene& b, const MethodParams& method_b, const RunOptions& options_b) {
+  // A batch steps one kind of step: the single-step family's or the composite schemes' (each
+  // lane its own method and parameters within it, γ too).
+  if (is_composite(method_a) != is_composite(method_b)) return false;
   // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
   // are per lane.
   const bool same_rod = a.length == b.length && a.elements == b.elements &&
@@ -550,9 +676,11 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   const Eigen::Index n = system.size();
   const double dt = derive(scenes[0]).time_step;
 
-  // The interleaved arrays: state, inverse pivots.
-  constexpr int kArrays = 4;
-  ws.storage_.assign(static_cast<std::size_t>(kArrays * n), LaneBlock{});
+  // The interleaved arrays: state, inverse pivots; for a composite scheme also the sub-step's
+  // state and its factorisation's inverse pivots.
+  const bool composite = is_composite(methods[0]);
+  const int arrays = composite ? 8 : 4;
+  ws.storage_.assign(static_cast<std::size_t>(arrays * n), LaneBlock{});
   Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
   const auto take = [&] {
     Lanes* p = block;
@@ -585,6 +713,12 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   }
   x.u = take(), x.v = take(), x.a = take();
   x.inverse_pivot = take();
+  b.composite = composite;
+  if (composite) {
+    b.mid = x;
+    b.mid.u = take(), b.mid.v = take(), b.mid.a = take();
+    b.mid.inverse_pivot = take();
+  }
   b.start = &ws.start_;
   b.area = scenes[0].area;
   b.dt = dt;
@@ -594,13 +728,19 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   k.gap = splat(kInf);  // unused lanes never touch a wall
   k.dt = dt;
   k.tail_begin = 1;      // raised to where the slowest lane's pivots have converged
+  LaneCoefficients& first = b.first;
+  first.gap = splat(kInf);
+  first.dt = dt;  // unused: the first sub-step reads lane_dt
+  first.tail_begin = 1;
 
   const bool options_valid = options.energy_check_interval >= 1 && options.energy_growth_limit > 1.0;
-  Lanes mass_weight{}, stiffness_weight{}, damping_weight{};
+  EffectiveWeights weights{}, first_weights{};
   LaneMask factored{};  // the lanes whose effective matrix is to be factored
   for (int l = 0; l < count; ++l) {
     const RodScene& scene = scenes[static_cast<std::size_t>(l)];
     const MethodParams& method = methods[static_cast<std::size_t>(l)];
+    // same_batch: one kind of step per batch.
+    assert(is_composite(method) == composite);
     const RodSceneDerived derived = derive(scene);
     RunSummary& summary = summaries[static_cast<std::size_t>(l)];
     summary = RunSummary{};
@@ -655,23 +795,19 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     summary.steps = summary.skipped_steps = skipped;
 
     // The weights of the lane's effective matrix, as ImplicitIntegrator::initialize; the
-    // matrix and its factorisation follow for every lane at once, below.
-    const ImplicitCoefficients co = implicit_coefficients(method);
-    mass_weight.set(l, 1.0 - co.alpha_m);
-    stiffness_weight.set(l, (1.0 - co.alpha_f) * co.b1 * dt * dt);
-    damping_weight.set(l, (1.0 - co.alpha_f) * co.g1 * dt);
+    // matrix and its factorisation follow for every lane at once, below. A composite scheme:
+    // BatheComposite::initialize's two integrators, the first over γ·Δt.
+    if (composite) {
+      const CompositeCoefficients cc = composite_coefficients(method);
+      set_lane_coefficients(l, cc.first, cc.gamma * dt, scene.gap, first, first_weights);
+      set_lane_coefficients(l, cc.second, dt, scene.gap, k, weights);
+      b.weights.q0.set(l, cc.q0);
+      b.weights.q1.set(l, cc.q1);
+      b.weights.q2_minus_1_dt.set(l, (cc.q2 - 1.0) * dt);
+    } else {
+      set_lane_coefficients(l, implicit_coefficients(method), dt, scene.gap, k, weights);
+    }
     factored.set(l, true);
-    const double dt2 = dt * dt;
-    k.dt2_b0.set(l, dt2 * co.b0);
-    k.dt_g0.set(l, dt * co.g0);
-    k.af.set(l, co.alpha_f);
-    k.b1_dt2.set(l, co.b1 * dt2);
-    k.g1_dt.set(l, co.g1 * dt);
-    k.minus_am.set(l, -co.alpha_m);
-    k.mass_term.set(l, co.alpha_m != 0.0);
-    k.one_minus_w.set(l, 1.0 - co.contact_weight);
-    k.w.set(l, co.contact_weight);
-    k.gap.set(l, scene.gap);
 
     LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
     run.summary = &summary;
@@ -680,8 +816,11 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     run.last = derived.step_count - 1;
     run.energy_bound = options.energy_growth_limit * summary.initial_energy;
   }
-  factor_lanes(system, methods, {mass_weight, stiffness_weight, damping_weight}, factored,
-               uniform_interior, b);
+  if (composite) {
+    factor_lanes(system, methods, first_weights, factored, uniform_interior, first,
+                 b.mid.inverse_pivot, b);
+  }
+  factor_lanes(system, methods, weights, factored, uniform_interior, k, x.inverse_pivot, b);
   run_batch_any(b);
   for (int l = 0; l < count; ++l) {
     ContactTrace& trace = ws.traces[static_cast<std::size_t>(l)];

@@ -1,5 +1,6 @@
 // Several simulations of one rod advanced together, one per SIMD lane: the implicit step of
-// core/implicit_integrator.hpp for kBatchLanes parameter points at once (issue 5, "Speed").
+// core/implicit_integrator.hpp for kBatchLanes parameter points at once (issue 5, "Speed"), and
+// the composite schemes' two sub-steps of core/bathe_composite.hpp (issue 19, "Speed").
 //
 // Why: a single run's step is two tridiagonal sweeps, each a serial recurrence whose latency
 // (a multiply, a subtract and a multiply per unknown, ~12 cycles) bounds the scalar path far
@@ -27,11 +28,22 @@
 // the contact adds a few flops at the contact node only (2 divides among them). Damping adds
 // 9, α_m ≠ 0 adds 6 (core/batched_simulation.cpp counts them at the loop).
 //
-// What batches (batchable / same_batch): implicit methods on the single-wall rod scene (no
-// far wall), with no histories requested; lanes of one batch share the rod (elements, length,
-// material, area, mass matrix, damping) and the time step, and may differ in the method and its
-// parameters, the gap, the velocity and the end time. Scenes of bodies have their own kernel
-// (core/batched_chain.hpp); everything else runs through simulate().
+// The composite schemes (Bathe, ρ∞-Bathe, TR-BDF2: BatheComposite::step) run the same step
+// twice per step, each sub-step from plain u, v, a (no deferred update: 19 flops per unknown
+// each), the first over γ·Δt with γ per lane, between them the copy of the state for the first
+// sub-step and the second's predictors from both states, all in the scalar path's order:
+// 60 flops per unknown and step without damping (41 instructions), 2.6 times HHT's for two
+// stages, with 13 stores per unknown and register against HHT's 4 (the stores bound the step);
+// damping adds 18 (composite_step_lanes counts them).
+//
+// What batches (batchable / same_batch): single-step implicit methods and composite schemes on
+// the single-wall rod scene (no far wall), with Lagrange contact and no histories requested;
+// lanes of one batch share the rod (elements, length, material, area, mass matrix, damping),
+// the time step and the kind of step (single-step or composite: a batch steps one), and may
+// differ in the method and its parameters (a composite's γ too), the gap, the velocity and the
+// end time. Scenes of bodies have their own kernel (core/batched_chain.hpp); everything else
+// (central difference, Houbolt, Wilson-θ, Noh–Bathe; penalty and augmented-Lagrangian contact)
+// runs through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once
@@ -52,14 +64,16 @@ namespace impactid {
 /// needs no -march=native; on an AVX2 machine a batch is two registers.
 inline constexpr int kBatchLanes = 16;
 
-/// Whether a run can go through simulate_batch at all: an implicit method, a scene the kernel
-/// knows (single wall: far_gap unset), no histories.
+/// Whether a run can go through simulate_batch at all: a single-step implicit method or a
+/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2), Lagrange contact, a scene the kernel knows
+/// (single wall: far_gap unset), no histories.
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options);
 
 /// Whether two batchable runs can share a batch: the same rod and time step, the same run
-/// options. They may differ in method, gap, velocity and end time.
-bool same_batch(const RodScene& a, const RunOptions& options_a, const RodScene& b,
-                const RunOptions& options_b);
+/// options, and both single-step methods or both composite schemes. They may differ in method
+/// and its parameters (a composite's sub-step ratio γ too), gap, velocity and end time.
+bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
+                const RodScene& b, const MethodParams& method_b, const RunOptions& options_b);
 
 /// Per-thread storage reused from batch to batch (allocation-free once sized).
 /// One unknown's values in every lane of a batch, aligned for one vector load.

@@ -32,7 +32,8 @@ std::vector<RunSummary> expect_batch_equals_scalar(const std::vector<LaneRun>& r
   std::vector<MethodParams> methods;
   for (const LaneRun& r : runs) {
     EXPECT_TRUE(batchable(r.scene, r.method, options)) << r.name;
-    EXPECT_TRUE(same_batch(runs[0].scene, options, r.scene, options)) << r.name;
+    EXPECT_TRUE(same_batch(runs[0].scene, runs[0].method, options, r.scene, r.method, options))
+        << r.name;
     scenes.push_back(r.scene);
     methods.push_back(r.method);
   }
@@ -165,6 +166,93 @@ TEST(BatchedSimulation, ALaneStartingAfterTheOthersEndedStillRuns) {
       << "the first lane ends before the others start";
 }
 
+// The composite schemes (core/bathe_composite.hpp: two implicit sub-steps a step, the first over
+// γ·Δt) in a full batch: Bathe, TR-BDF2 and ρ∞-Bathe over ρ∞ and γ (γ per lane), lanes that go
+// unstable (the trapezoidal first sub-step chatters: ρ∞ = 1, 0.3), other gaps, velocities and
+// end times.
+TEST(BatchedSimulation, CompositeLanesEqualTheScalarRunBitForBit) {
+  RodScene far_gap_scene;
+  far_gap_scene.gap = 0.2;
+  RodScene slow;
+  slow.velocity = 300.0;
+  slow.gap = 0.05;
+  RodScene touching;
+  touching.gap = 0.0;
+  RodScene short_run;
+  short_run.t_end = 2e-4;
+  RodScene away;
+  away.velocity = -500.0;
+  RodScene fast;
+  fast.velocity = 5000.0;
+  const std::vector<LaneRun> runs = {
+      {"rho-bathe", RodScene{}, RhoBatheParams{}},
+      {"bathe", RodScene{}, BatheParams{}},
+      {"rho-bathe rho_inf 1 (unstable)", RodScene{}, RhoBatheParams{.rho_inf = 1.0}},
+      {"tr-bdf2, gap 0.2", far_gap_scene, TrBdf2Params{}},
+      {"rho-bathe 0.3 (unstable)", RodScene{}, RhoBatheParams{.rho_inf = 0.3}},
+      {"rho-bathe gamma 0.1, slow", slow, RhoBatheParams{.rho_inf = 0.0, .gamma = 0.1}},
+      {"rho-bathe gamma 0.9, gap 0", touching, RhoBatheParams{.rho_inf = 0.2, .gamma = 0.9}},
+      {"bathe, short run", short_run, BatheParams{}},
+      {"rho-bathe, moving away", away, RhoBatheParams{.rho_inf = 0.5}},
+      {"rho-bathe, fast", fast, RhoBatheParams{.rho_inf = 0.1, .gamma = 0.35}},
+      {"rho-bathe 0.6", RodScene{}, RhoBatheParams{.rho_inf = 0.6}},
+      {"rho-bathe 0.05 gamma 0.6", RodScene{}, RhoBatheParams{.rho_inf = 0.05, .gamma = 0.6}},
+      {"rho-bathe 1 gamma 0.5", touching, RhoBatheParams{.rho_inf = 1.0, .gamma = 0.5}},
+      {"tr-bdf2", RodScene{}, TrBdf2Params{}},
+      {"rho-bathe 0.9 gamma 0.2", far_gap_scene, RhoBatheParams{.rho_inf = 0.9, .gamma = 0.2}},
+      {"bathe, slow", slow, BatheParams{}},
+  };
+  ASSERT_EQ(runs.size(), static_cast<std::size_t>(kBatchLanes));
+  const std::vector<RunSummary> scalar = expect_batch_equals_scalar(runs);
+  EXPECT_EQ(scalar[0].status, RunStatus::ok) << scalar[0].message;
+  EXPECT_EQ(scalar[2].status, RunStatus::unstable);
+  EXPECT_LT(scalar[2].steps, scalar[0].steps);
+  EXPECT_NE(scalar[3].skipped_steps, scalar[0].skipped_steps);
+  EXPECT_NE(scalar[3].planned_steps, scalar[0].planned_steps);
+  EXPECT_EQ(scalar[6].skipped_steps, 0);
+  EXPECT_LT(scalar[7].planned_steps, scalar[0].planned_steps);
+}
+
+// The composite schemes on a damped rod with a consistent mass and on one with a lumped mass and
+// stiffness damping; run options honoured; a lane that overflows between energy checks.
+TEST(BatchedSimulation, CompositeLanesOnDampedRodsAndWithRunOptions) {
+  RodScene damped;
+  damped.mass = MassMatrix::consistent;
+  damped.rayleigh_mass = 200.0;
+  damped.rayleigh_stiffness = 2e-8;
+  RodScene stiffness_damped;
+  stiffness_damped.rayleigh_stiffness = 2e-8;
+  RodScene consistent;
+  consistent.mass = MassMatrix::consistent;
+  for (const RodScene& scene : {damped, stiffness_damped, consistent}) {
+    expect_batch_equals_scalar({
+        {"rho-bathe", scene, RhoBatheParams{.rho_inf = 0.2}},
+        {"bathe", scene, BatheParams{}},
+        {"rho-bathe gamma 0.7", scene, RhoBatheParams{.rho_inf = 0.8, .gamma = 0.7}},
+    });
+  }
+  const std::vector<LaneRun> runs = {
+      {"rho-bathe", RodScene{}, RhoBatheParams{}},
+      {"rho-bathe unstable", RodScene{}, RhoBatheParams{.rho_inf = 1.0}},
+  };
+  expect_batch_equals_scalar(runs,
+                             RunOptions{.energy_check_interval = 50, .skip_free_flight = false});
+  expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 1});
+  const std::vector<RunSummary> failed =
+      expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 0});
+  EXPECT_EQ(failed[0].status, RunStatus::failed);
+  // No energy bound to speak of: a lane whose values overflow stops at the first non-finite
+  // sample, between energy checks, while the others run on.
+  RodScene coarse;
+  coarse.courant = 3.0;
+  const std::vector<RunSummary> overflow = expect_batch_equals_scalar(
+      {{"rho-bathe 1", coarse, RhoBatheParams{.rho_inf = 1.0, .gamma = 0.5}},
+       {"rho-bathe 0.3 gamma 0.1", coarse, RhoBatheParams{.rho_inf = 0.3, .gamma = 0.1}},
+       {"rho-bathe", coarse, RhoBatheParams{}}},
+      RunOptions{.energy_growth_limit = 1e300, .energy_check_interval = 100'000});
+  EXPECT_EQ(overflow[2].status, RunStatus::ok) << overflow[2].message;
+}
+
 TEST(BatchedSimulation, WhatMayShareABatch) {
   const RunOptions options;
   EXPECT_TRUE(batchable(RodScene{}, HhtParams{}, options));
@@ -184,15 +272,34 @@ TEST(BatchedSimulation, WhatMayShareABatch) {
   other_gap.gap = 0.3;
   other_gap.velocity = 10.0;
   other_gap.t_end = 1e-3;
-  EXPECT_TRUE(same_batch(RodScene{}, options, other_gap, options));
+  const MethodParams hht = HhtParams{};
+  EXPECT_TRUE(same_batch(RodScene{}, hht, options, other_gap, NewmarkParams{}, options));
   RodScene other_rod;
   other_rod.youngs_modulus = 100.0;  // other matrices and time step
-  EXPECT_FALSE(same_batch(RodScene{}, options, other_rod, options));
+  EXPECT_FALSE(same_batch(RodScene{}, hht, options, other_rod, hht, options));
   RodScene other_dt;
   other_dt.courant = 0.4;
-  EXPECT_FALSE(same_batch(RodScene{}, options, other_dt, options));
-  EXPECT_FALSE(same_batch(RodScene{}, options, RodScene{},
+  EXPECT_FALSE(same_batch(RodScene{}, hht, options, other_dt, hht, options));
+  EXPECT_FALSE(same_batch(RodScene{}, hht, options, RodScene{}, hht,
                           RunOptions{.energy_growth_limit = 2.0}));
+
+  // The composite schemes batch, among themselves, each lane its own ρ∞ and sub-step ratio γ;
+  // not with the single-step methods (a batch steps one kind of step).
+  for (const MethodParams& composite : {MethodParams{BatheParams{}}, MethodParams{RhoBatheParams{}},
+                                        MethodParams{TrBdf2Params{}}}) {
+    EXPECT_TRUE(batchable(RodScene{}, composite, options));
+    EXPECT_FALSE(batchable(RodScene{}, composite, RunOptions{.record_history = true}));
+    EXPECT_FALSE(batchable(two_walls, composite, options));
+    EXPECT_FALSE(same_batch(RodScene{}, hht, options, RodScene{}, composite, options));
+    EXPECT_FALSE(same_batch(RodScene{}, composite, options, RodScene{}, hht, options));
+    EXPECT_TRUE(same_batch(RodScene{}, composite, options, other_gap,
+                           RhoBatheParams{.rho_inf = 0.4, .gamma = 0.3}, options));
+  }
+  for (const ContactLaw law : {ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+    RunOptions penalty = options;
+    penalty.contact.law = law;
+    EXPECT_FALSE(batchable(RodScene{}, RhoBatheParams{}, penalty)) << to_string(law);
+  }
 }
 
 }  // namespace

@@ -187,15 +187,16 @@ TEST(BatheComposite, SignoriniConditionsHoldAtEverySubStepAndSample) {
 }
 
 // Every kind of scene runs the composite schemes: the rod (ρ∞-Bathe's default within 5 % of the
-// exact pressure: measured 2.3 %) and a scene of two bodies, never in a batch.
-TEST(BatheComposite, RunsTheRodAndAsceneOfBodiesUnbatched) {
+// exact pressure: measured 2.3 %), batched (tests/batched_simulation_test.cpp), and a scene of
+// two bodies, not batched.
+TEST(BatheComposite, RunsTheRodBatchedAndAsceneOfBodiesUnbatched) {
   const RodScene rod;
   SimulationWorkspace ws;
   for (const MethodParams& method : {MethodParams{BatheParams{}}, MethodParams{RhoBatheParams{}}}) {
     const RunSummary summary = simulate(rod, method, RunOptions{}, ws);
     EXPECT_EQ(summary.status, RunStatus::ok) << summary.message;
     EXPECT_EQ(summary.steps, summary.planned_steps);
-    EXPECT_FALSE(batchable(rod, method, RunOptions{}));
+    EXPECT_TRUE(batchable(rod, method, RunOptions{}));
   }
   const RodImpactExact exact(rod);
   double error = 0.0, norm = 0.0;

@@ -125,7 +125,7 @@ bool batchable_together(const Simulation& first, const Simulation& next) {
     if (rod_a || rod_b) {
       return rod_a && rod_b && batchable(*rod_a, first.method, first.run) &&
              batchable(*rod_b, next.method, next.run) &&
-             same_batch(*rod_a, first.run, *rod_b, next.run);
+             same_batch(*rod_a, first.method, first.run, *rod_b, next.method, next.run);
     }
     const AssembledScene a = assemble(*first.bodies), b = assemble(*next.bodies);
     return chain_batchable(a, first.method, first.run) &&
@@ -133,7 +133,7 @@ bool batchable_together(const Simulation& first, const Simulation& next) {
   }
   return batchable(first.scene, first.method, first.run) &&
          batchable(next.scene, next.method, next.run) &&
-         same_batch(first.scene, first.run, next.scene, next.run);
+         same_batch(first.scene, first.method, first.run, next.scene, next.method, next.run);
 }
 
 void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWorkspace& workspace,
