@@ -147,11 +147,40 @@ Eigen::Matrix<Scalar, 3, 3> noh_bathe_amplification(const NohBatheCoefficients& 
   return a;
 }
 
+// Kim's two-stage explicit step (core/kim_explicit.hpp without damping and contact) on
+// x = (u, Δt·v, Δt²·a), composed from its stages row by row:
+//   u_p = u + p·V + p²/2·A,                  A_p = −Ω²·u_p,
+//   ũ₁ = u + V + u0·A + up·A_p,   Ṽ₁ = V + v0·A + vp·A_p,   A₁ = −Ω²·ũ₁,
+//   D = d0·A + dp·A_p + d1·A₁,    u₁ = ũ₁ + cu·D,   V₁ = Ṽ₁ + cv·D.
+// Entries grow like Ω⁴, harmless within the explicit limit (Ω_crit <= 3.09).
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 3> kim_explicit_amplification(const KimExplicitCoefficients& c,
+                                                       double omega_dt) {
+  using Row = Eigen::Matrix<Scalar, 1, 3>;
+  const Scalar p = c.p, omega = omega_dt;
+  const Scalar w2 = omega * omega;
+  const Row e_u(1, 0, 0), e_v(0, 1, 0), e_a(0, 0, 1);
+  const Row u_p = e_u + p * e_v + (p * p / 2) * e_a;
+  const Row a_p = -w2 * u_p;
+  const Row u_predicted = e_u + e_v + Scalar(c.u0) * e_a + Scalar(c.up) * a_p;
+  const Row v_predicted = e_v + Scalar(c.v0) * e_a + Scalar(c.vp) * a_p;
+  const Row a1 = -w2 * u_predicted;
+  const Row d = Scalar(c.d0) * e_a + Scalar(c.dp) * a_p + Scalar(c.d1) * a1;
+  Eigen::Matrix<Scalar, 3, 3> a;
+  a.row(0) = u_predicted + Scalar(c.cu) * d;
+  a.row(1) = v_predicted + Scalar(c.cv) * d;
+  a.row(2) = a1;
+  return a;
+}
+
 // The one-step matrix of any method but central difference and Houbolt, on (u, Δt·v, Δt²·a).
 template <class Scalar>
 Eigen::Matrix<Scalar, 3, 3> step_amplification(const MethodParams& params, double omega_dt) {
   if (const auto* noh_bathe = std::get_if<NohBatheParams>(&params)) {
     return noh_bathe_amplification<Scalar>(noh_bathe_coefficients(*noh_bathe), omega_dt);
+  }
+  if (const auto* kim = std::get_if<KimExplicitParams>(&params)) {
+    return kim_explicit_amplification<Scalar>(kim_explicit_coefficients(*kim), omega_dt);
   }
   if (is_composite(params)) {
     return composite_amplification<Scalar>(composite_coefficients(params), omega_dt);
@@ -390,8 +419,12 @@ SpectralProperties spectral_properties(const MethodParams& params, double omega_
 
 double high_frequency_spectral_radius(const MethodParams& params) {
   if (validate(params)) return kNaN;
-  // Explicit: unstable past Ω_crit, ρ grows like Ω² (central difference) or Ω⁴ (Noh–Bathe).
-  if (is_central_difference(params) || kind_of(params) == MethodKind::noh_bathe) return kInf;
+  // Explicit: unstable past Ω_crit, ρ grows like Ω² (central difference) or Ω⁴ (Noh–Bathe,
+  // Kim).
+  if (is_central_difference(params) || kind_of(params) == MethodKind::noh_bathe ||
+      kind_of(params) == MethodKind::kim_explicit) {
+    return kInf;
+  }
   // Houbolt: past Ω = 1 the backward-difference form of eigenvalues() tends to the strictly lower
   // triangular [[0, 0, 0], [−1, 0, 0], [−1, −1, 0]], nilpotent: ρ∞ = 0 exactly (ρ falls like
   // Ω^(−2/3): (2 + Ω²)·λ³ ≈ 1).
@@ -539,6 +572,9 @@ double stability_limit_omega(const MethodParams& params) {
   if (is_central_difference(params)) return 2.0;
   if (const auto* noh_bathe = std::get_if<NohBatheParams>(&params)) {
     return noh_bathe_critical_omega(noh_bathe->p);
+  }
+  if (const auto* kim = std::get_if<KimExplicitParams>(&params)) {
+    return kim_explicit_critical_omega(kim->p);
   }
   return kInf;
 }

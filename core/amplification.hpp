@@ -44,6 +44,10 @@ namespace impactid {
 /// (core/amplification.cpp); undamped it has det = 1 − (1−p)²(2p−1)·Ω⁴/4 and
 /// trace = 2 − Ω² + p²(1−p)·Ω⁴/2 on (u, Δt·v) (the third eigenvalue is 0: a₀ = −ω²u₀).
 ///
+/// Kim's two-stage explicit scheme: 3×3 on the same state, its two stages and the end correction
+/// composed (core/amplification.cpp); its third eigenvalue is not 0 (a is taken at the predicted
+/// ũ₁, not at u₁), 0 only at Ω → 0 and at p = ½.
+///
 /// Implicit family (everything but central difference): 3×3, x_{n+1} = A·x_n with the scaled
 /// state x = (u, Δt·v, Δt²·a), from the ImplicitCoefficients equations of method.hpp without
 /// damping and contact:
@@ -82,8 +86,8 @@ SpectralProperties spectral_properties(const MethodParams& params, double omega_
 /// a spurious root −α_f/(1−α_f) and the limit of the principal pair. Where that pair is a
 /// double root (Newmark in the δ form, HHT with eq. 15, generalized-α) its modulus is only
 /// accurate to about √ε ≈ 1e-8, the sensitivity of a double root to rounded coefficients.
-/// +inf for central difference (ρ grows like Ω² past Ω = 2) and Noh–Bathe explicit (past
-/// Ω_crit(p): stability_limit_omega); NaN for invalid params.
+/// +inf for central difference (ρ grows like Ω² past Ω = 2), Noh–Bathe explicit and Kim's
+/// two-stage explicit scheme (past Ω_crit(p): stability_limit_omega); NaN for invalid params.
 /// The composite schemes (Bathe, ρ∞-Bathe) are evaluated numerically instead, ρ(Ω = 1e8), within
 /// about 1e-7 of their limit. Houbolt: 0 exactly (its limit matrix is nilpotent; ρ(Ω) falls only
 /// like Ω^(−2/3)). Wilson-θ: the largest eigenvalue modulus of its limit matrix in closed form,
@@ -96,7 +100,8 @@ double high_frequency_spectral_radius(const MethodParams& params);
 /// forms in tests/amplification_test.cpp: 1/12 for the trapezoidal rule, −1/24 for central
 /// difference, 1/3 for backward Euler, α²/8 + 3αδ/4 − α/4 + δ²/4 + 1/12 for HHT with (α, δ),
 /// (11ρ∞² − 14ρ∞ + 11)/(24(1+ρ∞)²) for generalized-α, 11/24 for Houbolt,
-/// (6θ² − 6θ + 1)/24 for Wilson-θ, −(3p − 2)²/24 for Noh–Bathe explicit).
+/// (6θ² − 6θ + 1)/24 for Wilson-θ, −(3p − 2)²/24 for Noh–Bathe explicit, 0 for Kim's two-stage
+/// explicit scheme, whose period error is O(Ω⁴)).
 /// NaN for invalid params or if the principal pair is not oscillatory at those Ω.
 double period_error_coefficient(const MethodParams& params);
 
@@ -165,7 +170,8 @@ std::vector<StabilityMapPoint> hht_stability_map(const std::vector<double>& alph
 
 /// The largest Ω = ωΔt at which an explicit method is stable without damping: 2 for central
 /// difference, Ω_crit(p) for Noh–Bathe (noh_bathe_critical_omega, core/method.hpp: 3.7450 at
-/// p = 0.54, where ρ = 1 through the eigenvalue +1). +inf for the implicit methods here (those
+/// p = 0.54, where ρ = 1 through the eigenvalue +1), Ω_crit(p) for Kim's two-stage scheme
+/// (kim_explicit_critical_omega: √6 at p = ⅓). +inf for the implicit methods here (those
 /// unstable for some Ω, HHT with δ < −α, are so at every Ω: is_stable); NaN for invalid params.
 double stability_limit_omega(const MethodParams& params);
 

@@ -54,6 +54,7 @@ MethodKind kind_of(const MethodParams& params) {
           [](const HouboltParams&) { return MethodKind::houbolt; },
           [](const WilsonThetaParams&) { return MethodKind::wilson_theta; },
           [](const NohBatheParams&) { return MethodKind::noh_bathe; },
+          [](const KimExplicitParams&) { return MethodKind::kim_explicit; },
       },
       params);
 }
@@ -77,6 +78,8 @@ MethodParams default_params(MethodKind kind) {
       return WilsonThetaParams{};
     case MethodKind::noh_bathe:
       return NohBatheParams{};
+    case MethodKind::kim_explicit:
+      return KimExplicitParams{};
   }
   return CentralDifferenceParams{};
 }
@@ -136,6 +139,18 @@ std::optional<ParameterError> validate(const MethodParams& params) {
               return ParameterError{"p", format_value(p.p),
                                     "must lie in [0.5, 1) (below 0.5 the scheme is unstable for "
                                     "every time step; 1 is excluded)"};
+            }
+            return std::nullopt;
+          },
+          [](const KimExplicitParams& p) -> std::optional<ParameterError> {
+            // Below ⅓ the principal pair grows at small Ω; above ½ see KimExplicitParams.
+            if (!(p.p >= 1.0 / 3.0 && p.p <= 0.5)) {
+              return ParameterError{"p", format_value(p.p),
+                                    "must lie in [1/3, 1/2] (1/3 written 0.3333333333333333) for "
+                                    "kim-explicit (below 1/3 it is "
+                                    "unstable at every useful step; above 1/2 its stability limit "
+                                    "falls and no contact multiplier keeps the step's end on the "
+                                    "wall)"};
             }
             return std::nullopt;
           },
@@ -219,6 +234,10 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
           },
           // Explicit: stepped by noh_bathe_coefficients() (core/noh_bathe.hpp).
           [](const NohBatheParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
+          // Explicit: stepped by kim_explicit_coefficients() (core/kim_explicit.hpp).
+          [](const KimExplicitParams&) {
             return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
           },
       },
@@ -309,6 +328,40 @@ double noh_bathe_critical_omega(double p) {
   return std::sqrt(omega2);
 }
 
+KimExplicitCoefficients kim_explicit_coefficients(const KimExplicitParams& params) {
+  const double p = params.p;
+  KimExplicitCoefficients c{};
+  c.p = p;
+  c.u0 = 0.5 * (1.0 - 1.0 / (3.0 * p));
+  c.up = 1.0 / (6.0 * p);
+  c.v0 = 1.0 - 1.0 / (2.0 * p);
+  c.vp = 1.0 / (2.0 * p);
+  c.d0 = 1.0 / p;
+  c.dp = -1.0 / (p * (1.0 - p));
+  c.d1 = 1.0 / (1.0 - p);
+  c.cu = (1.0 - 2.0 * p) / 12.0;
+  c.cv = (2.0 - 3.0 * p) / 6.0;
+  return c;
+}
+
+double kim_explicit_critical_omega(double p) {
+  if (!(p >= 1.0 / 3.0 && p <= 0.5)) return std::numeric_limits<double>::quiet_NaN();
+  double omega2 = 12.0 * p / (1.0 - p);  // eigenvalue +1
+  // Eigenvalue −1: the least positive root of a·X² + b·X + c (c < 0), in the cancellation-free
+  // form q = −(b + sign(b)·√disc)/2, roots q/a and c/q.
+  const double a = 12.0 * p * p * p - 6.0 * p * p - 3.0 * p + 1.0;
+  const double b = -12.0 * (5.0 * p - 1.0) * (p - 1.0);
+  const double c = 144.0 * p * (p - 1.0);
+  const double disc = b * b - 4.0 * a * c;
+  if (disc >= 0.0) {
+    const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+    for (const double root : {a != 0.0 ? q / a : -1.0, q != 0.0 ? c / q : -1.0}) {
+      if (root > 0.0) omega2 = std::min(omega2, root);
+    }
+  }
+  return std::sqrt(omega2);
+}
+
 std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
   switch (kind_of(params)) {
     case MethodKind::central_difference:
@@ -319,6 +372,7 @@ std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
     case MethodKind::houbolt:
     case MethodKind::wilson_theta:
     case MethodKind::noh_bathe:
+    case MethodKind::kim_explicit:
       return std::nullopt;
     default: {
       const ImplicitCoefficients c = implicit_coefficients(params);

@@ -25,7 +25,8 @@ enum class MethodKind {
   tr_bdf2,
   houbolt,
   wilson_theta,
-  noh_bathe
+  noh_bathe,
+  kim_explicit
 };
 /// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha", …: the names used alike on the
 /// command line, in plan files and in HDF5 attributes (core/method_registry.hpp holds them).
@@ -179,9 +180,48 @@ struct NohBatheParams {
   double p = 0.54;  ///< sub-step ratio p ∈ [½, 1); 0.54, the paper's recommended value
 };
 
-using MethodParams = std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams,
-                                  HhtParams, GeneralizedAlphaParams, BatheParams, RhoBatheParams,
-                                  TrBdf2Params, HouboltParams, WilsonThetaParams, NohBatheParams>;
+/// Kim's two-stage explicit scheme (W. Kim, "An accurate two-stage explicit time integration
+/// scheme for structural dynamics and various dynamic problems", International Journal for
+/// Numerical Methods in Engineering 120 (2019) 1–28, doi:10.1002/nme.6098), as implemented in
+/// Kratos (StructuralMechanicsApplication, explicit_multi_stage_kim_scheme.hpp, whose parameter
+/// `fraction_delta_time` is our p). It is not the seed paper's ref. 17 (Kim, Engineering
+/// Structures 195 (2019) 358–372, parameter ρ_b), whose formulas were not available to us.
+/// Two explicit stages per step, at t + pΔt and t + Δt, then a correction of the end values:
+///   u_p = u₀ + pΔt·v₀ + (pΔt)²/2·a₀,               M·a_p = −K·u_p − C·(v₀ + pΔt·a₀),
+///   ũ₁ = u₀ + Δt·v₀ + Δt²/2·((1 − 1/(3p))·a₀ + a_p/(3p)),
+///   ṽ₁ = v₀ + Δt·((1 − 1/(2p))·a₀ + a_p/(2p)),     M·a₁ = −K·ũ₁ − C·ṽ₁,
+///   D = a₀/p − a_p/(p(1 − p)) + a₁/(1 − p)   (a's second divided difference on 0, p, 1),
+///   u₁ = ũ₁ + (1 − 2p)·Δt²/12·D,   v₁ = ṽ₁ + (2 − 3p)·Δt/6·D.
+/// The end values integrate the quadratic through a₀, a_p, a₁ exactly (Simpson's rule at p = ½);
+/// the step keeps a₁, the acceleration at the predicted ũ₁, as the next step's a₀ rather than
+/// evaluating the forces a third time at u₁: two force evaluations per step, and a state
+/// (u, v, a) whose a is not the equilibrium acceleration at u (a one-step map with memory; the
+/// first step takes the consistent a₀ of the start, core/kim_explicit.hpp).
+/// Undamped (Ω = ωΔt) its 3×3 amplification matrix (core/amplification.cpp) has the spurious root
+/// 0 at Ω → 0 and the principal pair's period error c₄(p)·Ω⁴: no Ω² term at any p (c₄ = 1/720 at
+/// p = ⅓, 0 at p = 5/12, −1/480 at p = ½), and damping ratio ξ̄ ≈ (3p − 1)/(144(1 − p))·Ω³, none
+/// to that order at p = ⅓ (where ρ(1) = 0.99968, ρ(2) = 0.9516). Second order (step halving).
+/// Range p ∈ [⅓, ½]: below ⅓ the principal pair grows for small Ω (ρ > 1 from Ω ≈ 0.01),
+/// unstable at every useful step. Above ½ it is stable, but (i) its limit falls below √6 (1.89 at
+/// p = ⅔, below central difference's 2 from p ≈ 0.62, at twice its cost per step) and (ii) the
+/// correction moves u₁ towards a wall when a₁'s contact force pushes away from it (the weight of
+/// a₁ in u₁, (1 − 2p)/(12(1 − p))·Δt², turns negative), so no multiplier at the second stage can
+/// keep the sample admissible: those p are refused. The stability limit Ω_crit(p)
+/// (kim_explicit_critical_omega()) is √6 at both ends and 3.0815 at p = 0.4418.
+/// Default p = ½, not Kratos' ⅓: at p = ½ the correction leaves the displacement alone (u₁ = ũ₁),
+/// so the contact's forward increment acts on the sample directly. On the paper's rod every p
+/// below 0.4 chatters: the quadratic correction turns the first stage's contact impulse into an
+/// overshoot that the second stage must pull back (p = ⅓ at Courant 0.5: 393 contact episodes,
+/// ε_p = 1.8), while p = ½ keeps one contact episode at every stable Courant number
+/// (REPRODUCTION.md). p = 5/12 has the least period error (no Ω⁴ term).
+struct KimExplicitParams {
+  double p = 0.5;  ///< stage ratio p ∈ [⅓, ½]; ½ (see above; Kratos' default is ⅓)
+};
+
+using MethodParams =
+    std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams, HhtParams,
+                 GeneralizedAlphaParams, BatheParams, RhoBatheParams, TrBdf2Params, HouboltParams,
+                 WilsonThetaParams, NohBatheParams, KimExplicitParams>;
 
 MethodKind kind_of(const MethodParams& params);
 /// Default parameters of a method.
@@ -271,6 +311,30 @@ NohBatheCoefficients noh_bathe_coefficients(const NohBatheParams& params);
 /// condition starts to bind and Ω_crit drops to 2√2 = 2.83, then falls towards 2 as p → 1 (no
 /// better than central difference's per step, at twice its cost). NaN outside [½, 1).
 double noh_bathe_critical_omega(double p);
+
+/// The weights of Kim's two-stage explicit scheme (KimExplicitParams), in units of Δt and Δt²:
+///   ũ₁ = u₀ + Δt·v₀ + Δt²·(u0·a₀ + up·a_p),   ṽ₁ = v₀ + Δt·(v0·a₀ + vp·a_p),
+///   D = d0·a₀ + dp·a_p + d1·a₁,   u₁ = ũ₁ + cu·Δt²·D,   v₁ = ṽ₁ + cv·Δt·D.
+struct KimExplicitCoefficients {
+  double p;
+  double u0, up;      ///< (1 − 1/(3p))/2, 1/(6p)
+  double v0, vp;      ///< 1 − 1/(2p), 1/(2p)
+  double d0, dp, d1;  ///< 1/p, −1/(p(1 − p)), 1/(1 − p)
+  double cu, cv;      ///< (1 − 2p)/12 (exactly 0 at p = ½: u₁ = ũ₁), (2 − 3p)/6
+};
+KimExplicitCoefficients kim_explicit_coefficients(const KimExplicitParams& params);
+
+/// Ω_crit(p) = ω_max·Δt_crit of Kim's two-stage explicit scheme without damping, p ∈ [⅓, ½]: the
+/// largest Ω at which the three eigenvalues of its amplification matrix lie in the closed unit
+/// disk. With X = Ω², its characteristic polynomial P(λ) = λ³ + … (Jury's conditions) gives
+///   P(1) = X·(12p − (1 − p)·X)/(12p) >= 0 (eigenvalue +1):   X <= 12p/(1 − p);
+///   −P(−1) >= 0 (eigenvalue −1):  X below the least positive root of
+///       (12p³ − 6p² − 3p + 1)·X² − 12(5p − 1)(p − 1)·X + 144p(p − 1) = 0, real from p ≈ 0.4418;
+/// the complex-pair condition does not bind on [⅓, ½]. √6 = 2.4495 at p = ⅓ and at p = ½,
+/// 2√2 at p = 0.4, the largest 3.0815 at p = 0.4418 where the two bounds meet. NaN outside
+/// [⅓, ½]. (Computed from the matrix of core/amplification.cpp; tests/kim_explicit_test.cpp
+/// checks it against the spectral radius.)
+double kim_explicit_critical_omega(double p);
 
 /// γ₀(ρ∞) = (2 − √(2 + 2ρ∞))/(1 − ρ∞), ½ at ρ∞ = 1: ρ∞-Bathe's default sub-step ratio.
 double rho_bathe_default_gamma(double rho_inf);

@@ -32,7 +32,9 @@ constexpr std::array<MethodParameter, 10> kParameters{{
      ""},
     {"p", false,
      "noh-bathe sub-step ratio p: the first explicit sub-step ends at t + p*dt (default 0.54), in "
-     "[0.5, 1); stable up to omega*dt = Omega_crit(p), 3.745 at 0.54",
+     "[0.5, 1); stable up to omega*dt = Omega_crit(p), 3.745 at 0.54; kim-explicit stage ratio p: "
+     "its first stage ends at t + p*dt (default 1/2), in [1/3, 1/2]; stable up to Omega_crit(p), "
+     "sqrt(6) at 1/2",
      ""},
     {"cdm_velocity", true,
      "central difference velocity: eq. 3 central or eq. 6/7 backward (default central)",
@@ -229,8 +231,21 @@ Values noh_bathe_values(const MethodParams& params) {
           {"omega_crit", noh_bathe_critical_omega(p.p), true}};
 }
 
+// --- Kim's two-stage explicit scheme (core/kim_explicit.hpp) ---
+constexpr const char* kKimExplicitParameters[] = {"p"};
+Made make_kim_explicit(const MethodArguments& given) {
+  KimExplicitParams p;
+  if (const auto value = given.number("p")) p.p = *value;
+  return p;
+}
+// p, then the stability limit Ω_crit(p) (derived).
+Values kim_explicit_values(const MethodParams& params) {
+  const auto& p = std::get<KimExplicitParams>(params);
+  return {{"p", p.p, false}, {"omega_crit", kim_explicit_critical_omega(p.p), true}};
+}
+
 // The registry: one entry per method, in MethodKind's order.
-const std::array<MethodDescriptor, 11> kMethods{{
+const std::array<MethodDescriptor, 12> kMethods{{
     {MethodKind::central_difference, "cdm",
      "central difference with Carpenter's forward-increment multiplier (eqs 1-7; Carpenter, Taylor "
      "& Katona 1991, doi:10.1002/nme.1620320107): explicit, second order, no numerical "
@@ -301,6 +316,12 @@ const std::array<MethodDescriptor, 11> kMethods{{
      "sub-steps, to t + p*dt and t + dt; second order, dissipative for p > 1/2, stable up to "
      "omega*dt = Omega_crit(p) (3.745 at p = 0.54); contact enforced at both sub-steps",
      kNohBatheParameters, make_noh_bathe, noh_bathe_values, no_choices},
+    {MethodKind::kim_explicit, "kim-explicit",
+     "Kim two-stage explicit (Kim 2019, IJNME 120:1-28, doi:10.1002/nme.6098; not the seed's ref. "
+     "17, the rho_b scheme): stages at t + p*dt and t + dt, then a quadratic correction of the end "
+     "values; second order, period error O(Omega^4), stable up to omega*dt = Omega_crit(p) "
+     "(sqrt(6) at p = 1/2); contact enforced at both stages",
+     kKimExplicitParameters, make_kim_explicit, kim_explicit_values, no_choices},
 }};
 
 std::string join(const auto& items, const auto& name_of) {

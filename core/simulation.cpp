@@ -265,6 +265,33 @@ void run_noh_bathe(const SecondOrderSystem& system, const NohBatheParams& params
   run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
 }
 
+// Kim's two-stage explicit scheme (core/kim_explicit.hpp): as Noh–Bathe's, Lagrange multipliers
+// only, its stable step reported and a step above it flagged before the run starts.
+template <class Run>
+void run_kim_explicit(const SecondOrderSystem& system, const KimExplicitParams& params, double dt,
+                      const ContactPenalties& contact, KimExplicit& stepper, State& state,
+                      RunSummary& summary, Run&& run) {
+  if (!contact.lagrange()) {
+    summary.status = RunStatus::failed;
+    summary.message = std::string("kim-explicit: contact = ") + to_string(contact.law) +
+                      " is not available; it takes Lagrange multipliers";
+    return;
+  }
+  if (!stepper.initialize(system, kim_explicit_coefficients(params), dt, state)) {
+    summary.status = RunStatus::failed;
+    summary.message = "kim-explicit: singular mass matrix";
+    return;
+  }
+  summary.stable_dt = stepper.stable_step();
+  if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
+    summary.warning = "dt = " + format_value(dt) + " s exceeds kim-explicit's stable step " +
+                      format_value(stepper.stable_step()) +
+                      " s (Omega_crit = " + format_value(kim_explicit_critical_omega(params.p)) +
+                      " at p = " + format_value(params.p) + "): lower the step";
+  }
+  run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+}
+
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
 // stepper that cannot start marks the run failed.
 template <class Run>
@@ -276,6 +303,10 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
   }
   if (const auto* noh_bathe = std::get_if<NohBatheParams>(&method)) {
     run_noh_bathe(system, *noh_bathe, dt, contact, ws.noh_bathe, state, summary, run);
+    return;
+  }
+  if (const auto* kim = std::get_if<KimExplicitParams>(&method)) {
+    run_kim_explicit(system, *kim, dt, contact, ws.kim_explicit, state, summary, run);
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
@@ -333,6 +364,13 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     summary.message =
         "noh-bathe: a model of sparse matrices is not available (the scheme runs on tridiagonal "
         "systems: the rod, scenes of bodies, models of tridiagonal matrices)";
+    return;
+  }
+  if (std::holds_alternative<KimExplicitParams>(method)) {
+    summary.status = RunStatus::failed;
+    summary.message =
+        "kim-explicit: a model of sparse matrices is not available (the scheme runs on "
+        "tridiagonal systems: the rod, scenes of bodies, models of tridiagonal matrices)";
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {

@@ -273,6 +273,17 @@ kind = "grid"
 p = { values = [0.5, 0.54, 0.7] }
 courant = { values = [0.5, 1.9] }
 """,
+    "kim-explicit": """
+name = "kim-explicit"
+""" + SCENE + """
+[method]
+name = "kim-explicit"
+[study]
+kind = "grid"
+[study.axes]
+p = { values = [0.3333333333333333, 0.45] }
+courant = { values = [0.5, 1.5] }
+""",
     # The contact laws as a choice axis crossed with the penalty stiffness.
     "contact-laws": """
 name = "contact-laws"
@@ -372,6 +383,7 @@ FIGURES = {
     "fig_contact_laws.png": ["contact-laws"],
     "fig_rho_bathe.png": ["rho-bathe"],
     "fig_noh_bathe.png": ["noh-bathe"],
+    "fig_kim_explicit.png": ["kim-explicit"],
 }
 
 

@@ -52,6 +52,7 @@ FIGURES = [
     ("fig_contact_laws.png", contact_laws.fig_contact_laws),
     ("fig_rho_bathe.png", parameter_maps.fig_rho_bathe),
     ("fig_noh_bathe.png", parameter_maps.fig_noh_bathe),
+    ("fig_kim_explicit.png", parameter_maps.fig_kim_explicit),
 ]
 
 

@@ -40,6 +40,11 @@ TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
   EXPECT_TRUE(contains(o.text, "noh-bathe\n  Noh-Bathe explicit (Noh & Bathe 2013")) << o.text;
   EXPECT_TRUE(contains(o.text, "--p              default 0.54 ")) << o.text;
   EXPECT_TRUE(contains(o.text, "derived: q0, q1, q2, omega_crit")) << o.text;
+  // Kim's two-stage explicit scheme: the same key p, its own default and range, and Ω_crit.
+  EXPECT_TRUE(contains(o.text, "kim-explicit\n  Kim two-stage explicit (Kim 2019, IJNME"))
+      << o.text;
+  EXPECT_TRUE(contains(o.text, "--p              default 0.5 ")) << o.text;
+  EXPECT_TRUE(contains(o.text, "derived: omega_crit")) << o.text;
 }
 
 TEST(MethodsCommand, JsonGivesTheSameList) {

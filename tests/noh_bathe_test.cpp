@@ -379,9 +379,10 @@ TEST(NohBathe, RegistryEntryAndRangeOfP) {
   EXPECT_EQ(reported_value(params, "p"), 0.6);
   EXPECT_EQ(reported_value(params, "omega_crit"), noh_bathe_critical_omega(0.6));
   EXPECT_EQ(reported_value(params, "q1"), noh_bathe_coefficients({.p = 0.6}).q1);
-  EXPECT_EQ(methods_taking("p"), "noh-bathe");
+  EXPECT_EQ(methods_taking("p"), "noh-bathe|kim-explicit");
   const auto refused = std::get<ParameterError>(build_method(MethodKind::houbolt, given));
-  EXPECT_EQ(refused.constraint, "is not a parameter of method houbolt (it applies to noh-bathe)");
+  EXPECT_EQ(refused.constraint,
+            "is not a parameter of method houbolt (it applies to noh-bathe|kim-explicit)");
   MethodArguments theta;
   theta.set("theta", 1.4);
   EXPECT_EQ(std::get<ParameterError>(build_method(MethodKind::noh_bathe, theta)).constraint,
@@ -402,7 +403,8 @@ TEST(NohBathe, CommandLine) {
   EXPECT_NE(bad.text.find("--p = 0.4: must lie in [0.5, 1)"), std::string::npos) << bad.text;
   const testing::CommandOutput other = testing::run_impactid("simulate --method hht --p 0.6");
   EXPECT_EQ(other.status, 2) << other.text;
-  EXPECT_NE(other.text.find("is not a parameter of method hht (it applies to noh-bathe)"),
+  EXPECT_NE(other.text.find("is not a parameter of method hht (it applies to "
+                            "noh-bathe|kim-explicit)"),
             std::string::npos)
       << other.text;
   const testing::CommandOutput ok =

@@ -329,7 +329,7 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
             "bad.toml:2:8: method.name = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta|noh-bathe");
+            "wilson-theta|noh-bathe|kim-explicit");
   EXPECT_EQ(error_of("scene = 3\n"),
             "bad.toml:1:9: scene = 3: must be a table ([scene]) or the name of a scene file");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
@@ -456,6 +456,18 @@ alpha = { from = 0, to = -0.75, partitions = 3 }
 )"),
             "bad.toml:6:9: study.axes.alpha = -0.75: must lie in [-0.5, 0] (at grid point 3: "
             "alpha = -0.75)");
+  // kim-explicit's p: the key noh-bathe also takes, with its own range.
+  EXPECT_EQ(error_of(R"([method]
+name = "kim-explicit"
+[study]
+kind = "grid"
+[study.axes]
+p = { values = [0.4, 0.54] }
+)"),
+            "bad.toml:6:5: study.axes.p = 0.54: must lie in [1/3, 1/2] (1/3 written "
+            "0.3333333333333333) for kim-explicit (below 1/3 it is unstable at every useful step; "
+            "above 1/2 its stability limit falls and no contact multiplier keeps the step's end on "
+            "the wall) (at grid point 1: p = 0.54)");
   // A coupled value out of range is reported at the coupled axis.
   EXPECT_EQ(error_of(R"([method]
 name = "hht"
@@ -933,11 +945,11 @@ TEST(PlanSpectral, ErrorsAreLocated) {
       error_of(head + omega + "methods = [{ delta = 0.3 }]\n"),
       "bad.toml:4:12: study.methods[0].method = (missing): each method needs method = "
       "one of cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-      "wilson-theta|noh-bathe");
+      "wilson-theta|noh-bathe|kim-explicit");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"rk4\" }]\n"),
             "bad.toml:4:23: study.methods[0].method = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta|noh-bathe");
+            "wilson-theta|noh-bathe|kim-explicit");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"cdm\" }, { method = \"cdm\" }]\n"),
             "bad.toml:4:32: study.methods[1] = { method = \"cdm\" }: repeats study.methods[0] "
             "(cdm)");

@@ -6,6 +6,8 @@ fig_rho_bathe.png  ρ∞-Bathe over (γ, ρ∞): results/rho-bathe.h5 (plans/rho
 fig_noh_bathe.png  Noh–Bathe explicit over (Courant, p): results/noh-bathe.h5
                    (plans/noh-bathe.toml); its not-ok points are those past the explicit
                    stability limit Courant = Ω_crit(p)/2
+fig_kim_explicit.png  Kim's two-stage explicit scheme over (Courant, p): results/kim-explicit.h5
+                   (plans/kim-explicit.toml); the same limit with its own Ω_crit(p)
 """
 
 import matplotlib.pyplot as plt
@@ -51,3 +53,8 @@ def fig_rho_bathe(results_dir, out_dir):
 def fig_noh_bathe(results_dir, out_dir):
     return parameter_map_figure(results_dir, out_dir, "noh-bathe", "fig_noh_bathe.png", "courant", "p",
                                 "Courant [−]", "p [−]", "Noh–Bathe explicit over the Courant number and p")
+
+
+def fig_kim_explicit(results_dir, out_dir):
+    return parameter_map_figure(results_dir, out_dir, "kim-explicit", "fig_kim_explicit.png", "courant", "p",
+                                "Courant [−]", "p [−]", "Kim's two-stage explicit scheme over the Courant number and p")

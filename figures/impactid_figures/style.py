@@ -25,6 +25,7 @@ METHODS = {
     "houbolt": ("Houbolt", "#999933"),
     "wilson-theta": ("Wilson-θ", "#AA4499"),
     "noh-bathe": ("Noh–Bathe explicit", "#661100"),
+    "kim-explicit": ("Kim explicit", "#6699CC"),
 }
 UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
 EXACT_COLOR = "black"
@@ -113,7 +114,7 @@ def method_params(method, params, sep=", "):
             parts.append(f"γ = {num(round(get('substep_ratio'), 4))}")
     if method == "wilson-theta" and get("theta") is not None:
         parts.append(f"θ = {num(round(get('theta'), 4))}")
-    if method == "noh-bathe" and get("p") is not None:
+    if method in ("noh-bathe", "kim-explicit") and get("p") is not None:
         parts.append(f"p = {num(round(get('p'), 4))}")
     if method == "generalized-alpha" and get("rho_inf") is not None:
         parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")

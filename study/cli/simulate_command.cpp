@@ -47,6 +47,13 @@ void write_contact_law(const Simulation& sim, const Evaluation& e) {
     } else {
       std::printf("stable dt   not certified (noh-bathe: it needs a diagonal mass)\n");
     }
+  } else if (std::holds_alternative<KimExplicitParams>(sim.method)) {
+    if (e.summary.stable_dt > 0.0) {
+      std::printf("stable dt   %.6g s (kim-explicit: Omega_crit(p) over the bound on omega_max)\n",
+                  e.summary.stable_dt);
+    } else {
+      std::printf("stable dt   not certified (kim-explicit: it needs a diagonal mass)\n");
+    }
   }
   if (!e.summary.warning.empty()) std::printf("warning     %s\n", e.summary.warning.c_str());
 }
