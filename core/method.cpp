@@ -54,6 +54,7 @@ MethodKind kind_of(const MethodParams& params) {
           [](const HouboltParams&) { return MethodKind::houbolt; },
           [](const WilsonThetaParams&) { return MethodKind::wilson_theta; },
           [](const NohBatheParams&) { return MethodKind::noh_bathe; },
+          [](const KrAlphaParams&) { return MethodKind::kr_alpha; },
       },
       params);
 }
@@ -77,6 +78,8 @@ MethodParams default_params(MethodKind kind) {
       return WilsonThetaParams{};
     case MethodKind::noh_bathe:
       return NohBatheParams{};
+    case MethodKind::kr_alpha:
+      return KrAlphaParams{};
   }
   return CentralDifferenceParams{};
 }
@@ -138,6 +141,9 @@ std::optional<ParameterError> validate(const MethodParams& params) {
                                     "every time step; 1 is excluded)"};
             }
             return std::nullopt;
+          },
+          [](const KrAlphaParams& p) -> std::optional<ParameterError> {
+            return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
           },
       },
       params);
@@ -221,6 +227,10 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
           [](const NohBatheParams&) {
             return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
           },
+          // Explicit and model-based: stepped by kr_alpha_coefficients() (core/kr_alpha.hpp).
+          [](const KrAlphaParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
       },
       params);
 }
@@ -299,6 +309,11 @@ NohBatheCoefficients noh_bathe_coefficients(const NohBatheParams& params) {
   return c;
 }
 
+KrAlphaCoefficients kr_alpha_coefficients(const KrAlphaParams& params) {
+  const auto g = generalized_alpha_from_rho_inf(params.rho_inf);
+  return {g.alpha_m, g.alpha_f, g.bg.beta, g.bg.gamma};
+}
+
 double noh_bathe_critical_omega(double p) {
   if (!(p >= 0.5 && p < 1.0)) return std::numeric_limits<double>::quiet_NaN();
   double omega2 = 4.0 / ((1.0 - p) * (3.0 * p - 1.0));  // eigenvalue +1
@@ -319,6 +334,7 @@ std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
     case MethodKind::houbolt:
     case MethodKind::wilson_theta:
     case MethodKind::noh_bathe:
+    case MethodKind::kr_alpha:
       return std::nullopt;
     default: {
       const ImplicitCoefficients c = implicit_coefficients(params);

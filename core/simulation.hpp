@@ -15,6 +15,7 @@
 #include "core/central_difference.hpp"
 #include "core/houbolt.hpp"
 #include "core/implicit_integrator.hpp"
+#include "core/kr_alpha.hpp"
 #include "core/method.hpp"
 #include "core/model_reference.hpp"
 #include "core/noh_bathe.hpp"
@@ -72,6 +73,7 @@ struct SimulationWorkspace {
   WilsonTheta<ImplicitIntegrator, SecondOrderSystem> wilson_theta;
   WilsonTheta<SparseImplicitIntegrator, SparseSystem> sparse_wilson_theta;
   NohBatheExplicit noh_bathe;  ///< tridiagonal systems only
+  KrAlphaExplicit kr_alpha;    ///< tridiagonal systems only
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace (study/

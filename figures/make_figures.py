@@ -51,6 +51,7 @@ FIGURES = [
     ("fig_contact_laws.png", contact_laws.fig_contact_laws),
     ("fig_rho_bathe.png", parameter_maps.fig_rho_bathe),
     ("fig_noh_bathe.png", parameter_maps.fig_noh_bathe),
+    ("fig_kr_alpha.png", parameter_maps.fig_kr_alpha),
 ]
 
 

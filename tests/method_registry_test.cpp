@@ -23,7 +23,8 @@ constexpr MethodKind kEveryKind[] = {MethodKind::central_difference,
                                      MethodKind::tr_bdf2,
                                      MethodKind::houbolt,
                                      MethodKind::wilson_theta,
-                                     MethodKind::noh_bathe};
+                                     MethodKind::noh_bathe,
+                                     MethodKind::kr_alpha};
 
 TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   ASSERT_EQ(method_registry().size(), std::size(kEveryKind));
@@ -38,7 +39,7 @@ TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   }
   EXPECT_EQ(method_names(),
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta|noh-bathe");
+            "wilson-theta|noh-bathe|kr-alpha");
   EXPECT_FALSE(method_kind_from_string("rk4"));
 }
 
@@ -119,7 +120,7 @@ TEST(MethodRegistry, GivenParametersAreReportedBackUnchanged) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 13);
+  EXPECT_EQ(checked, 14);
 }
 
 TEST(MethodRegistry, RefusesAKeyTheMethodDoesNotTakeOrABadCombination) {

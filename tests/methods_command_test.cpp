@@ -40,6 +40,9 @@ TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
   EXPECT_TRUE(contains(o.text, "noh-bathe\n  Noh-Bathe explicit (Noh & Bathe 2013")) << o.text;
   EXPECT_TRUE(contains(o.text, "--p              default 0.54 ")) << o.text;
   EXPECT_TRUE(contains(o.text, "derived: q0, q1, q2, omega_crit")) << o.text;
+  // KR-α explicit with its rho_inf, and the scalars its matrices are built from.
+  EXPECT_TRUE(contains(o.text, "kr-alpha\n  KR-alpha explicit (Kolay & Ricles 2014")) << o.text;
+  EXPECT_TRUE(contains(o.text, "derived: alpha_m, alpha_f, beta, gamma")) << o.text;
 }
 
 TEST(MethodsCommand, JsonGivesTheSameList) {

@@ -6,6 +6,8 @@ fig_rho_bathe.png  ρ∞-Bathe over (γ, ρ∞): results/rho-bathe.h5 (plans/rho
 fig_noh_bathe.png  Noh–Bathe explicit over (Courant, p): results/noh-bathe.h5
                    (plans/noh-bathe.toml); its not-ok points are those past the explicit
                    stability limit Courant = Ω_crit(p)/2
+fig_kr_alpha.png   KR-α explicit over (Courant, ρ∞): results/kr-alpha.h5 (plans/kr-alpha.toml);
+                   unconditionally stable, so the Courant axis runs past central difference's 1
 """
 
 import matplotlib.pyplot as plt
@@ -51,3 +53,8 @@ def fig_rho_bathe(results_dir, out_dir):
 def fig_noh_bathe(results_dir, out_dir):
     return parameter_map_figure(results_dir, out_dir, "noh-bathe", "fig_noh_bathe.png", "courant", "p",
                                 "Courant [−]", "p [−]", "Noh–Bathe explicit over the Courant number and p")
+
+
+def fig_kr_alpha(results_dir, out_dir):
+    return parameter_map_figure(results_dir, out_dir, "kr-alpha", "fig_kr_alpha.png", "courant", "rho_inf",
+                                "Courant [−]", "ρ∞ [−]", "KR-α explicit over the Courant number and ρ∞")
