@@ -173,6 +173,33 @@ Eigen::Matrix<Scalar, 3, 3> kim_explicit_amplification(const KimExplicitCoeffici
   return a;
 }
 
+// The KR-α explicit step (core/kr_alpha.hpp without damping and contact) on the reported state
+// x = (u, Δt·v, Δt²·a): with D = 1 + βΩ², α1 = 1/D, N = α_m + α_f·βΩ², E = D − N (D·α3 = N,
+// D·(1 − α3) = E) and the method's own velocity V̂ = V − γ·α1·A,
+//   u₁ = u + V̂ + (½ + γ)·α1·A,   V̂₁ = V̂ + α1·A,
+//   A₁ = −(N·A + D·Ω²·((1−α_f)·u₁ + α_f·u))/E   (from (1 − α3)·A₁ + α3·A + Ω²·u_{1−α_f} = 0),
+//   V₁ = V̂₁ + γ·α1·A₁:
+// similar to the matrix on (u, V̂, A), so the same eigenvalues.
+// Explicit, so A₁ grows like Ω²: eigenvalues() rescales it (the third component by Ω²) past Ω = 1.
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 3> kr_alpha_amplification(const KrAlphaCoefficients& c, double omega_dt) {
+  using Row = Eigen::Matrix<Scalar, 1, 3>;
+  const Scalar omega = omega_dt, w2 = omega * omega, one = 1;
+  const Scalar beta = c.beta, alpha_m = c.alpha_m, alpha_f = c.alpha_f;
+  const Scalar d = one + beta * w2, n = alpha_m + alpha_f * beta * w2;
+  const Scalar e = (one - alpha_m) + (one - alpha_f) * beta * w2;
+  const Scalar alpha1 = one / d, half = one / 2, gamma = c.gamma;
+  const Row e_u(1, 0, 0), e_v(0, 1, 0), e_a(0, 0, 1);
+  const Row v_hat = e_v - (gamma * alpha1) * e_a;
+  const Row u1 = e_u + v_hat + ((half + gamma) * alpha1) * e_a;
+  const Row a1 = -((n / e) * e_a + (d * w2 / e) * ((one - alpha_f) * u1 + alpha_f * e_u));
+  Eigen::Matrix<Scalar, 3, 3> a;
+  a.row(0) = u1;
+  a.row(1) = v_hat + alpha1 * e_a + (gamma * alpha1) * a1;
+  a.row(2) = a1;
+  return a;
+}
+
 // The one-step matrix of any method but central difference and Houbolt, on (u, Δt·v, Δt²·a).
 template <class Scalar>
 Eigen::Matrix<Scalar, 3, 3> step_amplification(const MethodParams& params, double omega_dt) {
@@ -181,6 +208,9 @@ Eigen::Matrix<Scalar, 3, 3> step_amplification(const MethodParams& params, doubl
   }
   if (const auto* kim = std::get_if<KimExplicitParams>(&params)) {
     return kim_explicit_amplification<Scalar>(kim_explicit_coefficients(*kim), omega_dt);
+  }
+  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&params)) {
+    return kr_alpha_amplification<Scalar>(kr_alpha_coefficients(*kr_alpha), omega_dt);
   }
   if (is_composite(params)) {
     return composite_amplification<Scalar>(composite_coefficients(params), omega_dt);
@@ -300,6 +330,11 @@ std::vector<ComplexExtended> eigenvalues(const MethodParams& params, double omeg
   if (!b.allFinite()) return {};
   if (omega > 0 && omega < 1) {
     const Eigen::Matrix<Extended, 3, 1> d(1, omega, omega * omega);
+    b = d.cwiseInverse().asDiagonal() * b * d.asDiagonal();
+  }
+  if (omega > 1 && kind_of(params) == MethodKind::kr_alpha) {
+    // Explicit: u₁ stays O(1) and Δt²·a₁ grows like Ω²; on (u, Δt·v, Δt²·a/Ω²) no entry does.
+    const Eigen::Matrix<Extended, 3, 1> d(1, 1, omega * omega);
     b = d.cwiseInverse().asDiagonal() * b * d.asDiagonal();
   }
   append_eigenvalues(std::move(b), lambda);
@@ -429,6 +464,22 @@ double high_frequency_spectral_radius(const MethodParams& params) {
   // triangular [[0, 0, 0], [−1, 0, 0], [−1, −1, 0]], nilpotent: ρ∞ = 0 exactly (ρ falls like
   // Ω^(−2/3): (2 + Ω²)·λ³ ≈ 1).
   if (kind_of(params) == MethodKind::houbolt) return 0.0;
+  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&params)) {
+    // The limit of kr_alpha_amplification as Ω → ∞ on (u, Δt·v, Δt²·a/Ω²), in closed form
+    // (α1·Ω² → 1/β, D/E → 1/(1−α_f), N/E → α_f/(1−α_f) = ρ∞). At ρ∞ = 0 its eigenvalues are a
+    // triple root 0, accurate only to about ε^(1/3) ≈ 5e-7 in long double.
+    const KrAlphaCoefficients c = kr_alpha_coefficients(*kr_alpha);
+    const Extended q = Extended(0.5) + c.gamma, beta = c.beta, r = kr_alpha->rho_inf;
+    MatrixExtended b(3, 3);
+    // clang-format off
+    b << 1,      1,  q / beta,
+         0,      1,  1 / beta,
+         -1 - r, -1, -q / beta - r;
+    // clang-format on
+    std::vector<ComplexExtended> lambda;
+    append_eigenvalues(std::move(b), lambda);
+    return static_cast<double>(largest_modulus(lambda));
+  }
   if (const auto* wilson = std::get_if<WilsonThetaParams>(&params)) {
     // The limit of wilson_theta_amplification as Ω → ∞ (s = 1, t = 0), in closed form; its
     // eigenvalues are distinct for θ >= (1 + √3)/2, so accurate to rounding.

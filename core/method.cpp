@@ -55,6 +55,7 @@ MethodKind kind_of(const MethodParams& params) {
           [](const WilsonThetaParams&) { return MethodKind::wilson_theta; },
           [](const NohBatheParams&) { return MethodKind::noh_bathe; },
           [](const KimExplicitParams&) { return MethodKind::kim_explicit; },
+          [](const KrAlphaParams&) { return MethodKind::kr_alpha; },
       },
       params);
 }
@@ -80,6 +81,8 @@ MethodParams default_params(MethodKind kind) {
       return NohBatheParams{};
     case MethodKind::kim_explicit:
       return KimExplicitParams{};
+    case MethodKind::kr_alpha:
+      return KrAlphaParams{};
   }
   return CentralDifferenceParams{};
 }
@@ -153,6 +156,9 @@ std::optional<ParameterError> validate(const MethodParams& params) {
                                     "wall)"};
             }
             return std::nullopt;
+          },
+          [](const KrAlphaParams& p) -> std::optional<ParameterError> {
+            return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
           },
       },
       params);
@@ -240,6 +246,10 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
           [](const KimExplicitParams&) {
             return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
           },
+          // Explicit and model-based: stepped by kr_alpha_coefficients() (core/kr_alpha.hpp).
+          [](const KrAlphaParams&) {
+            return ImplicitCoefficients{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+          },
       },
       params);
 }
@@ -318,6 +328,11 @@ NohBatheCoefficients noh_bathe_coefficients(const NohBatheParams& params) {
   return c;
 }
 
+KrAlphaCoefficients kr_alpha_coefficients(const KrAlphaParams& params) {
+  const auto g = generalized_alpha_from_rho_inf(params.rho_inf);
+  return {g.alpha_m, g.alpha_f, g.bg.beta, g.bg.gamma};
+}
+
 double noh_bathe_critical_omega(double p) {
   if (!(p >= 0.5 && p < 1.0)) return std::numeric_limits<double>::quiet_NaN();
   double omega2 = 4.0 / ((1.0 - p) * (3.0 * p - 1.0));  // eigenvalue +1
@@ -373,6 +388,7 @@ std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
     case MethodKind::wilson_theta:
     case MethodKind::noh_bathe:
     case MethodKind::kim_explicit:
+    case MethodKind::kr_alpha:
       return std::nullopt;
     default: {
       const ImplicitCoefficients c = implicit_coefficients(params);

@@ -26,7 +26,8 @@ enum class MethodKind {
   houbolt,
   wilson_theta,
   noh_bathe,
-  kim_explicit
+  kim_explicit,
+  kr_alpha
 };
 /// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha", …: the names used alike on the
 /// command line, in plan files and in HDF5 attributes (core/method_registry.hpp holds them).
@@ -218,10 +219,35 @@ struct KimExplicitParams {
   double p = 0.5;  ///< stage ratio p ∈ [⅓, ½]; ½ (see above; Kratos' default is ⅓)
 };
 
+/// The KR-α explicit method (Kolay & Ricles 2014, "Development of a family of unconditionally
+/// stable explicit direct integration algorithms with controllable numerical energy
+/// dissipation", Earthquake Engng Struct. Dyn. 43(9):1361–1380, doi:10.1002/eqe.2401): explicit
+/// displacement and velocity, from the state at t alone,
+///   v₁ = v₀ + Δt·α1·a₀,   u₁ = u₀ + Δt·v₀ + Δt²·α2·a₀,
+/// then the generalized-α equilibrium at t + (1−α_f)Δt with the matrix α3 in α_m's place,
+///   M·((I − α3)·a₁ + α3·a₀) + C·((1−α_f)·v₁ + α_f·v₀) + K·((1−α_f)·u₁ + α_f·u₀) = F,
+/// the model-based matrices (D = M + γΔt·C + βΔt²·K)
+///   α1 = D⁻¹·M,   α2 = (½ + γ)·α1,   α3 = D⁻¹·(α_m·M + α_f·γΔt·C + α_f·βΔt²·K),
+/// and Chung & Hulbert's scalars from ρ∞: α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1),
+/// γ = ½ − α_m + α_f, β = ¼(1 − α_m + α_f)² (kr_alpha_coefficients). OpenSees'
+/// KRAlphaExplicit writes the same scheme with α_m, α_f replaced by 1 − α_m, 1 − α_f.
+/// For a linear system its amplification matrix has the characteristic polynomial of
+/// generalized-α with the same ρ∞ (tests/kr_alpha_test.cpp checks it): unconditionally stable,
+/// second order (period error (11ρ∞² − 14ρ∞ + 11)/(24(1 + ρ∞)²)·Ω²), ρ → ρ∞ as Ω → ∞, and
+/// non-dissipative at ρ∞ = 1 (then the trapezoidal rule's spectrum). The matrices are never
+/// formed: each step applies them through tridiagonal solves (core/kr_alpha.hpp), O(n). The v
+/// of these formulas lags u by γΔt: the stepper starts it from v₀ − γΔt·α1·a₀ and reports
+/// v + γΔt·α1·a (core/kr_alpha.hpp says why; read literally the scheme is first order).
+/// Default ρ∞ = 0.8: generalized-α's default here (the same spectrum, so the same trade-off:
+/// ρ(Ω = 1) stays above 0.99 while the highest rod modes are damped towards 0.8 per step).
+struct KrAlphaParams {
+  double rho_inf = 0.8;  ///< ρ∞ ∈ [0, 1]
+};
+
 using MethodParams =
     std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams, HhtParams,
                  GeneralizedAlphaParams, BatheParams, RhoBatheParams, TrBdf2Params, HouboltParams,
-                 WilsonThetaParams, NohBatheParams, KimExplicitParams>;
+                 WilsonThetaParams, NohBatheParams, KimExplicitParams, KrAlphaParams>;
 
 MethodKind kind_of(const MethodParams& params);
 /// Default parameters of a method.
@@ -335,6 +361,14 @@ KimExplicitCoefficients kim_explicit_coefficients(const KimExplicitParams& param
 /// [⅓, ½]. (Computed from the matrix of core/amplification.cpp; tests/kim_explicit_test.cpp
 /// checks it against the spectral radius.)
 double kim_explicit_critical_omega(double p);
+
+/// KR-α's scalar parameters from ρ∞ (KrAlphaParams; Chung & Hulbert's, as generalized-α's):
+/// the matrices α1, α2, α3 are built from them and the system's M, C, K (core/kr_alpha.hpp).
+struct KrAlphaCoefficients {
+  double alpha_m, alpha_f;
+  double beta, gamma;
+};
+KrAlphaCoefficients kr_alpha_coefficients(const KrAlphaParams& params);
 
 /// γ₀(ρ∞) = (2 − √(2 + 2ρ∞))/(1 − ρ∞), ½ at ρ∞ = 1: ρ∞-Bathe's default sub-step ratio.
 double rho_bathe_default_gamma(double rho_inf);

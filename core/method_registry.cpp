@@ -18,8 +18,8 @@ constexpr std::array<MethodParameter, 10> kParameters{{
     {"beta", false, "Newmark beta, given with gamma instead of delta (> 0)", ""},
     {"gamma", false, "Newmark gamma, given with beta instead of delta (>= 0)", ""},
     {"rho_inf", false,
-     "high-frequency spectral radius (generalized-alpha: default 0.8; rho-bathe: default 0), in "
-     "[0, 1]",
+     "high-frequency spectral radius (generalized-alpha: default 0.8; rho-bathe: default 0; "
+     "kr-alpha: default 0.8), in [0, 1]",
      ""},
     {"substep_ratio", false,
      "rho-bathe sub-step ratio gamma: the trapezoidal sub-step ends at t + gamma*dt (default "
@@ -244,8 +244,26 @@ Values kim_explicit_values(const MethodParams& params) {
   return {{"p", p.p, false}, {"omega_crit", kim_explicit_critical_omega(p.p), true}};
 }
 
+// --- KR-α explicit (core/kr_alpha.hpp) ---
+constexpr const char* kKrAlphaParameters[] = {"rho_inf"};
+Made make_kr_alpha(const MethodArguments& given) {
+  KrAlphaParams p;
+  if (const auto rho_inf = given.number("rho_inf")) p.rho_inf = *rho_inf;
+  return p;
+}
+// ρ∞, then the scalars the matrices α1, α2, α3 are built from (derived).
+Values kr_alpha_values(const MethodParams& params) {
+  const auto& p = std::get<KrAlphaParams>(params);
+  const KrAlphaCoefficients c = kr_alpha_coefficients(p);
+  return {{"rho_inf", p.rho_inf, false},
+          {"alpha_m", c.alpha_m, true},
+          {"alpha_f", c.alpha_f, true},
+          {"beta", c.beta, true},
+          {"gamma", c.gamma, true}};
+}
+
 // The registry: one entry per method, in MethodKind's order.
-const std::array<MethodDescriptor, 12> kMethods{{
+const std::array<MethodDescriptor, 13> kMethods{{
     {MethodKind::central_difference, "cdm",
      "central difference with Carpenter's forward-increment multiplier (eqs 1-7; Carpenter, Taylor "
      "& Katona 1991, doi:10.1002/nme.1620320107): explicit, second order, no numerical "
@@ -322,6 +340,12 @@ const std::array<MethodDescriptor, 12> kMethods{{
      "values; second order, period error O(Omega^4), stable up to omega*dt = Omega_crit(p) "
      "(sqrt(6) at p = 1/2); contact enforced at both stages",
      kKimExplicitParameters, make_kim_explicit, kim_explicit_values, no_choices},
+    {MethodKind::kr_alpha, "kr-alpha",
+     "KR-alpha explicit (Kolay & Ricles 2014, doi:10.1002/eqe.2401): explicit displacement and "
+     "velocity through the model-based matrices alpha1, alpha2, alpha3, generalized-alpha's "
+     "equilibrium; second order, unconditionally stable (linear systems), high-frequency "
+     "spectral radius rho_inf; contact enforced as a forward increment",
+     kKrAlphaParameters, make_kr_alpha, kr_alpha_values, no_choices},
 }};
 
 std::string join(const auto& items, const auto& name_of) {

@@ -72,6 +72,9 @@ bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
   if (const auto* kim = std::get_if<KimExplicitParams>(&a.method)) {
     return kim->p == std::get<KimExplicitParams>(b.method).p;
   }
+  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&a.method)) {
+    return kr_alpha->rho_inf == std::get<KrAlphaParams>(b.method).rho_inf;
+  }
   if (const auto* wilson = std::get_if<WilsonThetaParams>(&a.method)) {
     return wilson->theta == std::get<WilsonThetaParams>(b.method).theta;
   }

@@ -292,6 +292,26 @@ void run_kim_explicit(const SecondOrderSystem& system, const KimExplicitParams& 
   run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
 }
 
+// The KR-α explicit method (core/kr_alpha.hpp): Lagrange multipliers only; unconditionally
+// stable, so there is no stable step to report.
+template <class Run>
+void run_kr_alpha(const SecondOrderSystem& system, const KrAlphaParams& params, double dt,
+                  const ContactPenalties& contact, KrAlphaExplicit& stepper, State& state,
+                  RunSummary& summary, Run&& run) {
+  if (!contact.lagrange()) {
+    summary.status = RunStatus::failed;
+    summary.message = std::string("kr-alpha: contact = ") + to_string(contact.law) +
+                      " is not available; it takes Lagrange multipliers";
+    return;
+  }
+  if (!stepper.initialize(system, kr_alpha_coefficients(params), dt, state)) {
+    summary.status = RunStatus::failed;
+    summary.message = "kr-alpha: " + stepper.failure();
+    return;
+  }
+  run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+}
+
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
 // stepper that cannot start marks the run failed.
 template <class Run>
@@ -307,6 +327,10 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
   }
   if (const auto* kim = std::get_if<KimExplicitParams>(&method)) {
     run_kim_explicit(system, *kim, dt, contact, ws.kim_explicit, state, summary, run);
+    return;
+  }
+  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&method)) {
+    run_kr_alpha(system, *kr_alpha, dt, contact, ws.kr_alpha, state, summary, run);
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
@@ -371,6 +395,13 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     summary.message =
         "kim-explicit: a model of sparse matrices is not available (the scheme runs on "
         "tridiagonal systems: the rod, scenes of bodies, models of tridiagonal matrices)";
+    return;
+  }
+  if (std::holds_alternative<KrAlphaParams>(method)) {
+    summary.status = RunStatus::failed;
+    summary.message =
+        "kr-alpha: a model of sparse matrices is not available (the method runs on tridiagonal "
+        "systems: the rod, scenes of bodies, models of tridiagonal matrices)";
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {

@@ -16,6 +16,7 @@
 #include "core/houbolt.hpp"
 #include "core/implicit_integrator.hpp"
 #include "core/kim_explicit.hpp"
+#include "core/kr_alpha.hpp"
 #include "core/method.hpp"
 #include "core/model_reference.hpp"
 #include "core/noh_bathe.hpp"
@@ -74,6 +75,7 @@ struct SimulationWorkspace {
   WilsonTheta<SparseImplicitIntegrator, SparseSystem> sparse_wilson_theta;
   NohBatheExplicit noh_bathe;  ///< tridiagonal systems only
   KimExplicit kim_explicit;    ///< tridiagonal systems only
+  KrAlphaExplicit kr_alpha;    ///< tridiagonal systems only
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace (study/

@@ -284,6 +284,18 @@ kind = "grid"
 p = { values = [0.3333333333333333, 0.45] }
 courant = { values = [0.5, 1.5] }
 """,
+    # KR-alpha explicit over rho_inf and the Courant number (unconditionally stable).
+    "kr-alpha": """
+name = "kr-alpha"
+""" + SCENE + """
+[method]
+name = "kr-alpha"
+[study]
+kind = "grid"
+[study.axes]
+rho_inf = { values = [0.0, 0.5, 1.0] }
+courant = { values = [0.5, 2.0] }
+""",
     # The contact laws as a choice axis crossed with the penalty stiffness.
     "contact-laws": """
 name = "contact-laws"
@@ -384,6 +396,7 @@ FIGURES = {
     "fig_rho_bathe.png": ["rho-bathe"],
     "fig_noh_bathe.png": ["noh-bathe"],
     "fig_kim_explicit.png": ["kim-explicit"],
+    "fig_kr_alpha.png": ["kr-alpha"],
 }
 
 

@@ -53,6 +53,7 @@ FIGURES = [
     ("fig_rho_bathe.png", parameter_maps.fig_rho_bathe),
     ("fig_noh_bathe.png", parameter_maps.fig_noh_bathe),
     ("fig_kim_explicit.png", parameter_maps.fig_kim_explicit),
+    ("fig_kr_alpha.png", parameter_maps.fig_kr_alpha),
 ]
 
 

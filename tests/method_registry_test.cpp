@@ -24,7 +24,8 @@ constexpr MethodKind kEveryKind[] = {MethodKind::central_difference,
                                      MethodKind::houbolt,
                                      MethodKind::wilson_theta,
                                      MethodKind::noh_bathe,
-                                     MethodKind::kim_explicit};
+                                     MethodKind::kim_explicit,
+                                     MethodKind::kr_alpha};
 
 TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   ASSERT_EQ(method_registry().size(), std::size(kEveryKind));
@@ -39,7 +40,7 @@ TEST(MethodRegistry, EveryMethodIsRegisteredOnceUnderItsName) {
   }
   EXPECT_EQ(method_names(),
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta|noh-bathe|kim-explicit");
+            "wilson-theta|noh-bathe|kim-explicit|kr-alpha");
   EXPECT_FALSE(method_kind_from_string("rk4"));
 }
 
@@ -120,7 +121,7 @@ TEST(MethodRegistry, GivenParametersAreReportedBackUnchanged) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 14);
+  EXPECT_EQ(checked, 15);  // every parameter of the thirteen methods
 }
 
 TEST(MethodRegistry, RefusesAKeyTheMethodDoesNotTakeOrABadCombination) {

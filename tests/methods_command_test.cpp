@@ -45,6 +45,9 @@ TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
       << o.text;
   EXPECT_TRUE(contains(o.text, "--p              default 0.5 ")) << o.text;
   EXPECT_TRUE(contains(o.text, "derived: omega_crit")) << o.text;
+  // KR-α explicit with its rho_inf, and the scalars its matrices are built from.
+  EXPECT_TRUE(contains(o.text, "kr-alpha\n  KR-alpha explicit (Kolay & Ricles 2014")) << o.text;
+  EXPECT_TRUE(contains(o.text, "derived: alpha_m, alpha_f, beta, gamma")) << o.text;
 }
 
 TEST(MethodsCommand, JsonGivesTheSameList) {

@@ -329,7 +329,7 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
             "bad.toml:2:8: method.name = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta|noh-bathe|kim-explicit");
+            "wilson-theta|noh-bathe|kim-explicit|kr-alpha");
   EXPECT_EQ(error_of("scene = 3\n"),
             "bad.toml:1:9: scene = 3: must be a table ([scene]) or the name of a scene file");
   EXPECT_EQ(error_of("name = 3\n"), "bad.toml:1:8: name = 3: must be a string");
@@ -945,11 +945,11 @@ TEST(PlanSpectral, ErrorsAreLocated) {
       error_of(head + omega + "methods = [{ delta = 0.3 }]\n"),
       "bad.toml:4:12: study.methods[0].method = (missing): each method needs method = "
       "one of cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-      "wilson-theta|noh-bathe|kim-explicit");
+      "wilson-theta|noh-bathe|kim-explicit|kr-alpha");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"rk4\" }]\n"),
             "bad.toml:4:23: study.methods[0].method = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
-            "wilson-theta|noh-bathe|kim-explicit");
+            "wilson-theta|noh-bathe|kim-explicit|kr-alpha");
   EXPECT_EQ(error_of(head + omega + "methods = [{ method = \"cdm\" }, { method = \"cdm\" }]\n"),
             "bad.toml:4:32: study.methods[1] = { method = \"cdm\" }: repeats study.methods[0] "
             "(cdm)");

@@ -8,6 +8,8 @@ fig_noh_bathe.png  Noh–Bathe explicit over (Courant, p): results/noh-bathe.h5
                    stability limit Courant = Ω_crit(p)/2
 fig_kim_explicit.png  Kim's two-stage explicit scheme over (Courant, p): results/kim-explicit.h5
                    (plans/kim-explicit.toml); the same limit with its own Ω_crit(p)
+fig_kr_alpha.png   KR-α explicit over (Courant, ρ∞): results/kr-alpha.h5 (plans/kr-alpha.toml);
+                   unconditionally stable, so the Courant axis runs past central difference's 1
 """
 
 import matplotlib.pyplot as plt
@@ -58,3 +60,8 @@ def fig_noh_bathe(results_dir, out_dir):
 def fig_kim_explicit(results_dir, out_dir):
     return parameter_map_figure(results_dir, out_dir, "kim-explicit", "fig_kim_explicit.png", "courant", "p",
                                 "Courant [−]", "p [−]", "Kim's two-stage explicit scheme over the Courant number and p")
+
+
+def fig_kr_alpha(results_dir, out_dir):
+    return parameter_map_figure(results_dir, out_dir, "kr-alpha", "fig_kr_alpha.png", "courant", "rho_inf",
+                                "Courant [−]", "ρ∞ [−]", "KR-α explicit over the Courant number and ρ∞")

@@ -26,6 +26,7 @@ METHODS = {
     "wilson-theta": ("Wilson-θ", "#AA4499"),
     "noh-bathe": ("Noh–Bathe explicit", "#661100"),
     "kim-explicit": ("Kim explicit", "#6699CC"),
+    "kr-alpha": ("KR-α explicit", "#117733"),
 }
 UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
 EXACT_COLOR = "black"
@@ -116,7 +117,7 @@ def method_params(method, params, sep=", "):
         parts.append(f"θ = {num(round(get('theta'), 4))}")
     if method in ("noh-bathe", "kim-explicit") and get("p") is not None:
         parts.append(f"p = {num(round(get('p'), 4))}")
-    if method == "generalized-alpha" and get("rho_inf") is not None:
+    if method in ("generalized-alpha", "kr-alpha") and get("rho_inf") is not None:
         parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")
     if method == "cdm" and get("cdm_velocity") not in (None, "central"):
         parts.append(f"{get('cdm_velocity')} velocity")
