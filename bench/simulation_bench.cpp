@@ -143,6 +143,7 @@ int stages_per_step(MethodKind kind) {
     case MethodKind::rho_bathe:
     case MethodKind::tr_bdf2:
     case MethodKind::noh_bathe:
+    case MethodKind::kim_explicit:
       return 2;
     default:
       return 1;

@@ -15,6 +15,7 @@
 #include "core/implicit_integrator.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/point_set.hpp"
+#include "test_support.hpp"
 
 namespace impactid {
 namespace {
@@ -27,12 +28,7 @@ double xi(const MethodParams& params, double omega_dt) {
 // ü + u = 0 from each unit state (u, Δt·v, Δt²·a) gives the amplification matrix column by
 // column; its complex pair a ± ib gives ξ̄ = −ln(a² + b²)/(2·atan2(b, a)).
 double stepped_damping_ratio(const MethodParams& params, double dt) {
-  SecondOrderSystem oscillator;
-  oscillator.mass = Tridiagonal::zero(1);
-  oscillator.mass.diag[0] = 1.0;
-  oscillator.stiffness = Tridiagonal::zero(1);
-  oscillator.stiffness.diag[0] = 1.0;
-  oscillator.damping = Tridiagonal::zero(1);
+  const SecondOrderSystem oscillator = testing::unit_oscillator();
   ImplicitIntegrator integrator;
   if (!integrator.initialize(oscillator, implicit_coefficients(params), dt)) return NAN;
   Eigen::Matrix3d amplification;

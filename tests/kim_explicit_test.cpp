@@ -26,6 +26,7 @@
 #include "core/scene_assembly.hpp"
 #include "core/scene_reference.hpp"
 #include "core/simulation.hpp"
+#include "explicit_stepper_checks.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -46,6 +47,14 @@ using testing::record_signorini;
 using testing::SignoriniRecord;
 
 constexpr double kThird = 1.0 / 3.0;
+
+Eigen::Matrix3d stepped_matrix(double p, double omega_dt) {
+  return testing::stepped_matrix<KimExplicit>(kim_explicit_coefficients({.p = p}), omega_dt);
+}
+
+std::vector<double> mode_errors(double a1, double p) {
+  return testing::first_mode_errors<KimExplicit>(a1, kim_explicit_coefficients({.p = p}));
+}
 
 // The weights as Kratos writes them (stage 2 and the final update, fraction p):
 //   ũ₁: ½Δt²·((3p−1)/(3p)·a₀ + 1/(3p)·a_p),  ṽ₁: Δt·((2p−1)/(2p)·a₀ + 1/(2p)·a_p),
@@ -84,27 +93,6 @@ TEST(KimExplicit, WeightsAreKratosAndIntegrateAQuadraticExactly) {
   EXPECT_EQ(kim_explicit_coefficients({.p = 0.5}).cu, 0.0);
 }
 
-// Relative energy-norm errors at T = 1 of the first elastic mode started displaced,
-// Δt = T/40 … T/640 (Ω_max of the lumped 10-element rod is 20·Δt <= 0.5).
-std::vector<double> mode_errors(double a1, double p) {
-  const SecondOrderSystem system = damped_free_rod(a1);
-  const testing::Mode mode = dense_mode(system, 1);
-  const ModalExact exact{mode.omega, 0.5 * a1 * mode.omega};
-  std::vector<double> errors;
-  for (long steps = 40; steps <= 640; steps *= 2) {
-    State s = make_state(mode.phi, Eigen::VectorXd::Zero(mode.phi.size()));
-    s.a = consistent_acceleration(system, s);
-    KimExplicit stepper;
-    EXPECT_TRUE(stepper.initialize(system, kim_explicit_coefficients({.p = p}), 1.0 / steps, s));
-    for (long i = 0; i < steps; ++i) stepper.step(system, s);
-    EXPECT_NEAR(s.t, 1.0, 1e-12);
-    errors.push_back(energy_norm_error(system, mode.omega, s.u - mode.phi * exact.q(1.0),
-                                       s.v - mode.phi * exact.dq(1.0)) /
-                     mode.omega);
-  }
-  return errors;
-}
-
 // Second order at every p with damping (the damping forces take the velocity predictors);
 // without damping it converges faster.
 TEST(KimExplicit, IsSecondOrderWithAndWithoutDamping) {
@@ -124,30 +112,6 @@ TEST(KimExplicit, IsSecondOrderWithAndWithoutDamping) {
       EXPECT_NEAR(fast[k], p == kThird ? 4.0 : 3.0, 0.05) << p << " " << k;
     }
   }
-}
-
-// One undamped degree of freedom (m = k = 1) stepped from the unit states (u, Δt·v, Δt²·a): the
-// stepper's matrix on (u, Δt·v, Δt²·a). p is not validated here (p < ⅓ is measured too).
-Eigen::Matrix3d stepped_matrix(double p, double omega_dt) {
-  SecondOrderSystem oscillator;
-  oscillator.mass = Tridiagonal::zero(1);
-  oscillator.mass.diag[0] = 1.0;
-  oscillator.stiffness = Tridiagonal::zero(1);
-  oscillator.stiffness.diag[0] = 1.0;
-  oscillator.damping = Tridiagonal::zero(1);
-  const double dt = omega_dt;
-  Eigen::Matrix3d a;
-  for (int j = 0; j < 3; ++j) {
-    State s;
-    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
-    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
-    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
-    KimExplicit stepper;
-    EXPECT_TRUE(stepper.initialize(oscillator, kim_explicit_coefficients({.p = p}), dt, s));
-    stepper.step(oscillator, s);
-    a.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
-  }
-  return a;
 }
 
 TEST(KimExplicit, AmplificationMatrixIsWhatTheStepperDoes) {

@@ -26,6 +26,7 @@
 #include "core/scene_assembly.hpp"
 #include "core/scene_reference.hpp"
 #include "core/simulation.hpp"
+#include "explicit_stepper_checks.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -45,29 +46,17 @@ using testing::observed_orders;
 using testing::record_signorini;
 using testing::SignoriniRecord;
 
-constexpr double kRhoInfs[] = {0.0, 0.3, 0.5, 0.8, 1.0};
-
-// Relative energy-norm errors at T = 1 of the first elastic mode started displaced,
-// Δt = T/40 … T/640.
-std::vector<double> mode_errors(double a1, double rho_inf) {
-  const SecondOrderSystem system = damped_free_rod(a1);
-  const testing::Mode mode = dense_mode(system, 1);
-  const ModalExact exact{mode.omega, 0.5 * a1 * mode.omega};
-  std::vector<double> errors;
-  for (long steps = 40; steps <= 640; steps *= 2) {
-    State s = make_state(mode.phi, Eigen::VectorXd::Zero(mode.phi.size()));
-    s.a = consistent_acceleration(system, s);
-    KrAlphaExplicit stepper;
-    EXPECT_TRUE(
-        stepper.initialize(system, kr_alpha_coefficients({.rho_inf = rho_inf}), 1.0 / steps, s));
-    for (long i = 0; i < steps; ++i) stepper.step(system, s);
-    EXPECT_NEAR(s.t, 1.0, 1e-12);
-    errors.push_back(energy_norm_error(system, mode.omega, s.u - mode.phi * exact.q(1.0),
-                                       s.v - mode.phi * exact.dq(1.0)) /
-                     mode.omega);
-  }
-  return errors;
+Eigen::Matrix3d stepped_matrix(double rho_inf, double omega_dt) {
+  return testing::stepped_matrix<KrAlphaExplicit>(kr_alpha_coefficients({.rho_inf = rho_inf}),
+                                                  omega_dt);
 }
+
+std::vector<double> mode_errors(double a1, double rho_inf) {
+  return testing::first_mode_errors<KrAlphaExplicit>(a1,
+                                                     kr_alpha_coefficients({.rho_inf = rho_inf}));
+}
+
+constexpr double kRhoInfs[] = {0.0, 0.3, 0.5, 0.8, 1.0};
 
 TEST(KrAlpha, IsSecondOrderWithAndWithoutDamping) {
   for (const double rho_inf : kRhoInfs) {
@@ -141,30 +130,6 @@ TEST(KrAlpha, ScalarsAreChungAndHulberts) {
     EXPECT_NEAR(c.beta, 1.0 / ((1.0 + r) * (1.0 + r)), 1e-15);
     EXPECT_NEAR(c.gamma, 0.5 * (3.0 - r) / (1.0 + r), 1e-15);
   }
-}
-
-// One undamped degree of freedom (m = k = 1) stepped from the unit states (u, Δt·v, Δt²·a): the
-// stepper's matrix on (u, Δt·v, Δt²·a).
-Eigen::Matrix3d stepped_matrix(double rho_inf, double omega_dt) {
-  SecondOrderSystem oscillator;
-  oscillator.mass = Tridiagonal::zero(1);
-  oscillator.mass.diag[0] = 1.0;
-  oscillator.stiffness = Tridiagonal::zero(1);
-  oscillator.stiffness.diag[0] = 1.0;
-  oscillator.damping = Tridiagonal::zero(1);
-  const double dt = omega_dt;
-  Eigen::Matrix3d a;
-  for (int j = 0; j < 3; ++j) {
-    State s;
-    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
-    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
-    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
-    KrAlphaExplicit stepper;
-    EXPECT_TRUE(stepper.initialize(oscillator, kr_alpha_coefficients({.rho_inf = rho_inf}), dt, s));
-    stepper.step(oscillator, s);
-    a.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
-  }
-  return a;
 }
 
 TEST(KrAlpha, AmplificationMatrixIsWhatTheStepperDoes) {

@@ -25,6 +25,7 @@
 #include "core/scene_assembly.hpp"
 #include "core/scene_reference.hpp"
 #include "core/simulation.hpp"
+#include "explicit_stepper_checks.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -32,6 +33,24 @@
 
 namespace impactid {
 namespace {
+
+// Noh–Bathe's coefficients for any p, not validated: p < ½ is measured too.
+NohBatheCoefficients unchecked_coefficients(double p) {
+  NohBatheCoefficients c{};
+  c.p = p;
+  c.q1 = (1.0 - 2.0 * p) / (2.0 * p * (1.0 - p));
+  c.q2 = 0.5 - p * c.q1;
+  c.q0 = 0.5 - c.q1 - c.q2;
+  return c;
+}
+
+Eigen::Matrix3d stepped_matrix(double p, double omega_dt) {
+  return testing::stepped_matrix<NohBatheExplicit>(unchecked_coefficients(p), omega_dt);
+}
+
+std::vector<double> mode_errors(double a1, double p) {
+  return testing::first_mode_errors<NohBatheExplicit>(a1, noh_bathe_coefficients({.p = p}));
+}
 
 using testing::damped_free_rod;
 using testing::dense_mode;
@@ -43,27 +62,6 @@ using testing::ModalExact;
 using testing::observed_orders;
 using testing::record_signorini;
 using testing::SignoriniRecord;
-
-// Relative energy-norm errors at T = 1 of the first elastic mode started displaced,
-// Δt = T/40 … T/640 (Ω_max of the lumped 10-element rod is 20·Δt <= 0.5).
-std::vector<double> mode_errors(double a1, double p) {
-  const SecondOrderSystem system = damped_free_rod(a1);
-  const testing::Mode mode = dense_mode(system, 1);
-  const ModalExact exact{mode.omega, 0.5 * a1 * mode.omega};
-  std::vector<double> errors;
-  for (long steps = 40; steps <= 640; steps *= 2) {
-    State s = make_state(mode.phi, Eigen::VectorXd::Zero(mode.phi.size()));
-    s.a = consistent_acceleration(system, s);
-    NohBatheExplicit stepper;
-    EXPECT_TRUE(stepper.initialize(system, noh_bathe_coefficients({.p = p}), 1.0 / steps, s));
-    for (long i = 0; i < steps; ++i) stepper.step(system, s);
-    EXPECT_NEAR(s.t, 1.0, 1e-12);
-    errors.push_back(energy_norm_error(system, mode.omega, s.u - mode.phi * exact.q(1.0),
-                                       s.v - mode.phi * exact.dq(1.0)) /
-                     mode.omega);
-  }
-  return errors;
-}
 
 TEST(NohBathe, IsSecondOrderWithAndWithoutDamping) {
   for (const double p : {0.5, 0.54, 0.7, 0.9}) {
@@ -91,35 +89,6 @@ TEST(NohBathe, VelocityWeights) {
   EXPECT_EQ(half.q0, 0.0);
   EXPECT_EQ(half.q1, 0.0);
   EXPECT_EQ(half.q2, 0.5);
-}
-
-// One undamped degree of freedom (m = k = 1) stepped from the unit states (u, Δt·v, Δt²·a) with
-// a = −u: the stepper's matrix on (u, Δt·v, Δt²·a).
-Eigen::Matrix3d stepped_matrix(double p, double omega_dt) {
-  SecondOrderSystem oscillator;
-  oscillator.mass = Tridiagonal::zero(1);
-  oscillator.mass.diag[0] = 1.0;
-  oscillator.stiffness = Tridiagonal::zero(1);
-  oscillator.stiffness.diag[0] = 1.0;
-  oscillator.damping = Tridiagonal::zero(1);
-  const double dt = omega_dt;
-  NohBatheCoefficients c{};
-  c.p = p;  // not validated here: p < ½ is measured too
-  c.q1 = (1.0 - 2.0 * p) / (2.0 * p * (1.0 - p));
-  c.q2 = 0.5 - p * c.q1;
-  c.q0 = 0.5 - c.q1 - c.q2;
-  Eigen::Matrix3d a;
-  for (int j = 0; j < 3; ++j) {
-    State s;
-    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
-    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
-    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
-    NohBatheExplicit stepper;
-    EXPECT_TRUE(stepper.initialize(oscillator, c, dt, s));
-    stepper.step(oscillator, s);
-    a.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
-  }
-  return a;
 }
 
 // The closed forms of NohBatheParams on (u, Δt·v) (a = −ω²u).

@@ -80,16 +80,23 @@ inline State run_implicit(const SecondOrderSystem& system, const ImplicitCoeffic
   return initial;
 }
 
-/// Spectral radius of the one-step amplification matrix of `c` on the undamped oscillator
-/// ü + u = 0 at Ω = ω·Δt = dt, measured by stepping ImplicitIntegrator from the three unit
-/// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem.
-inline double spectral_radius(const ImplicitCoefficients& c, double dt) {
+/// ü + u = 0 as a one-degree-of-freedom SecondOrderSystem (m = k = 1, no damping): its one-step
+/// matrices at Ω = Δt are the methods' amplification matrices.
+inline SecondOrderSystem unit_oscillator() {
   SecondOrderSystem oscillator;
   oscillator.mass = Tridiagonal::zero(1);
   oscillator.mass.diag[0] = 1.0;
   oscillator.stiffness = Tridiagonal::zero(1);
   oscillator.stiffness.diag[0] = 1.0;
   oscillator.damping = Tridiagonal::zero(1);
+  return oscillator;
+}
+
+/// Spectral radius of the one-step amplification matrix of `c` on the undamped oscillator
+/// ü + u = 0 at Ω = ω·Δt = dt, measured by stepping ImplicitIntegrator from the three unit
+/// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem.
+inline double spectral_radius(const ImplicitCoefficients& c, double dt) {
+  const SecondOrderSystem oscillator = unit_oscillator();
   ImplicitIntegrator integrator;
   if (!integrator.initialize(oscillator, c, dt)) return std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix3d amplification;
