@@ -134,22 +134,6 @@ void BM_SceneBatchedRun(benchmark::State& state) {
 }
 BENCHMARK(BM_SceneBatchedRun)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
-// The stages a method's step takes (solves of an implicit method, force evaluations of an
-// explicit one): the unit of issue 19's bound, "no method more than 2.5× HHT's batched time
-// per dof-step per stage". A method not listed takes one.
-int stages_per_step(MethodKind kind) {
-  switch (kind) {
-    case MethodKind::bathe:
-    case MethodKind::rho_bathe:
-    case MethodKind::tr_bdf2:
-    case MethodKind::noh_bathe:
-    case MethodKind::kim_explicit:
-      return 2;
-    default:
-      return 1;
-  }
-}
-
 // Every method of the registry with its defaults on the default scene (201 dof, 1222 steps),
 // on the path a sweep takes it: kBatchLanes runs of it through the rod's batched kernel where
 // it is batchable (core/batched_simulation.hpp), one run through simulate() otherwise. Arg: its
@@ -181,7 +165,7 @@ void BM_MethodDofStep(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(summaries[0].final_energy);
   }
-  state.counters["stages"] = stages_per_step(method.kind);
+  state.counters["stages"] = method.stages;
   state.counters["batched"] = batched ? 1.0 : 0.0;
   state.counters["ns/dof-step"] = benchmark::Counter(
       dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);

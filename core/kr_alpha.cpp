@@ -232,4 +232,13 @@ bool KrAlphaExplicit::step(const SecondOrderSystem& system, State& state) {
   return pushing;
 }
 
+double KrAlphaExplicit::energy(const SecondOrderSystem& system, const State& state) {
+  const Eigen::Index n = system.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    r_[i] = (u_next_[i] - state.u[i]) / dt_;
+    y_[i] = 0.5 * (state.u[i] + u_next_[i]);
+  }
+  return 0.5 * system.mass.quadratic_form(r_) + 0.5 * system.stiffness.quadratic_form(y_);
+}
+
 }  // namespace impactid

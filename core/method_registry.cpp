@@ -299,12 +299,13 @@ const std::array<MethodDescriptor, 13> kMethods{{
      {},
      make_bathe,
      bathe_values,
-     no_choices},
+     no_choices,
+     2},
     {MethodKind::rho_bathe, "rho-bathe",
      "rho_inf-Bathe composite (Noh & Bathe 2019, doi:10.1016/j.compstruc.2018.11.001): a "
      "trapezoidal sub-step to t + gamma*dt, then a 3-point formula; implicit, second order, "
      "high-frequency spectral radius rho_inf; contact enforced at both sub-steps",
-     kRhoBatheParameters, make_rho_bathe, rho_bathe_values, no_choices},
+     kRhoBatheParameters, make_rho_bathe, rho_bathe_values, no_choices, 2},
     {MethodKind::tr_bdf2,
      "tr-bdf2",
      "TR-BDF2 (Bank et al. 1985, doi:10.1109/T-ED.1985.22232), gamma = 2 - sqrt(2): a trapezoidal "
@@ -313,7 +314,8 @@ const std::array<MethodDescriptor, 13> kMethods{{
      {},
      make_tr_bdf2,
      bathe_values,
-     no_choices},
+     no_choices,
+     2},
     {MethodKind::houbolt,
      "houbolt",
      "Houbolt (Houbolt 1950, doi:10.2514/8.1722): backward differences of the cubic through four "
@@ -333,13 +335,13 @@ const std::array<MethodDescriptor, 13> kMethods{{
      "Noh-Bathe explicit (Noh & Bathe 2013, doi:10.1016/j.compstruc.2013.06.007): two explicit "
      "sub-steps, to t + p*dt and t + dt; second order, dissipative for p > 1/2, stable up to "
      "omega*dt = Omega_crit(p) (3.745 at p = 0.54); contact enforced at both sub-steps",
-     kNohBatheParameters, make_noh_bathe, noh_bathe_values, no_choices},
+     kNohBatheParameters, make_noh_bathe, noh_bathe_values, no_choices, 2},
     {MethodKind::kim_explicit, "kim-explicit",
      "Kim two-stage explicit (Kim 2019, IJNME 120:1-28, doi:10.1002/nme.6098; not the seed's ref. "
      "17, the rho_b scheme): stages at t + p*dt and t + dt, then a quadratic correction of the end "
      "values; second order, period error O(Omega^4), stable up to omega*dt = Omega_crit(p) "
      "(sqrt(6) at p = 1/2); contact enforced at both stages",
-     kKimExplicitParameters, make_kim_explicit, kim_explicit_values, no_choices},
+     kKimExplicitParameters, make_kim_explicit, kim_explicit_values, no_choices, 2},
     {MethodKind::kr_alpha, "kr-alpha",
      "KR-alpha explicit (Kolay & Ricles 2014, doi:10.1002/eqe.2401): explicit displacement and "
      "velocity through the model-based matrices alpha1, alpha2, alpha3, generalized-alpha's "

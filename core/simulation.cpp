@@ -309,7 +309,8 @@ void run_kr_alpha(const SecondOrderSystem& system, const KrAlphaParams& params, 
     summary.message = "kr-alpha: " + stepper.failure();
     return;
   }
-  run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+  run(LoopStepper{[&](State& s) { stepper.step(system, s); },
+                  [&](const State& s) { return stepper.energy(system, s); }});
 }
 
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a

@@ -243,22 +243,63 @@ TEST(KrAlpha, SpectralPropertiesAgainstClosedForms) {
   EXPECT_GT(rho_one, 0.99);
 }
 
-// The plain energy ½vᵀMv + ½uᵀKu of the run's samples on the paper's rod, up to Courant 8: the
-// runs are `ok` under the default bound 1.5. With dissipation (ρ∞ <= 0.8) it stays within 1e-3
-// of the initial energy; at ρ∞ = 1 it rises to 1.117 times it at Courant 8 (measured). Past
-// that, ρ∞ = 1 is reported `unstable` (docs/methods.md): not settled here.
-TEST(KrAlpha, PlainEnergyOnThePapersRod) {
+// The run's energy on the paper's rod is the stepper's own (KrAlphaExplicit::energy, the half
+// step's ½wᵀMw + ½mᵀKm): every run is `ok` under the default bound 1.5 up to Courant 100,
+// ρ∞ = 1 too, whose plain ½vᵀMv + ½uᵀKu grew to 2.85 times the initial energy at Courant 32 and
+// had the run reported `unstable`. Up to Courant 2 it stays within 1e-3 of the initial energy
+// with dissipation; beyond, it falls (largest 0.98 to 0.21 of it at Courant 8 to 100, measured),
+// except at ρ∞ = 1, where the contact's forward increments lift it to 1.12 at Courant 100
+// (measured; 7 steps a run there).
+TEST(KrAlpha, OwnEnergyOnThePapersRod) {
   for (const double rho_inf : kRhoInfs) {
-    for (const double courant : {0.25, 1.0, 2.0, 8.0}) {
+    for (const double courant : {0.25, 1.0, 2.0, 8.0, 32.0, 100.0}) {
       RodScene rod;
       rod.courant = courant;
       const testing::Run run = testing::run(rod, KrAlphaParams{.rho_inf = rho_inf});
       EXPECT_EQ(run.summary.status, RunStatus::ok) << rho_inf << " " << run.summary.message;
       const double initial = run.summary.initial_energy;
       const double largest = *std::max_element(run.trace.energy.begin(), run.trace.energy.end());
-      EXPECT_LE(largest, initial * (rho_inf < 1.0 ? 1.001 : 1.12)) << rho_inf << " " << courant;
+      EXPECT_LE(largest, initial * (courant <= 2.0 && rho_inf < 1.0 ? 1.001 : 1.15))
+          << rho_inf << " " << courant;
     }
   }
+}
+
+// Why the stepper's own energy: on a free rod (no wall) every mode is excited by a random start;
+// at ρ∞ = 1 and Courant 32 the half-step energy is conserved to rounding (measured 7e-11
+// relative over 2000 steps, the conditioning of Ω ≈ 64 included; the displacements'
+// principal roots are the trapezoidal rule's, and it is their invariant), while the plain energy
+// of the samples swings by more than a factor 10 with nothing unstable.
+TEST(KrAlpha, HalfStepEnergyIsConservedWithoutDissipation) {
+  const SecondOrderSystem rod = testing::free_rod(50);
+  const double dt = 32.0 / 50.0;  // Courant 32: c = 1, h = 1/50
+  State s =
+      testing::make_state(Eigen::VectorXd::Random(rod.size()), Eigen::VectorXd::Random(rod.size()));
+  s.a = consistent_acceleration(rod, s);
+  KrAlphaExplicit stepper;
+  ASSERT_TRUE(stepper.initialize(rod, kr_alpha_coefficients({.rho_inf = 1.0}), dt, s));
+  stepper.step(rod, s);
+  const double first = stepper.energy(rod, s);
+  double lowest_plain = rod.energy(s.u, s.v), highest_plain = lowest_plain;
+  double largest_change = 0.0;
+  for (int i = 0; i < 2000; ++i) {
+    stepper.step(rod, s);
+    largest_change = std::max(largest_change, std::abs(stepper.energy(rod, s) - first));
+    const double plain = rod.energy(s.u, s.v);
+    lowest_plain = std::min(lowest_plain, plain);
+    highest_plain = std::max(highest_plain, plain);
+  }
+  EXPECT_LE(largest_change, 1e-9 * first);
+  EXPECT_GT(highest_plain, 10.0 * lowest_plain);
+  // With dissipation the half-step energy decays.
+  State d =
+      testing::make_state(Eigen::VectorXd::Random(rod.size()), Eigen::VectorXd::Random(rod.size()));
+  d.a = consistent_acceleration(rod, d);
+  ASSERT_TRUE(stepper.initialize(rod, kr_alpha_coefficients({.rho_inf = 0.5}), dt, d));
+  stepper.step(rod, d);
+  const double start = stepper.energy(rod, d);
+  for (int i = 0; i < 200; ++i) stepper.step(rod, d);
+  EXPECT_LT(stepper.energy(rod, d), 0.5 * start);
 }
 
 // Steps `system` from `s` and records, as the header states, each multiplier with the gap of the

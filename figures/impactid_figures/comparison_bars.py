@@ -19,7 +19,7 @@ from .style import NOT_OK_COLOR, STATUS_TEXT, method_color, method_label
 
 IDENTICAL_DISSIPATION = (
     r"Identical dissipation: equal algorithmic damping ratio $\bar\xi$ at Ω = ω·Δt = 1, matched to "
-    "HHT-α with α = −0.3, δ = 0.45; central difference and backward Euler at their own."
+    "HHT-α with α = −0.3, δ = 0.45; a method that cannot reach it at its own or its most dissipative."
 )
 
 
@@ -70,7 +70,12 @@ def compare_figure(results_dir, out_dir, which):
     n = len(methods)
     labels = [method_label(m, p, sep="\n") for m, p in zip(methods, params)]
     colors = [method_color(m) for m in methods]
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5.2), layout="constrained")
+    # Side by side for a few methods; one above the other, a bar an inch wide, for many, so that
+    # the labels (method and parameters on separate lines) do not run into each other.
+    if n <= 7:
+        fig, axes = plt.subplots(1, 2, figsize=(12, 5.2), layout="constrained")
+    else:
+        fig, axes = plt.subplots(2, 1, figsize=(max(12, 1.05 * n), 10), layout="constrained")
     xpos = np.arange(n)
     for ax, (key, ylabel, sub) in zip(axes, keys):
         if not r.has(key):

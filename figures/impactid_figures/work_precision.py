@@ -160,8 +160,10 @@ def work_precision_figure(results_dir, out_dir, name, png, heading="Work–preci
     if np.any(bad):
         keys[2].append(Line2D([], [], color="0.3", marker="x", mew=2.0, ms=7, ls="none",
                               label="× on the grey strip: a run that is not ok (unstable\nor failed), at its wall time until it stopped"))
-    # More than five methods: their key in two columns, so that it fits under the panels.
-    for handles, x, ncol in zip(keys, (0.2, 0.43, 0.7), (1 if M.size <= 5 else 2, 2, 1)):
+    # More than five methods: their key in two columns, more than ten in three, so that it fits
+    # under the panels.
+    method_columns = 1 if M.size <= 5 else 2 if M.size <= 10 else 3
+    for handles, x, ncol in zip(keys, (0.2, 0.43, 0.7), (method_columns, 2, 1)):
         fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(x, 0.15), ncol=ncol, fontsize=8,
                    frameon=False)
     fig.get_layout_engine().set(rect=(0, 0.16, 1, 0.84))

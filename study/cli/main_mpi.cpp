@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <cstdio>
+#include <string>
 
 #include "study/cli/cli_main.hpp"
 #include "study/cli/mpi_sweep.hpp"
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
                                  const std::atomic<bool>* stop, const auto& done) {
       master.run_searches(plan, starts, previous, stop, done);
     };
+    runners.resume_command = "mpirun -np " + std::to_string(ranks) + " impactid-mpi run";
     status = impactid::impactid_main(argc, argv, runners);
     master.release_workers();
   } else {

@@ -284,11 +284,13 @@ void write_point_histories(const PointSet& points, std::span<const long> indices
 
 // The last line of a run that was stopped: how to continue it. Returns the exit status.
 // A shard's file is named in full (its name may be derived from --output).
-int report_interrupted(const RunArguments& args, std::optional<Shard> shard = std::nullopt,
+int report_interrupted(const RunArguments& args, const Runners& runners,
+                       std::optional<Shard> shard = std::nullopt,
                        const std::filesystem::path& output = {}) {
   const std::string file = shard ? output.string() : args.output;
-  std::fprintf(stderr, "impactid run: interrupted; continue with: impactid run %s%s --resume%s\n",
-               args.plan.c_str(), shard ? (" --shard " + to_string(*shard)).c_str() : "",
+  std::fprintf(stderr, "impactid run: interrupted; continue with: %s %s%s --resume%s\n",
+               runners.resume_command.c_str(), args.plan.c_str(),
+               shard ? (" --shard " + to_string(*shard)).c_str() : "",
                file.empty() ? "" : (" --output " + file).c_str());
   return kExitInterrupted;
 }
@@ -354,7 +356,7 @@ class ProgressLine {
 
 // A work-precision study: serial by design (study/studies/work_precision.hpp says why), with
 // checkpoints, progress and --resume as a grid has them.
-int run_work_precision_plan(const Plan& plan, const RunArguments& args,
+int run_work_precision_plan(const Plan& plan, const RunArguments& args, const Runners& runners,
                             const std::filesystem::path& output) {
   bool unreadable = false;
   std::optional<StudyResults> previous = existing_results(output, unreadable);
@@ -411,7 +413,7 @@ int run_work_precision_plan(const Plan& plan, const RunArguments& args,
                plan.name.c_str(), outcome.computed, outcome.reused, outcome.unstable,
                results.points_total(), plan.work_precision.repeats, elapsed(),
                output.string().c_str());
-  return outcome.interrupted ? report_interrupted(args) : 0;
+  return outcome.interrupted ? report_interrupted(args, runners) : 0;
 }
 
 }  // namespace
@@ -459,7 +461,8 @@ int run_plan(const RunArguments& args, const Runners& runners) {
   }
   const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
   if (args.dry_run) return dry_run(plan, threads, output);
-  if (plan.kind == StudyKind::work_precision) return run_work_precision_plan(plan, args, output);
+  if (plan.kind == StudyKind::work_precision)
+    return run_work_precision_plan(plan, args, runners, output);
   if (plan.kind == StudyKind::spectral) return run_spectral(plan, args, output, threads);
 
   bool unreadable = false;
@@ -616,7 +619,7 @@ int run_plan(const RunArguments& args, const Runners& runners) {
                plan.name.c_str(), shard ? (" shard " + to_string(*shard)).c_str() : "", computed,
                reused, unstable, total, seconds, threads,
                extra.empty() ? "" : (extra + "; ").c_str(), output.string().c_str());
-  return interrupted ? report_interrupted(args, shard, output) : 0;
+  return interrupted ? report_interrupted(args, runners, shard, output) : 0;
 }
 
 std::function<int()> add_run_command(CLI::App& app, Runners runners) {

@@ -37,6 +37,9 @@ using SweepRunner = std::function<SweepOutcome(const Plan&, const PointSet&, std
 struct Runners {
   SweepRunner sweep;      ///< a grid's or list's points
   SearchRunner searches;  ///< an optimisation's searches (study/studies/optimizer.hpp)
+  /// How a user continues a stopped run, before the plan's name in the hint on stderr:
+  /// impactid-mpi gives its own ("mpirun -np 4 impactid-mpi run").
+  std::string resume_command = "impactid run";
 };
 
 /// Runs a plan as `impactid run` does: progress and the summary on stderr, every error on

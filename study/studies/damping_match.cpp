@@ -11,13 +11,21 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-constexpr std::array<DampingFamilyInfo, 5> kFamilies{{
+constexpr std::array<DampingFamilyInfo, 9> kFamilies{{
     {DampingFamily::newmark, "newmark", "newmark", "delta", 0.0, 2.0},
     {DampingFamily::hht_eq19, "hht-eq19", "hht (delta = -1.5*alpha)", "alpha", 0.0, -0.5},
     {DampingFamily::hht_eq15, "hht-eq15", "hht (delta = -alpha)", "alpha", 0.0, -0.5},
     {DampingFamily::generalized_alpha, "generalized-alpha", "generalized-alpha", "rho_inf", 1.0,
      0.0},
     {DampingFamily::rho_bathe, "rho-bathe", "rho-bathe", "rho_inf", 1.0, 0.0},
+    // Wilson-θ's ξ̄ grows with θ from its stability bound (1 + √3)/2 (ξ̄(1) = 0.034 there);
+    // 4 reaches ξ̄(1) = 0.2 and more, beyond any damping a user would match.
+    {DampingFamily::wilson_theta, "wilson-theta", "wilson-theta", "theta", 1.3660254037844386, 4.0},
+    // p = ½ has no dissipation; p < 1 by its range (0.99: the scan's end inside it).
+    {DampingFamily::noh_bathe, "noh-bathe", "noh-bathe", "p", 0.5, 0.99},
+    // Kim's p = ⅓ is the least dissipative end of its range, ½ the most.
+    {DampingFamily::kim_explicit, "kim-explicit", "kim-explicit", "p", 1.0 / 3.0, 0.5},
+    {DampingFamily::kr_alpha, "kr-alpha", "kr-alpha", "rho_inf", 1.0, 0.0},
 }};
 
 double damping_ratio(DampingFamily family, double parameter, double omega_dt) {
@@ -46,6 +54,14 @@ MethodParams family_params(DampingFamily family, double parameter) {
       return GeneralizedAlphaParams{.rho_inf = parameter};
     case DampingFamily::rho_bathe:
       return RhoBatheParams{.rho_inf = parameter};
+    case DampingFamily::wilson_theta:
+      return WilsonThetaParams{.theta = parameter};
+    case DampingFamily::noh_bathe:
+      return NohBatheParams{.p = parameter};
+    case DampingFamily::kim_explicit:
+      return KimExplicitParams{.p = parameter};
+    case DampingFamily::kr_alpha:
+      return KrAlphaParams{.rho_inf = parameter};
   }
   return BackwardEulerParams{};
 }
@@ -136,7 +152,13 @@ std::vector<std::pair<const char*, double>> family_parameters(DampingFamily fami
       return {{"alpha", p}, {"delta", -p}};
     case DampingFamily::generalized_alpha:
     case DampingFamily::rho_bathe:
+    case DampingFamily::kr_alpha:
       return {{"rho_inf", p}};
+    case DampingFamily::wilson_theta:
+      return {{"theta", p}};
+    case DampingFamily::noh_bathe:
+    case DampingFamily::kim_explicit:
+      return {{"p", p}};
   }
   return {};
 }
@@ -152,6 +174,14 @@ const char* family_method(DampingFamily family) {
       return "generalized-alpha";
     case DampingFamily::rho_bathe:
       return "rho-bathe";
+    case DampingFamily::wilson_theta:
+      return "wilson-theta";
+    case DampingFamily::noh_bathe:
+      return "noh-bathe";
+    case DampingFamily::kim_explicit:
+      return "kim-explicit";
+    case DampingFamily::kr_alpha:
+      return "kr-alpha";
   }
   return "";
 }

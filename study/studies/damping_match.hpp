@@ -23,14 +23,18 @@ enum class DampingFamily {
   hht_eq15,           ///< HHT with δ = −α (eq. 15, second order), α ∈ [−0.5, 0]
   generalized_alpha,  ///< generalized-α, ρ∞ ∈ [0, 1]
   rho_bathe,          ///< ρ∞-Bathe at its default sub-step ratio γ₀(ρ∞), ρ∞ ∈ [0, 1]
+  wilson_theta,       ///< Wilson-θ, θ ∈ [(1 + √3)/2, 4] (its unconditionally stable range)
+  noh_bathe,          ///< Noh–Bathe explicit, p ∈ [½, 0.99] (ξ̄ is not monotone in p)
+  kim_explicit,       ///< Kim's two-stage explicit, p ∈ [⅓, ½]
+  kr_alpha,           ///< KR-α explicit, ρ∞ ∈ [0, 1]
 };
 
 struct DampingFamilyInfo {
   DampingFamily family;
-  const char* name;   ///< "newmark", "hht-eq19", "hht-eq15", "generalized-alpha", "rho-bathe"
+  const char* name;   ///< "newmark", "hht-eq19", "hht-eq15", "generalized-alpha", …
   const char* label;  ///< for tables: "hht (delta = -1.5*alpha)"
   const char*
-      parameter;  ///< the plan/CLI name of the varied parameter: "delta", "alpha", "rho_inf"
+      parameter;  ///< the plan/CLI name of the varied parameter: "delta", "alpha", "rho_inf", …
   /// The searched range, from the end without algorithmic damping (ξ̄ = 0: δ = 0, α = 0,
   /// ρ∞ = 1) to the most dissipative end. Newmark's δ has no upper bound; 2 reaches twice the
   /// damping of backward Euler (δ = 1 has exactly backward Euler's ξ̄).
