@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/batch_lanes.hpp"
+#include "core/batched_explicit.hpp"
 #include "core/function_versions.hpp"
 #include "core/second_order_system.hpp"
 #include "core/simd_lanes.hpp"
@@ -570,8 +571,9 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   // single-step implicit family and the composite schemes (not central difference, Houbolt,
   // Wilson-θ or Noh–Bathe), with Lagrange multipliers (not the penalty or augmented-Lagrangian
   // contact laws).
-  return (is_single_step_implicit(method) || is_composite(method)) && !scene.far_gap &&
-         !options.record_history && options.contact.law == ContactLaw::lagrange;
+  return (is_single_step_implicit(method) || is_composite(method) ||
+          explicit_batchable(scene, method)) &&
+         !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
 }
 
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
@@ -579,6 +581,8 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
   // A batch steps one kind of step: the single-step family's or the composite schemes' (each
   // lane its own method and parameters within it, γ too).
   if (is_composite(method_a) != is_composite(method_b)) return false;
+  // An explicit method's batch (core/batched_explicit.hpp) steps that method only.
+  if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
   // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
   // are per lane.
   const bool same_rod = a.length == b.length && a.elements == b.elements &&
@@ -596,6 +600,10 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
 void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
                     const RunOptions& options, BatchWorkspace& ws,
                     std::span<RunSummary> summaries) {
+  if (explicit_batch_kind(methods[0]) != ExplicitBatchKind::none) {
+    simulate_explicit_batch(scenes, methods, options, ws, summaries);
+    return;
+  }
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
   const SecondOrderSystem system = assemble_rod(scenes[0]);  // gap aside, every lane's
