@@ -175,7 +175,8 @@ template <class Stepper>
 // with the summary `failed` when the run options are invalid (the lane then does not run).
 // `system` is the rod (every lane's but for the gap); lanes of one velocity share the
 // acceleration and the energy at t = 0 of the first of them (bit for bit the same), so lanes
-// are prepared in order.
+// are prepared in order, and a kernel whose start changes a lane's start state (a contact at
+// the start) prepares every lane before it changes any.
 inline bool prepare_lane(const SecondOrderSystem& system, std::span<const RodScene> scenes, int l,
                          const RunOptions& options, double dt, std::span<RunSummary> summaries,
                          std::array<ContactTrace, kBatchLanes>& traces,

@@ -12,6 +12,8 @@
 #include "core/central_difference.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/function_versions.hpp"
+#include "core/noh_bathe.hpp"
+#include "core/parameter_error.hpp"
 #include "core/second_order_system.hpp"
 #include "core/simd_lanes.hpp"
 #include "core/tridiagonal.hpp"
@@ -471,12 +473,435 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   finish_lanes(count, start, traces, summaries);
 }
 
+// ---- The Noh–Bathe explicit scheme (core/noh_bathe.hpp) ----
+
+// What NohBatheExplicit::step reads: the rod's rows (K, and M's factorisation), the lanes'
+// arrays and each lane's coefficients (its own p).
+struct NohBatheRows {
+  Eigen::Index n;
+  const double *stiffness_diag, *inverse_pivot, *lower_ratio, *upper_ratio, *upper_ratio2,
+      *influence;
+  double stiffness_off;
+  Eigen::Index uniform_begin, uniform_end;  // as CdmRows'
+  // The state u, v, a; u at the next point of the grid (NohBatheExplicit's u_next_); the
+  // sub-step's a_p. Between the sub-steps v holds v_p.
+  Lanes *u, *v, *a, *next, *sub_a;
+  Lanes gap;
+  // NohBatheExplicit::step's pΔt, (1−p)Δt, ½·pΔt, c₁, c₂, w0, wp, w1, per lane.
+  Lanes first, second, half_first, scale_first, scale_second, w0, wp, w1;
+};
+
+[[gnu::always_inline]] inline RowFactors row_factors(const NohBatheRows& b, Eigen::Index i) {
+  return {Lanes{},
+          splat(b.stiffness_diag[i]),
+          splat(b.inverse_pivot[i]),
+          -splat(b.lower_ratio[i]),
+          -splat(b.upper_ratio[i]),
+          splat(b.upper_ratio2[i])};
+}
+
+// The forward pass of one sub-step's solve_acceleration: a = 0 − K·u_next (Tridiagonal::
+// multiply_add with −1 onto a zeroed a), then the forward sweep with M's factorisation into
+// `out`. kSecond (the second sub-step): the row's state first takes u = u_next and
+// v = v_p + w0·a + wp·a_p (NohBatheExplicit::step's order), reading the old a before `out` (= a)
+// overwrites it.
+template <bool kSecond>
+[[gnu::always_inline]] inline void noh_bathe_forward(const NohBatheRows& b,
+                                                     const RowFactors& uniform, Lanes* out) {
+  const Eigen::Index n = b.n, last = n - 1;
+  const Lanes zero{}, stiffness_off = splat(b.stiffness_off);
+  struct Ahead {
+    Lanes u, q;
+  };
+  const auto load = [&](Eigen::Index j) __attribute__((always_inline)) {
+    Ahead x;
+    x.u = b.next[j];
+    x.q = stiffness_off * x.u;
+    return x;
+  };
+  Ahead prev{}, cur = load(0), next{};
+  Lanes eliminated{};
+  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
+      __attribute__((always_inline)) {
+    if constexpr (!kLast) next = load(i + 1);
+    if constexpr (kSecond) {
+      store(&b.u[i], cur.u);
+      store(&b.v[i], (b.v[i] + b.w0 * b.a[i]) + b.wp * b.sub_a[i]);
+    }
+    Lanes stiffness;
+    if constexpr (kFirst) {
+      stiffness = f.stiffness_diag * cur.u + next.q;
+    } else if constexpr (kLast) {
+      stiffness = prev.q + f.stiffness_diag * cur.u;
+    } else {
+      stiffness = (prev.q + f.stiffness_diag * cur.u) + next.q;
+    }
+    Lanes r = (zero - stiffness) * f.inverse_pivot;
+    if constexpr (!kFirst) r = fma(f.minus_lower_ratio, eliminated, r);
+    store(&out[i], r);
+    eliminated = r;
+    prev = cur;
+    cur = next;
+  };
+  forward.template operator()<true, false>(0, row_factors(b, 0));
+  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
+  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
+  Eigen::Index i = 1;
+  for (; i < std::min(uniform_begin, last); ++i) {
+    forward.template operator()<false, false>(i, row_factors(b, i));
+  }
+#pragma GCC unroll 2
+  for (; i < uniform_end; ++i) forward.template operator()<false, false>(i, uniform);
+  for (; i < last; ++i) forward.template operator()<false, false>(i, row_factors(b, i));
+  forward.template operator()<false, true>(last, row_factors(b, last));
+}
+
+// The back substitution with M's factorisation of the forward pass's y in x_rows, calling
+// finish(i, x_i) with each solved x_i (the last row's first, then up the rod), which stores
+// what the row's sub-step makes of it.
+template <class Finish>
+[[gnu::always_inline]] inline void noh_bathe_backward(const NohBatheRows& b,
+                                                      const RowFactors& uniform, Lanes* x_rows,
+                                                      Finish&& finish) {
+  const Eigen::Index n = b.n, last = n - 1;
+  Lanes x1 = x_rows[last];
+  finish(last, x1);
+  Lanes x2{}, y_next;
+  {
+    const Eigen::Index i = last - 1;
+    y_next = x_rows[i];
+    x2 = x1;
+    x1 = fma(-splat(b.upper_ratio[i]), x1, y_next);
+    finish(i, x1);
+  }
+  const auto backward = [&](Eigen::Index i, const Lanes& minus_ratio, const Lanes& ratio2)
+      __attribute__((always_inline)) {
+    const Lanes y = x_rows[i];
+    const Lanes solved = fma(ratio2, x2, fma(minus_ratio, y_next, y));
+    finish(i, solved);
+    y_next = y;
+    x2 = x1;
+    x1 = solved;
+  };
+  const Eigen::Index uniform_last = b.uniform_end - 1;
+  Eigen::Index i = last - 2;
+  for (; i > uniform_last; --i) {
+    const RowFactors f = row_factors(b, i);
+    backward(i, f.minus_upper_ratio, f.upper_ratio2);
+  }
+#pragma GCC unroll 2
+  for (; i >= b.uniform_begin; --i) backward(i, uniform.minus_upper_ratio, uniform.upper_ratio2);
+  for (; i >= 0; --i) {
+    const RowFactors f = row_factors(b, i);
+    backward(i, f.minus_upper_ratio, f.upper_ratio2);
+  }
+}
+
+// One step of the Noh–Bathe explicit scheme in every lane (NohBatheExplicit::step, single wall,
+// no damping; the velocity predictor it forms feeds only the damping term, so it is not formed).
+// Returns λ of the equilibrium at t + Δt.
+//   Sub-step 1: a_p from M·a_p = −K·u_next; u_next ← u_next + (1−p)Δt·(v + ½pΔt·a) + c₁·a_p, the
+//     contact λ_p = (u_next,c − gap)/(c₁·(M⁻¹e_c)_c) where it penetrates, a_p −= λ_p·M⁻¹e_c,
+//     u_next −= (c₁·λ_p)·M⁻¹e_c, u_next,c = gap; v_p = v + ½pΔt·(a + a_p).
+//   Sub-step 2: u = u_next, v = (v_p + w0·a) + wp·a_p; a from M·a = −K·u; u_next ← (u + pΔt·v) +
+//     c₂·a with the contact as above (c₂, λ); v += w1·a.
+// Each sub-step is a forward pass (K·u_next, the forward sweep) and a back substitution that
+// finishes each row as it is solved (the contact test needs the last row only, which the
+// forward sweep leaves final).
+//
+// Flops per unknown and lane (no contact; count them in noh_bathe_forward and the finishes):
+// sub-step 1, the forward pass 3 mul 3 add/sub 1 FMA (K·u with the off-diagonal product shared
+// by two rows, 0 − K·u, the sweep), the back substitution 2 FMA, u_next 3 mul 3 add, v_p 1 mul
+// 2 add; sub-step 2, the forward pass 2 mul 2 add (v) and 3 mul 3 add 1 FMA, the back
+// substitution 2 FMA, u_next 2 mul 2 add, v 1 mul 1 add: 15 mul 16 add/sub 6 FMA, 43 flops in
+// 37 instructions a step (HHT's: 23 in 14), 18.5 instructions a stage. Stores per unknown and
+// register: 1 + 3 (sub-step 1), 3 + 3 (sub-step 2), 10 (HHT's: 4). While some lane is in
+// contact a back substitution also subtracts λ·M⁻¹e_c from a and (c·λ)·M⁻¹e_c from u_next
+// (2 mul 2 sub 2 blends).
+template <bool kAnyContact>
+[[gnu::always_inline]] inline void noh_bathe_finish_first(const NohBatheRows& b,
+                                                          const LaneMask& closes,
+                                                          const Lanes& lambda,
+                                                          const Lanes& scaled_lambda,
+                                                          Eigen::Index i, const Lanes& solved) {
+  const Lanes v = b.v[i], a = b.a[i];
+  Lanes next = (b.next[i] + b.second * (v + b.half_first * a)) + b.scale_first * solved;
+  Lanes sub_a = solved;
+  if constexpr (kAnyContact) {
+    const Lanes influence = splat(b.influence[i]);
+    sub_a = select(closes, solved - lambda * influence, solved);
+    next = select(closes, next - scaled_lambda * influence, next);
+  }
+  store(&b.sub_a[i], sub_a);
+  store(&b.next[i], next);
+  store(&b.v[i], v + b.half_first * (a + sub_a));
+}
+
+template <bool kAnyContact>
+[[gnu::always_inline]] inline void noh_bathe_finish_second(const NohBatheRows& b,
+                                                           const LaneMask& closes,
+                                                           const Lanes& lambda,
+                                                           const Lanes& scaled_lambda,
+                                                           Eigen::Index i, const Lanes& solved) {
+  const Lanes v = b.v[i];
+  Lanes next = (b.u[i] + b.first * v) + b.scale_second * solved;
+  Lanes a = solved;
+  if constexpr (kAnyContact) {
+    const Lanes influence = splat(b.influence[i]);
+    a = select(closes, solved - lambda * influence, solved);
+    next = select(closes, next - scaled_lambda * influence, next);
+  }
+  store(&b.a[i], a);
+  store(&b.next[i], next);
+  store(&b.v[i], v + b.w1 * a);
+}
+
+[[gnu::always_inline]] inline Lanes noh_bathe_step_lanes(const NohBatheRows& rows,
+                                                         const RowFactors& uniform_row) {
+  const NohBatheRows b = rows;  // local copies: see cdm_step_lanes
+  const RowFactors uniform = uniform_row;
+  const Eigen::Index last = b.n - 1;
+  const Lanes influence = splat(b.influence[last]);
+
+  // Sub-step 1. The contact-free u_next of the last row (as the finish computes it) decides λ_p.
+  noh_bathe_forward<false>(b, uniform, b.sub_a);
+  const Lanes free_first = (b.next[last] + b.second * (b.v[last] + b.half_first * b.a[last])) +
+                           b.scale_first * b.sub_a[last];
+  const LaneMask closes_first = greater(free_first, b.gap);
+  if (any_lane(closes_first)) {
+    const Lanes lambda =
+        select(closes_first, (free_first - b.gap) / (b.scale_first * influence), Lanes{});
+    const Lanes scaled = b.scale_first * lambda;
+    noh_bathe_backward(
+        b, uniform,
+        b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_first<true>(b, closes_first, lambda, scaled, i, solved);
+        });
+    store(&b.next[last], select(closes_first, b.gap, b.next[last]));
+  } else {
+    noh_bathe_backward(
+        b, uniform,
+        b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_first<false>(b, closes_first, Lanes{}, Lanes{}, i, solved);
+        });
+  }
+
+  // Sub-step 2.
+  noh_bathe_forward<true>(b, uniform, b.a);
+  const Lanes free_second = (b.u[last] + b.first * b.v[last]) + b.scale_second * b.a[last];
+  const LaneMask closes_second = greater(free_second, b.gap);
+  Lanes lambda{};
+  if (any_lane(closes_second)) {
+    lambda = select(closes_second, (free_second - b.gap) / (b.scale_second * influence), Lanes{});
+    const Lanes scaled = b.scale_second * lambda;
+    noh_bathe_backward(
+        b, uniform, b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_second<true>(b, closes_second, lambda, scaled, i, solved);
+        });
+    store(&b.next[last], select(closes_second, b.gap, b.next[last]));
+  } else {
+    noh_bathe_backward(
+        b, uniform, b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_second<false>(b, closes_second, Lanes{}, Lanes{}, i, solved);
+        });
+  }
+  return lambda;
+}
+
+// ½vᵀMv + ½uᵀKu of every lane (SecondOrderSystem::energy), each form in
+// Tridiagonal::quadratic_form's order.
+[[gnu::always_inline]] inline Lanes plain_energy_lanes(const Tridiagonal& mass,
+                                                       const Tridiagonal& stiffness, const Lanes* u,
+                                                       const Lanes* v, Eigen::Index n) {
+  Lanes kinetic{}, strain{};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Lanes v_prev = i > 0 ? v[i - 1] : Lanes{}, v_next = i + 1 < n ? v[i + 1] : Lanes{};
+    const Lanes u_prev = i > 0 ? u[i - 1] : Lanes{}, u_next = i + 1 < n ? u[i + 1] : Lanes{};
+    kinetic = kinetic + v[i] * quadratic_form_row(mass, i, v_prev, v[i], v_next);
+    strain = strain + u[i] * quadratic_form_row(stiffness, i, u_prev, u[i], u_next);
+  }
+  return 0.5 * kinetic + 0.5 * strain;
+}
+
+struct NohBatheBatch {
+  NohBatheRows rows;
+  const Tridiagonal *mass, *stiffness;
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;  // each lane's state after initialize
+  Lanes* start_next;                      // and its u_next, [unknown][lane]
+  LaneLoop loop;
+};
+
+IMPACTID_SIMD_VERSIONS void run_noh_bathe_batch(NohBatheBatch& b) {
+  NohBatheRows& rows = b.rows;
+  const RowFactors uniform = row_factors(rows, rows.uniform_begin);
+  const Eigen::Index n = rows.n;
+  run_lanes(b.lanes, b.loop,
+            lane_stepper(
+                [&](int l) __attribute__((always_inline)) {
+                  const State& start = (*b.start)[static_cast<std::size_t>(l)];
+                  for (Eigen::Index i = 0; i < n; ++i) {
+                    rows.u[i].set(l, start.u[i]);
+                    rows.v[i].set(l, start.v[i]);
+                    rows.a[i].set(l, start.a[i]);
+                    rows.next[i].set(l, b.start_next[i][l]);
+                    rows.sub_a[i].set(l, 0.0);
+                  }
+                  return LaneStart{.lambda = start.lambda, .t = start.t};
+                },
+                [&](bool, const Lanes&)
+                    __attribute__((always_inline)) { return noh_bathe_step_lanes(rows, uniform); },
+                [&]() __attribute__((always_inline)) { return rows.v[n - 1]; },
+                [&]() __attribute__((always_inline)) {
+                  return plain_energy_lanes(*b.mass, *b.stiffness, rows.u, rows.v, n);
+                },
+                [&](int l) __attribute__((always_inline)) {
+                  for (Eigen::Index i = 0; i < n; ++i) {
+                    rows.u[i].set(l, 0.0);
+                    rows.v[i].set(l, 0.0);
+                    rows.a[i].set(l, 0.0);
+                    rows.next[i].set(l, 0.0);
+                    rows.sub_a[i].set(l, 0.0);
+                  }
+                }));
+}
+
+void simulate_noh_bathe_batch(std::span<const RodScene> scenes,
+                              std::span<const MethodParams> methods, const RunOptions& options,
+                              std::vector<LaneBlock>& storage,
+                              std::array<State, kBatchLanes>& starts,
+                              std::array<ContactTrace, kBatchLanes>& traces,
+                              std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
+  const Eigen::Index n = system.size();
+  const double dt = derive(scenes[0]).time_step;
+
+  storage.assign(static_cast<std::size_t>(6 * n), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
+  NohBatheBatch b{};
+  NohBatheRows& rows = b.rows;
+  rows.n = n;
+  rows.u = block;
+  rows.v = block + n;
+  rows.a = block + 2 * n;
+  rows.next = block + 3 * n;
+  rows.sub_a = block + 4 * n;
+  b.start_next = block + 5 * n;
+  rows.gap = splat(kInf);  // unused lanes never touch a wall
+  b.mass = &system.mass;
+  b.stiffness = &system.stiffness;
+  b.start = &starts;
+  b.loop = {.area = scenes[0].area,
+            .dt = dt,
+            .energy_check_interval = options.energy_check_interval,
+            .energy_growth_limit = options.energy_growth_limit};
+
+  // M's factorisation and M⁻¹·e_c (NohBatheExplicit::initialize's) are every lane's.
+  TridiagonalFactorization factorization;
+  const bool factored = factorization.factor(system.mass);
+  const bool uniform =
+      symmetric_uniform_off_diagonals(system.stiffness) && system.contact_dof == n - 1;
+  const Eigen::VectorXd influence =
+      factored ? factorization.inverse_column(system.contact_dof) : Eigen::VectorXd();
+  // Every lane prepared first: initialize changes a lane's start state (the contact at the
+  // start corrects a), which a later lane of the same velocity would otherwise copy
+  // (prepare_lane).
+  std::array<bool, kBatchLanes> prepared{};
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    prepared[lane] =
+        prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
+  }
+  NohBatheExplicit stepper;
+  bool any = false;
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    if (!prepared[lane]) continue;
+    const RodScene& scene = scenes[lane];
+    const auto& params = std::get<NohBatheParams>(methods[lane]);
+    LaneRun& run = b.lanes[lane];
+    RunSummary& summary = summaries[lane];
+    State& state = starts[lane];
+    const State before = state;
+    system.gap = scene.gap;
+    const NohBatheCoefficients c = noh_bathe_coefficients(params);
+    // run_noh_bathe (core/simulation.cpp): the start, the stable step and its warning.
+    if (!stepper.initialize(system, c, dt, state) || !uniform) {
+      summary.status = RunStatus::failed;
+      summary.message = uniform ? "noh-bathe: singular mass matrix"
+                                : "batched kernel: the stiffness is not uniform along the rod";
+      run = LaneRun{};
+      continue;
+    }
+    summary.stable_dt = stepper.stable_step();
+    if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
+      summary.warning = "dt = " + format_value(dt) + " s exceeds noh-bathe's stable step " +
+                        format_value(stepper.stable_step()) +
+                        " s (Omega_crit = " + format_value(noh_bathe_critical_omega(params.p)) +
+                        " at p = " + format_value(params.p) + "): lower the step";
+    }
+    // NohBatheExplicit::initialize's u_next: u_p with the contact at the start (its λ and the
+    // correction of a are already in `state`).
+    const double p = c.p;
+    const double scale_start = 0.5 * (p * dt) * (p * dt);
+    Eigen::VectorXd next = before.u + (p * dt) * before.v + scale_start * before.a;
+    const Eigen::Index contact = system.contact_dof;
+    if (next[contact] > system.gap) {
+      const double lambda = (next[contact] - system.gap) / (scale_start * influence[contact]);
+      next -= (scale_start * lambda) * influence;
+      next[contact] = system.gap;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) b.start_next[i].set(l, next[i]);
+    // NohBatheExplicit::initialize's and ::step's coefficients, by their expressions.
+    const double first = p * dt, second = (1.0 - p) * dt;
+    rows.first.set(l, first);
+    rows.second.set(l, second);
+    rows.half_first.set(l, 0.5 * first);
+    rows.scale_first.set(l, 0.5 * (1.0 - p) * dt * dt);
+    rows.scale_second.set(l, dt * dt * p * ((1.0 - p) * c.q2 + 0.5 * p));
+    rows.w0.set(l, second * c.q0);
+    rows.wp.set(l, second * (0.5 + c.q1));
+    rows.w1.set(l, second * c.q2);
+    rows.gap.set(l, scene.gap);
+    any = true;
+  }
+  if (any) {
+    Eigen::VectorXd upper_ratio2(n);
+    const Eigen::VectorXd& upper_ratio = factorization.upper_ratios();
+    for (Eigen::Index i = 0; i < n; ++i) {  // as TridiagonalFactorization::factor forms it
+      upper_ratio2[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
+    }
+    rows.stiffness_diag = system.stiffness.diag.data();
+    rows.inverse_pivot = factorization.inverse_pivots().data();
+    rows.lower_ratio = factorization.lower_ratios().data();
+    rows.upper_ratio = upper_ratio.data();
+    rows.upper_ratio2 = upper_ratio2.data();
+    rows.influence = influence.data();
+    rows.stiffness_off = system.stiffness.lower[1];
+    rows.uniform_end = std::max<Eigen::Index>(n - 2, 1);
+    const Eigen::Index ref = rows.uniform_end - 1;
+    const auto same_row = [&](Eigen::Index i) {
+      return rows.stiffness_diag[i] == rows.stiffness_diag[ref] &&
+             rows.inverse_pivot[i] == rows.inverse_pivot[ref] &&
+             rows.lower_ratio[i] == rows.lower_ratio[ref] && upper_ratio[i] == upper_ratio[ref] &&
+             upper_ratio2[i] == upper_ratio2[ref];
+    };
+    rows.uniform_begin = ref >= 1 ? ref : rows.uniform_end;
+    while (rows.uniform_begin > 1 && same_row(rows.uniform_begin - 1)) --rows.uniform_begin;
+    run_noh_bathe_batch(b);
+  }
+  finish_lanes(count, start, traces, summaries);
+}
+
 }  // namespace
 
 ExplicitBatchKind explicit_batch_kind(const MethodParams& method) {
   if (std::holds_alternative<CentralDifferenceParams>(method)) {
     return ExplicitBatchKind::central_difference;
   }
+  if (std::holds_alternative<NohBatheParams>(method)) return ExplicitBatchKind::noh_bathe;
   return ExplicitBatchKind::none;
 }
 
@@ -485,6 +910,9 @@ bool explicit_batchable(const RodScene& scene, const MethodParams& method) {
     case ExplicitBatchKind::central_difference:
       // Damping adds terms to the step and to the left-hand matrix (per velocity variant) that
       // the kernel does not have: damped central difference runs through simulate().
+      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+    case ExplicitBatchKind::noh_bathe:
+      // Damping adds a product with C to each sub-step: damped runs go through simulate().
       return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
     case ExplicitBatchKind::none:
       return false;
@@ -499,6 +927,10 @@ void simulate_explicit_batch(std::span<const RodScene> scenes,
     case ExplicitBatchKind::central_difference:
       simulate_cdm_batch(scenes, methods, options, workspace.storage_, workspace.start_,
                          workspace.traces, summaries);
+      return;
+    case ExplicitBatchKind::noh_bathe:
+      simulate_noh_bathe_batch(scenes, methods, options, workspace.storage_, workspace.start_,
+                               workspace.traces, summaries);
       return;
     case ExplicitBatchKind::none:
       break;

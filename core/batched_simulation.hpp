@@ -41,10 +41,10 @@
 // lanes of one batch share the rod (elements, length, material, area, mass matrix, damping),
 // the time step and the kind of step (single-step or composite: a batch steps one), and may
 // differ in the method and its parameters (a composite's γ too), the gap, the velocity and the
-// end time. Scenes of bodies have their own kernel (core/batched_chain.hpp), and so has central
-// difference (core/batched_explicit.hpp: simulate_batch hands its batches over); everything else
-// (Houbolt, Wilson-θ, Noh–Bathe, Kim's scheme, KR-α; penalty and augmented-Lagrangian contact)
-// runs through simulate().
+// end time. Scenes of bodies have their own kernel (core/batched_chain.hpp), and so have central
+// difference and Noh–Bathe (core/batched_explicit.hpp: simulate_batch hands their batches over);
+// everything else (Houbolt, Wilson-θ, Kim's scheme, KR-α; penalty and augmented-Lagrangian
+// contact) runs through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once
