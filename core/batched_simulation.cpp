@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "core/batch_lanes.hpp"
+#include "core/batched_explicit.hpp"
 #include "core/function_versions.hpp"
 #include "core/second_order_system.hpp"
 #include "core/simd_lanes.hpp"
@@ -19,7 +21,6 @@ namespace {
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Each lane's copy of the scalar step's constants, computed by the same expressions
@@ -388,42 +389,7 @@ void set_lane(const LaneArrays& x, int lane, const State* state) {
   set_lane_state(x.u, x.v, x.a, x.n, lane, state);
 }
 
-// The samples of the contact pressure and velocity of every lane, [sample][lane] as the step
-// gives them, written into the lanes' traces (one vector per lane) a chunk at a time. Written
-// sample by sample, the 2·kBatchLanes scattered stores and the lane loop around them were a
-// twentieth of the batch's time.
-constexpr long kTraceChunk = 32;
-struct TraceChunk {
-  Lanes pressure[kTraceChunk], velocity[kTraceChunk];
-  long begin = 0;  // the sample held in slot 0
-
-  // Writes samples [begin, through] into the traces of the lanes stepping now (which stepped
-  // at every one of them: a lane starts or stops only at an event, and events flush first).
-  void flush(std::array<LaneRun, kBatchLanes>& lanes, long through) {
-    if (through >= begin) {
-      for (int l = 0; l < kBatchLanes; ++l) {
-        LaneRun& run = lanes[static_cast<std::size_t>(l)];
-        if (!run.stepping) continue;
-        double* p = run.trace->pressure.data();
-        double* v = run.trace->velocity.data();
-        for (long i = begin; i <= through; ++i) {
-          p[i] = pressure[i - begin][l];
-          v[i] = velocity[i - begin][l];
-        }
-        run.summary->steps = through + 1;
-      }
-    }
-    begin = through + 1;
-  }
-};
-
-// The samples from the first lane's start to the last lane's end. A lane that is not stepping
-// (before its free flight ends, after its last sample or its instability, a failed or unused
-// lane) holds a zero state, which a step maps to zero: it costs lanes, never correctness.
-//
-// run_steps' bookkeeping happens lane by lane only at events: a lane starting, a lane's energy
-// check or last sample, a non-finite λ or velocity in some lane. Between events the loop only
-// steps, advances every lane's t (as run_steps' state.t += Δt) and buffers the trace.
+// The batch loop (core/batch_lanes.hpp: run_lanes) with the implicit or composite step.
 template <bool kDamping, bool kMassTerm, bool kComposite>
 [[gnu::always_inline]] inline void run_batch(Batch& b) {
   const LaneArrays& x = b.arrays;
@@ -435,79 +401,40 @@ template <bool kDamping, bool kMassTerm, bool kComposite>
   const LaneCoefficients first = b.first;  // composite only, as the two below
   const CompositeLanes weights = b.weights;
   const LaneArrays mid = b.mid;
-  std::array<LaneRun, kBatchLanes>& lanes = b.lanes;
   const Eigen::Index contact = x.n - 1;
-  const auto [begin, end] = lane_samples(lanes);
-  TraceChunk chunk;
-  chunk.begin = begin;
-  Lanes lambda{}, t{};
-  long event = next_lane_event(lanes, begin);
-  for (long i = begin; i <= end; ++i) {
-    const bool at_event = i == event;
-    bool starting = false;
-    if (at_event) {
-      chunk.flush(lanes, i - 1);
-      for (int l = 0; l < kBatchLanes; ++l) {
-        LaneRun& run = lanes[static_cast<std::size_t>(l)];
-        if (run.first != i || run.first > run.last) continue;
-        const State& start = (*b.start)[static_cast<std::size_t>(l)];
-        set_lane(x, l, &start);
-        c.plain_state.set(l, true);
-        starting = true;
-        lambda.set(l, start.lambda);
-        t.set(l, start.t);
-        run.next_check = run.first - 1 + b.energy_check_interval;
-        run.stepping = true;
-      }
-    }
-    if constexpr (kComposite) {
-      if (starting) {
-        lambda = composite_step_lanes<kDamping, true>(x, mid, first, c, weights, lambda);
-        c.plain_state = LaneMask{};
-      } else {
-        lambda = composite_step_lanes<kDamping, false>(x, mid, first, c, weights, lambda);
-      }
-    } else if (starting) {
-      lambda = step_lanes<kDamping, kMassTerm, true>(x, c, lambda);
-      c.plain_state = LaneMask{};
-    } else {
-      lambda = step_lanes<kDamping, kMassTerm, false>(x, c, lambda);
-    }
-    t = t + splat(b.dt);
-    const Lanes velocity = x.v[contact];
-    const long slot = i - chunk.begin;
-    // λ/A of every lane in two vector divides rather than kBatchLanes scalar ones.
-    store(&chunk.pressure[slot], lambda / splat(b.area));
-    store(&chunk.velocity[slot], velocity);
-    if (!at_event && all_finite(lambda, velocity)) {
-      if (slot + 1 == kTraceChunk) chunk.flush(lanes, i);
-      continue;
-    }
-    chunk.flush(lanes, i);
-
-    // run_steps' checks, lane by lane; the energy (two O(n) products) only when a lane checks
-    // it at this sample, for every lane at once.
-    Lanes energy{};
-    if (energy_due(lanes, i)) energy = lane_energy(x, c);
-    for (int l = 0; l < kBatchLanes; ++l) {
-      LaneRun& run = lanes[static_cast<std::size_t>(l)];
-      if (!run.stepping) continue;
-      check_lane_energy(run, i, energy[l], t[l], b.energy_check_interval, b.energy_growth_limit);
-      if (run.stepping && (!std::isfinite(lambda[l]) || !std::isfinite(velocity[l]))) {
-        stop_unstable(run, "non-finite values at t = " + format_value(t[l]) + " s");
-      }
-      if (run.stepping && i == run.last) run.stepping = false;
-      if (!run.stepping) {
-        set_lane(x, l, nullptr);
-        lambda.set(l, 0.0);
-      }
-    }
-    event = next_lane_event(lanes, i + 1);
-    // No lane steps or starts any more (all ended, unstable or failed): the rest would step
-    // zeros. A batch of unstable points then ends at its last lane's instability, which nearly
-    // halves their time (docs/performance.md).
-    if (event == std::numeric_limits<long>::max()) break;
-  }
+  const LaneLoop loop{.area = b.area,
+                      .dt = b.dt,
+                      .energy_check_interval = b.energy_check_interval,
+                      .energy_growth_limit = b.energy_growth_limit};
+  run_lanes(
+      b.lanes, loop,
+      lane_stepper(
+          [&](int l) __attribute__((always_inline)) {
+            const State& start = (*b.start)[static_cast<std::size_t>(l)];
+            set_lane(x, l, &start);
+            c.plain_state.set(l, true);
+            return LaneStart{.lambda = start.lambda, .t = start.t};
+          },
+          [&](bool starting, const Lanes& lambda) __attribute__((always_inline)) {
+            Lanes next;
+            if constexpr (kComposite) {
+              if (starting) {
+                next = composite_step_lanes<kDamping, true>(x, mid, first, c, weights, lambda);
+                c.plain_state = LaneMask{};
+              } else {
+                next = composite_step_lanes<kDamping, false>(x, mid, first, c, weights, lambda);
+              }
+            } else if (starting) {
+              next = step_lanes<kDamping, kMassTerm, true>(x, c, lambda);
+              c.plain_state = LaneMask{};
+            } else {
+              next = step_lanes<kDamping, kMassTerm, false>(x, c, lambda);
+            }
+            return next;
+          },
+          [&]() __attribute__((always_inline)) { return x.v[contact]; },
+          [&]() __attribute__((always_inline)) { return lane_energy(x, c); },
+          [&](int l) __attribute__((always_inline)) { set_lane(x, l, nullptr); }));
 }
 
 // The batch loop for the machine at hand: GCC compiles it for each target and picks one when
@@ -644,8 +571,9 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   // single-step implicit family and the composite schemes (not central difference, Houbolt,
   // Wilson-θ or Noh–Bathe), with Lagrange multipliers (not the penalty or augmented-Lagrangian
   // contact laws).
-  return (is_single_step_implicit(method) || is_composite(method)) && !scene.far_gap &&
-         !options.record_history && options.contact.law == ContactLaw::lagrange;
+  return (is_single_step_implicit(method) || is_composite(method) ||
+          explicit_batchable(scene, method)) &&
+         !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
 }
 
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
@@ -653,6 +581,8 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
   // A batch steps one kind of step: the single-step family's or the composite schemes' (each
   // lane its own method and parameters within it, γ too).
   if (is_composite(method_a) != is_composite(method_b)) return false;
+  // An explicit method's batch (core/batched_explicit.hpp) steps that method only.
+  if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
   // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
   // are per lane.
   const bool same_rod = a.length == b.length && a.elements == b.elements &&
@@ -670,6 +600,10 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
 void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
                     const RunOptions& options, BatchWorkspace& ws,
                     std::span<RunSummary> summaries) {
+  if (explicit_batch_kind(methods[0]) != ExplicitBatchKind::none) {
+    simulate_explicit_batch(scenes, methods, options, ws, summaries);
+    return;
+  }
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
   const SecondOrderSystem system = assemble_rod(scenes[0]);  // gap aside, every lane's
@@ -733,7 +667,6 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   first.dt = dt;  // unused: the first sub-step reads lane_dt
   first.tail_begin = 1;
 
-  const bool options_valid = options.energy_check_interval >= 1 && options.energy_growth_limit > 1.0;
   EffectiveWeights weights{}, first_weights{};
   LaneMask factored{};  // the lanes whose effective matrix is to be factored
   for (int l = 0; l < count; ++l) {
@@ -741,58 +674,10 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     const MethodParams& method = methods[static_cast<std::size_t>(l)];
     // same_batch: one kind of step per batch.
     assert(is_composite(method) == composite);
-    const RodSceneDerived derived = derive(scene);
-    RunSummary& summary = summaries[static_cast<std::size_t>(l)];
-    summary = RunSummary{};
-    summary.planned_steps = derived.step_count;
-    summary.dt = dt;
-    ContactTrace& trace = ws.traces[static_cast<std::size_t>(l)];
-    const auto samples = static_cast<std::size_t>(derived.step_count);
-    // NaN from the lane's last computed sample on is filled in after the run (the samples before
-    // it are all written): filling the whole trace first wrote 40 KB per lane twice.
-    trace.pressure.resize(samples);
-    trace.velocity.resize(samples);
-    trace.displacement.clear();
-    trace.energy.clear();
-    trace.far_pressure.clear();
-    if (!options_valid) {
-      summary.status = RunStatus::failed;
-      summary.message =
-          "run options: energy_check_interval must be >= 1 and energy_growth_limit > 1";
+    LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
+    if (!prepare_lane(system, scenes, l, options, dt, summaries, ws.traces, ws.start_, run)) {
       continue;
     }
-
-    // The state at t = 0, then the filled-in free flight: simulate()'s set-up.
-    State& state = ws.start_[static_cast<std::size_t>(l)];
-    state.u.setZero(n);
-    state.v.setConstant(n, scene.velocity);
-    state.lambda = state.far_lambda = state.t = 0.0;
-    // M·a = −K·u − C·v at u = 0 depends on the lane only through v0: lanes of one velocity
-    // (a sweep's usual case) share one solve, bit for bit the same.
-    int same_velocity = -1;
-    for (int earlier = 0; earlier < l && same_velocity < 0; ++earlier) {
-      if (scenes[static_cast<std::size_t>(earlier)].velocity == scene.velocity) {
-        same_velocity = earlier;
-      }
-    }
-    // So does the energy ½vᵀMv + ½uᵀKu at u = 0.
-    if (same_velocity < 0) {
-      state.a = consistent_acceleration(system, state);
-      summary.initial_energy = system.energy(state.u, state.v);
-    } else {
-      state.a = ws.start_[static_cast<std::size_t>(same_velocity)].a;
-      summary.initial_energy = summaries[static_cast<std::size_t>(same_velocity)].initial_energy;
-    }
-    summary.final_energy = summary.initial_energy;
-    const long skipped = free_flight_samples(derived.impact_time, dt, derived.step_count,
-                                             scene.rayleigh_mass == 0.0, options);
-    std::fill_n(trace.pressure.begin(), skipped, 0.0);
-    std::fill_n(trace.velocity.begin(), skipped, scene.velocity);
-    if (skipped > 0) {
-      state.t = skipped * dt;
-      state.u.setConstant(n, scene.velocity * state.t);
-    }
-    summary.steps = summary.skipped_steps = skipped;
 
     // The weights of the lane's effective matrix, as ImplicitIntegrator::initialize; the
     // matrix and its factorisation follow for every lane at once, below. A composite scheme:
@@ -808,13 +693,6 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
       set_lane_coefficients(l, implicit_coefficients(method), dt, scene.gap, k, weights);
     }
     factored.set(l, true);
-
-    LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
-    run.summary = &summary;
-    run.trace = &trace;
-    run.first = skipped;
-    run.last = derived.step_count - 1;
-    run.energy_bound = options.energy_growth_limit * summary.initial_energy;
   }
   if (composite) {
     factor_lanes(system, methods, first_weights, factored, uniform_interior, first,
@@ -822,16 +700,7 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   }
   factor_lanes(system, methods, weights, factored, uniform_interior, k, x.inverse_pivot, b);
   run_batch_any(b);
-  for (int l = 0; l < count; ++l) {
-    ContactTrace& trace = ws.traces[static_cast<std::size_t>(l)];
-    const long steps = summaries[static_cast<std::size_t>(l)].steps;  // samples [0, steps) written
-    std::fill(trace.pressure.begin() + steps, trace.pressure.end(), kNaN);
-    std::fill(trace.velocity.begin() + steps, trace.velocity.end(), kNaN);
-  }
-
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  for (int l = 0; l < count; ++l) summaries[static_cast<std::size_t>(l)].wall_time_s = seconds / count;
+  finish_lanes(count, start, ws.traces, summaries);
 }
 
 }  // namespace impactid

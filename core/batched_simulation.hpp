@@ -41,9 +41,10 @@
 // lanes of one batch share the rod (elements, length, material, area, mass matrix, damping),
 // the time step and the kind of step (single-step or composite: a batch steps one), and may
 // differ in the method and its parameters (a composite's γ too), the gap, the velocity and the
-// end time. Scenes of bodies have their own kernel (core/batched_chain.hpp); everything else
-// (central difference, Houbolt, Wilson-θ, Noh–Bathe; penalty and augmented-Lagrangian contact)
-// runs through simulate().
+// end time. Scenes of bodies have their own kernel (core/batched_chain.hpp), and so have central
+// difference and Noh–Bathe (core/batched_explicit.hpp: simulate_batch hands their batches over);
+// everything else (Houbolt, Wilson-θ, Kim's scheme, KR-α; penalty and augmented-Lagrangian
+// contact) runs through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once
@@ -64,14 +65,16 @@ namespace impactid {
 /// needs no -march=native; on an AVX2 machine a batch is two registers.
 inline constexpr int kBatchLanes = 16;
 
-/// Whether a run can go through simulate_batch at all: a single-step implicit method or a
-/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2), Lagrange contact, a scene the kernel knows
-/// (single wall: far_gap unset), no histories.
+/// Whether a run can go through simulate_batch at all: a single-step implicit method, a
+/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2) or an explicit method of core/batched_explicit.hpp
+/// (explicit_batchable), Lagrange contact, a scene the kernel knows (single wall: far_gap unset),
+/// no histories.
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options);
 
 /// Whether two batchable runs can share a batch: the same rod and time step, the same run
-/// options, and both single-step methods or both composite schemes. They may differ in method
-/// and its parameters (a composite's sub-step ratio γ too), gap, velocity and end time.
+/// options, and both single-step methods, both composite schemes or both the same explicit
+/// method. They may differ in method and its parameters (a composite's sub-step ratio γ too),
+/// gap, velocity and end time.
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
                 const RodScene& b, const MethodParams& method_b, const RunOptions& options_b);
 
@@ -91,6 +94,9 @@ class BatchWorkspace {
                              const RunOptions&, BatchWorkspace&, std::span<RunSummary>);
   std::vector<LaneBlock> storage_;        // the interleaved [unknown][lane] arrays
   std::array<State, kBatchLanes> start_;  // each lane's state when it starts stepping
+  // The explicit kernel (core/batched_explicit.hpp) uses the same storage.
+  friend void simulate_explicit_batch(std::span<const RodScene>, std::span<const MethodParams>,
+                                      const RunOptions&, BatchWorkspace&, std::span<RunSummary>);
 };
 
 /// Runs scenes[k] with methods[k] for k < scenes.size() (1..kBatchLanes runs, every pair

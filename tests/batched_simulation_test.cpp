@@ -256,7 +256,8 @@ TEST(BatchedSimulation, CompositeLanesOnDampedRodsAndWithRunOptions) {
 TEST(BatchedSimulation, WhatMayShareABatch) {
   const RunOptions options;
   EXPECT_TRUE(batchable(RodScene{}, HhtParams{}, options));
-  EXPECT_FALSE(batchable(RodScene{}, CentralDifferenceParams{}, options));
+  // Central difference batches too, in its own kernel (tests/batched_explicit_test.cpp).
+  EXPECT_TRUE(batchable(RodScene{}, CentralDifferenceParams{}, options));
   EXPECT_FALSE(batchable(RodScene{}, HhtParams{}, RunOptions{.record_history = true}));
   // The kernel solves Lagrange multipliers only: another contact law runs in simulate().
   for (ContactLaw law : {ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {

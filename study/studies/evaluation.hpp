@@ -30,7 +30,8 @@ struct BatchEvaluationWorkspace {
 
 /// Whether `next` can join a batch that starts with `first`: the rod's scene through its kernel
 /// (core/batched_simulation.hpp: both batchable, the same rod, time step and run options, both
-/// single-step methods or both composite schemes), a scene of bodies through the chain kernel
+/// single-step methods, both composite schemes or both one explicit method), a scene of bodies
+/// through the chain kernel
 /// (core/batched_chain.hpp: the same assembled system, time step and run options).
 bool batchable_together(const Simulation& first, const Simulation& next);
 

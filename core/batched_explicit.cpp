@@ -1,0 +1,941 @@
+#include "core/batched_explicit.hpp"
+
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/batch_lanes.hpp"
+#include "core/central_difference.hpp"
+#include "core/contact_treatment.hpp"
+#include "core/function_versions.hpp"
+#include "core/noh_bathe.hpp"
+#include "core/parameter_error.hpp"
+#include "core/second_order_system.hpp"
+#include "core/simd_lanes.hpp"
+#include "core/tridiagonal.hpp"
+
+namespace impactid {
+namespace {
+
+using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One row's numbers of central difference's step, the same in every lane: M's and K's diagonal
+// entries and the factorisation of M/Δt² (TridiagonalFactorization's 1/pivot, −lower/pivot,
+// −upper/pivot and the product of two upper ratios, negated where the sweeps negate them).
+struct RowFactors {
+  Lanes mass_diag, stiffness_diag, inverse_pivot, minus_lower_ratio, minus_upper_ratio,
+      upper_ratio2;
+};
+
+// What central difference's step reads: the rod's rows (shared by every lane) and the lanes'
+// arrays and constants. Small, so that the step takes a local copy of it (see cdm_step_lanes).
+struct CdmRows {
+  Eigen::Index n;
+  // Per row (n entries each), as the scalar step reads them.
+  const double *mass_diag, *stiffness_diag, *inverse_pivot, *lower_ratio, *upper_ratio,
+      *upper_ratio2, *influence;
+  // M's and K's off-diagonals: one value each, lower = upper (checked), so a row's product with
+  // its lower neighbour is the one its neighbour's upper term needs.
+  double mass_off, stiffness_off;
+  // Rows [uniform_begin, uniform_end) have every RowFactors value of row uniform_begin, bit for
+  // bit (checked): held in registers there.
+  Eigen::Index uniform_begin, uniform_end;
+  // Three arrays that rotate at every step: u_{t−Δt}, u_t, and the one the step writes u_{t+Δt}
+  // into (holding u_{t−2Δt} before it).
+  Lanes *previous, *current, *next;
+  Lanes gap;
+  LaneMask backward_velocity;  // CdmVelocity::backward lanes; the others central
+  double dt;
+  double inv_dt2;  // 1/(Δt·Δt), as CentralDifference::step
+  double two_dt;   // 2·Δt, the central velocity's divisor
+};
+
+// The batch: the step's rows, the energy's matrices and form, the bookkeeping of
+// core/batch_lanes.hpp.
+struct CdmBatch {
+  CdmRows rows;
+  const Tridiagonal *mass, *stiffness;
+  bool within_limit;  // CentralDifference::within_stability_limit: the energy's form
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;  // each lane's state at its start (its t)
+  // Every lane's start as CentralDifference::initialize leaves it, u₋ (Taylor) and u, and the
+  // array the first step (the state at the start, not a sample) writes u one step ahead into.
+  Lanes *start_previous, *start_current, *start_next;
+  LaneLoop loop;
+};
+
+[[gnu::always_inline]] inline RowFactors row_factors(const CdmRows& b, Eigen::Index i) {
+  return {splat(b.mass_diag[i]),    splat(b.stiffness_diag[i]), splat(b.inverse_pivot[i]),
+          -splat(b.lower_ratio[i]), -splat(b.upper_ratio[i]),   splat(b.upper_ratio2[i])};
+}
+
+// The back substitution of the step's solve (the forward sweep's y in x_rows becomes x), with
+// kContact the lanes in `closes` corrected by −λ·A⁻¹·e_c as the scalar step corrects its solution.
+template <bool kContact>
+[[gnu::always_inline]] inline void back_substitute(const CdmRows& b, const RowFactors& uniform,
+                                                   Lanes* x_rows, const LaneMask& closes,
+                                                   const Lanes& lambda) {
+  const Eigen::Index n = b.n, last = n - 1;
+  const auto corrected = [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+    if constexpr (kContact) {
+      return select(closes, x - lambda * splat(b.influence[i]), x);
+    } else {
+      return x;
+    }
+  };
+  // TridiagonalFactorization::backward_in_place: x_{n−2} = y_{n−2} − c'·x_{n−1}, then
+  // x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}. The solved values carry the recurrence;
+  // the stored ones are corrected (the scalar corrects the whole solution afterwards).
+  Lanes x1 = x_rows[last];  // x_{i+1}
+  Lanes x2{};               // x_{i+2}
+  Lanes y_next;             // y_{i+1}, as the forward sweep left it
+  {
+    const Eigen::Index i = last - 1;
+    y_next = x_rows[i];
+    x2 = x1;
+    x1 = fma(-splat(b.upper_ratio[i]), x1, y_next);
+    store(&x_rows[i], corrected(i, x1));
+  }
+  const auto backward = [&](Eigen::Index i, const Lanes& minus_ratio, const Lanes& ratio2)
+      __attribute__((always_inline)) {
+    const Lanes y = x_rows[i];
+    const Lanes solved = fma(ratio2, x2, fma(minus_ratio, y_next, y));
+    store(&x_rows[i], corrected(i, solved));
+    y_next = y;
+    x2 = x1;
+    x1 = solved;
+  };
+  const Eigen::Index uniform_last = b.uniform_end - 1;  // rows above it are generic
+  Eigen::Index i = last - 2;
+  for (; i > uniform_last; --i) {
+    const RowFactors f = row_factors(b, i);
+    backward(i, f.minus_upper_ratio, f.upper_ratio2);
+  }
+#pragma GCC unroll 2
+  for (; i >= b.uniform_begin; --i) backward(i, uniform.minus_upper_ratio, uniform.upper_ratio2);
+  for (; i >= 0; --i) {
+    const RowFactors f = row_factors(b, i);
+    backward(i, f.minus_upper_ratio, f.upper_ratio2);
+  }
+}
+
+// One step of central difference in every lane (CentralDifference::step, single wall, no
+// damping): u_{t+Δt} into rows.next, returns λ_t; `velocity` gets the contact node's velocity at t
+// (the lane's variant). The arrays are not rotated here.
+//
+// Flops per unknown and lane (count them below): the forward pass 2 mul 1 sub (the scaled
+// increment s = (2·u − u₋)/Δt²), 1 mul 1 FMA 1 add (M·s: m·s_i shared by rows i − 1 and i + 1),
+// 2 mul 2 add (K·u likewise) and 1 sub (M·s − K·u), 1 mul 1 FMA (the forward sweep); the back
+// substitution 2 FMA, two rows at a time: 6 mul 4 FMA 5 add, 19 flops in 15 instructions.
+// With kContact (some lane's contact closes) the back substitution subtracts λ·A⁻¹·e_c too
+// (1 mul 1 sub 1 blend), as the scalar step does after its solve.
+[[gnu::always_inline]] inline Lanes cdm_step_lanes(const CdmRows& rows,
+                                                   const RowFactors& uniform_row, Lanes& velocity) {
+  // Local copies, so that the compiler keeps them in registers: a store through a Lanes pointer
+  // (may_alias) could otherwise change them, and every use would reload them
+  // (core/batched_simulation.cpp's step_lanes).
+  const CdmRows b = rows;
+  const RowFactors uniform = uniform_row;
+  const Eigen::Index n = b.n, last = n - 1;
+  const Lanes* const u_previous = b.previous;
+  const Lanes* const u = b.current;
+  Lanes* const y = b.next;
+  const Lanes two = splat(2.0), inv_dt2 = splat(b.inv_dt2);
+  const Lanes mass_off = splat(b.mass_off), stiffness_off = splat(b.stiffness_off);
+
+  // Row j's scaled increment s_j = (2·u_j − u₋_j)·(1/Δt²), u_j, and their products with the
+  // off-diagonals (each shared by rows j − 1 and j + 1).
+  struct Ahead {
+    Lanes s, p, u, q;
+  };
+  const auto load = [&](Eigen::Index j) __attribute__((always_inline)) {
+    Ahead a;
+    a.u = u[j];
+    a.s = (two * a.u - u_previous[j]) * inv_dt2;
+    a.p = mass_off * a.s;
+    a.q = stiffness_off * a.u;
+    return a;
+  };
+  Ahead prev{}, cur = load(0), next{};
+  Lanes eliminated{};
+  // Row i of M·s (Tridiagonal::multiply: d·x fused onto the lower product, then + the upper),
+  // minus row i of K·u (Tridiagonal::multiply_add with −1: (l·x₋ + d·x) + u·x₊), then the
+  // forward sweep (y_i·(1/pivot_i) − (l_i/pivot_i)·y_{i−1}, one FMA).
+  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
+      __attribute__((always_inline)) {
+    if constexpr (!kLast) next = load(i + 1);
+    Lanes mass, stiffness;
+    if constexpr (kFirst) {
+      mass = fma(f.mass_diag, cur.s, next.p);
+      stiffness = f.stiffness_diag * cur.u + next.q;
+    } else if constexpr (kLast) {
+      mass = fma(f.mass_diag, cur.s, prev.p);
+      stiffness = prev.q + f.stiffness_diag * cur.u;
+    } else {
+      mass = fma(f.mass_diag, cur.s, prev.p) + next.p;
+      stiffness = (prev.q + f.stiffness_diag * cur.u) + next.q;
+    }
+    const Lanes rhs = mass - stiffness;  // y + (−1)·(K·u)_i, exactly
+    Lanes r = rhs * f.inverse_pivot;
+    if constexpr (!kFirst) r = fma(f.minus_lower_ratio, eliminated, r);
+    store(&y[i], r);
+    eliminated = r;
+    prev = cur;
+    cur = next;
+  };
+  forward.template operator()<true, false>(0, row_factors(b, 0));
+  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
+  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
+  Eigen::Index i = 1;
+  for (; i < std::min(uniform_begin, last); ++i) {
+    forward.template operator()<false, false>(i, row_factors(b, i));
+  }
+#pragma GCC unroll 2
+  for (; i < uniform_end; ++i) forward.template operator()<false, false>(i, uniform);
+  for (; i < last; ++i) forward.template operator()<false, false>(i, row_factors(b, i));
+  forward.template operator()<false, true>(last, row_factors(b, last));
+
+  // The contact (the rod's contact dof is the last): the forward sweep leaves the last unknown
+  // final, so the test and λ = (u₊ − gap)/(A⁻¹·e_c)_c come before the back substitution.
+  const Lanes free_end = y[last];
+  const LaneMask closes = greater(free_end, b.gap);
+  Lanes lambda{};
+  if (any_lane(closes)) {
+    lambda = select(closes, (free_end - b.gap) / splat(b.influence[last]), Lanes{});
+    back_substitute<true>(b, uniform, y, closes, lambda);
+    // u₊ − λ·A⁻¹·e_c at the node, then exactly the wall (CentralDifference::step).
+    store(&y[last], select(closes, b.gap, free_end));
+  } else {
+    back_substitute<false>(b, uniform, y, closes, lambda);
+  }
+  // The reported velocity at t: central (u₊ − u₋)/(2Δt), backward (u − u₋)/Δt.
+  const Lanes central = (y[last] - u_previous[last]) / splat(b.two_dt);
+  const Lanes backward = (u[last] - u_previous[last]) / splat(b.dt);
+  velocity = select(b.backward_velocity, backward, central);
+  return lambda;
+}
+
+// The energy each lane's run_steps checks at the sample just stepped (CentralDifference::energy):
+// after the rotation, b.previous holds u_t, b.current u_{t+Δt} and b.next u_{t−Δt}.
+//   kWithinLimit: central_difference_energy(wᵀMw, wᵀKw, mᵀKm, Δt), w = (u₊ − u)/Δt,
+//                 m = ½·(u₊ + u);
+//   otherwise:    ½vᵀMv + ½uᵀKu with the lane's reported velocity v at t.
+// Each quadratic form summed in Tridiagonal::quadratic_form's order ((d·x + l·x₋) + u·x₊ per
+// row), the three sums side by side in one pass; the uniform rows' diagonals in registers.
+template <bool kWithinLimit>
+[[gnu::always_inline]] inline Lanes cdm_energy_lanes(const CdmRows& rows) {
+  const CdmRows b = rows;  // a local copy: see cdm_step_lanes
+  const Eigen::Index n = b.n, last = n - 1;
+  const Lanes dt = splat(b.dt), two_dt = splat(b.two_dt), half = splat(0.5);
+  const Lanes mass_off = splat(b.mass_off), stiffness_off = splat(b.stiffness_off);
+  const Lanes *u_previous = b.next, *u = b.previous, *u_ahead = b.current;
+  // Row i's two vectors of the forms (w and m, or v and u).
+  struct Row {
+    Lanes first, second;
+  };
+  const auto vectors = [&](Eigen::Index i) __attribute__((always_inline)) {
+    if constexpr (kWithinLimit) {
+      return Row{(u_ahead[i] - u[i]) / dt, half * (u_ahead[i] + u[i])};
+    } else {
+      return Row{select(b.backward_velocity, (u[i] - u_previous[i]) / dt,
+                        (u_ahead[i] - u_previous[i]) / two_dt),
+                 u[i]};
+    }
+  };
+  Lanes mass_first{}, stiffness_first{}, stiffness_second{};
+  Row prev{}, cur = vectors(0), next{};
+  const auto row = [&]<bool kFirst, bool kLast>(Eigen::Index i, const Lanes& mass_diag,
+                                                const Lanes& stiffness_diag)
+      __attribute__((always_inline)) {
+    if constexpr (!kLast) next = vectors(i + 1);
+    Lanes m = mass_diag * cur.first, k = stiffness_diag * cur.first,
+          k2 = stiffness_diag * cur.second;
+    if constexpr (!kFirst) {
+      m = m + mass_off * prev.first;
+      k = k + stiffness_off * prev.first;
+      k2 = k2 + stiffness_off * prev.second;
+    }
+    if constexpr (!kLast) {
+      m = m + mass_off * next.first;
+      k = k + stiffness_off * next.first;
+      k2 = k2 + stiffness_off * next.second;
+    }
+    mass_first = mass_first + cur.first * m;
+    stiffness_first = stiffness_first + cur.first * k;
+    stiffness_second = stiffness_second + cur.second * k2;
+    prev = cur;
+    cur = next;
+  };
+  const auto generic_row = [&](Eigen::Index i) __attribute__((always_inline)) {
+    row.template operator()<false, false>(i, splat(b.mass_diag[i]), splat(b.stiffness_diag[i]));
+  };
+  row.template operator()<true, false>(0, splat(b.mass_diag[0]), splat(b.stiffness_diag[0]));
+  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
+  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
+  const Lanes uniform_mass = splat(b.mass_diag[b.uniform_begin]);
+  const Lanes uniform_stiffness = splat(b.stiffness_diag[b.uniform_begin]);
+  Eigen::Index i = 1;
+  for (; i < std::min(uniform_begin, last); ++i) generic_row(i);
+  for (; i < uniform_end; ++i) {
+    row.template operator()<false, false>(i, uniform_mass, uniform_stiffness);
+  }
+  for (; i < last; ++i) generic_row(i);
+  row.template operator()<false, true>(last, splat(b.mass_diag[last]),
+                                       splat(b.stiffness_diag[last]));
+  Lanes energy;
+  for (int l = 0; l < kBatchLanes; ++l) {
+    energy.set(l, kWithinLimit ? central_difference_energy(mass_first[l], stiffness_first[l],
+                                                           stiffness_second[l], b.dt)
+                               : 0.5 * mass_first[l] + 0.5 * stiffness_second[l]);
+  }
+  return energy;
+}
+
+// Writes lane l of the three arrays from the [unknown][lane] arrays `now` (u_t) and `ahead`
+// (u_{t+Δt}), or zeros it (null).
+void set_cdm_lane(const CdmRows& b, int l, const Lanes* now, const Lanes* ahead) {
+  for (Eigen::Index i = 0; i < b.n; ++i) {
+    b.previous[i].set(l, now ? now[i][l] : 0.0);
+    b.current[i].set(l, ahead ? ahead[i][l] : 0.0);
+    b.next[i].set(l, 0.0);
+  }
+}
+
+// The batch loop (core/batch_lanes.hpp: run_lanes) with central difference's step, for the
+// machine at hand (GCC target_clones: everything the loop calls is inlined into each version).
+IMPACTID_SIMD_VERSIONS void run_cdm_batch(CdmBatch& b) {
+  CdmRows& rows = b.rows;
+  const RowFactors uniform = row_factors(rows, rows.uniform_begin);
+  Lanes velocity{};
+  // simulate() steps once from the start before its loop: the state at the start (the initial
+  // state or the last filled-in sample), not recorded, and u one step ahead. The same step for
+  // every lane at once, each from its own start; a lane then steps on from u, u₊ when it starts.
+  CdmRows start = rows;
+  start.previous = b.start_previous;
+  start.current = b.start_current;
+  start.next = b.start_next;
+  cdm_step_lanes(start, uniform, velocity);
+  run_lanes(
+      b.lanes, b.loop,
+      lane_stepper(
+          [&](int l) __attribute__((always_inline)) {
+            set_cdm_lane(rows, l, b.start_current, b.start_next);
+            // λ at the start does not enter central difference's step.
+            return LaneStart{.lambda = 0.0, .t = (*b.start)[static_cast<std::size_t>(l)].t};
+          },
+          [&](bool, const Lanes&) __attribute__((always_inline)) {
+            const Lanes lambda = cdm_step_lanes(rows, uniform, velocity);
+            Lanes* const oldest = rows.previous;
+            rows.previous = rows.current;
+            rows.current = rows.next;
+            rows.next = oldest;
+            return lambda;
+          },
+          [&]() __attribute__((always_inline)) { return velocity; },
+          [&]() __attribute__((always_inline)) {
+            return b.within_limit ? cdm_energy_lanes<true>(rows) : cdm_energy_lanes<false>(rows);
+          },
+          [&](int l) __attribute__((always_inline)) { set_cdm_lane(rows, l, nullptr, nullptr); }));
+}
+
+// Whether a tridiagonal matrix's off-diagonals are one value, lower = upper (the rod's).
+bool symmetric_uniform_off_diagonals(const Tridiagonal& a) {
+  const Eigen::Index n = a.size();
+  for (Eigen::Index i = 1; i < n; ++i) {
+    if (a.lower[i] != a.lower[1] || a.upper[i - 1] != a.lower[1]) return false;
+  }
+  return true;
+}
+
+// simulate_explicit_batch for central difference, with the workspace's storage, start states and
+// traces.
+void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
+                        const RunOptions& options, std::vector<LaneBlock>& storage,
+                        std::array<State, kBatchLanes>& starts,
+                        std::array<ContactTrace, kBatchLanes>& traces,
+                        std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  const SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, the gap aside
+  const Eigen::Index n = system.size();
+  const double dt = derive(scenes[0]).time_step;
+  const ContactPenalties contact = resolve_contact(options.contact, system);
+
+  storage.assign(static_cast<std::size_t>(6 * n), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
+  CdmBatch b{};
+  CdmRows& rows = b.rows;
+  rows.n = n;
+  rows.previous = block;
+  rows.current = block + n;
+  rows.next = block + 2 * n;
+  b.start_previous = block + 3 * n;
+  b.start_current = block + 4 * n;
+  b.start_next = block + 5 * n;
+  rows.gap = splat(kInf);  // unused lanes never touch a wall
+  rows.dt = dt;
+  rows.inv_dt2 = 1.0 / (dt * dt);
+  rows.two_dt = 2.0 * dt;
+  b.mass = &system.mass;
+  b.stiffness = &system.stiffness;
+  b.start = &starts;
+  b.loop = {.area = scenes[0].area,
+            .dt = dt,
+            .energy_check_interval = options.energy_check_interval,
+            .energy_growth_limit = options.energy_growth_limit};
+
+  // The left-hand matrix M/Δt² (CentralDifference::initialize's, without damping:
+  // explicit_batchable), so its factorisation and A⁻¹·e_c, are every lane's: one rod, one step.
+  // So are the stable step and the energy's form, which a CentralDifference started once gives.
+  const Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, 0.0);
+  TridiagonalFactorization factorization;
+  CentralDifference stepper;
+  State rest;  // any state of the rod's size: initialize's stable step does not depend on it
+  rest.u.setZero(n);
+  rest.v.setZero(n);
+  rest.a.setZero(n);
+  const bool started = factorization.factor(lhs) &&
+                       stepper.initialize(system, CdmVelocity::central, dt, rest, contact);
+  // The kernel's rows are checked, not assumed (never otherwise on a RodScene).
+  const bool uniform = symmetric_uniform_off_diagonals(system.mass) &&
+                       symmetric_uniform_off_diagonals(system.stiffness) &&
+                       system.contact_dof == n - 1;
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    const RodScene& scene = scenes[lane];
+    const auto& method = std::get<CentralDifferenceParams>(methods[lane]);
+    LaneRun& run = b.lanes[lane];
+    if (!prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, run)) {
+      continue;
+    }
+    RunSummary& summary = summaries[lane];
+    if (!started || !uniform) {
+      summary.status = RunStatus::failed;
+      summary.message = !started ? "central difference: singular left-hand matrix"
+                                 : "batched kernel: the mass or the stiffness is not uniform "
+                                   "along the rod";
+      run = LaneRun{};
+      continue;
+    }
+    summary.stable_dt = stepper.stable_step();
+    // CentralDifference::initialize's start: u₋ = u₀ − Δt·v₀ + ½Δt²·a₀, the same expression.
+    const State& state = starts[lane];
+    const Eigen::VectorXd u_previous = state.u - dt * state.v + (0.5 * dt * dt) * state.a;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      b.start_previous[i].set(l, u_previous[i]);
+      b.start_current[i].set(l, state.u[i]);
+    }
+    rows.gap.set(l, scene.gap);
+    rows.backward_velocity.set(l, method.velocity == CdmVelocity::backward);
+  }
+  if (!started || !uniform) {
+    finish_lanes(count, start, traces, summaries);
+    return;
+  }
+  b.within_limit = stepper.within_stability_limit();
+  const Eigen::VectorXd& inverse_pivot = factorization.inverse_pivots();
+  const Eigen::VectorXd& lower_ratio = factorization.lower_ratios();
+  const Eigen::VectorXd& upper_ratio = factorization.upper_ratios();
+  Eigen::VectorXd upper_ratio2(n);
+  for (Eigen::Index i = 0; i < n; ++i) {  // as TridiagonalFactorization::factor forms it
+    upper_ratio2[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
+  }
+  const Eigen::VectorXd influence = factorization.inverse_column(system.contact_dof);
+  rows.mass_diag = system.mass.diag.data();
+  rows.stiffness_diag = system.stiffness.diag.data();
+  rows.inverse_pivot = inverse_pivot.data();
+  rows.lower_ratio = lower_ratio.data();
+  rows.upper_ratio = upper_ratio.data();
+  rows.upper_ratio2 = upper_ratio2.data();
+  rows.influence = influence.data();
+  rows.mass_off = system.mass.lower[1];  // n >= 2: a rod has at least one element
+  rows.stiffness_off = system.stiffness.lower[1];
+  // The rows of one value: ending before the last two (whose upper_ratio2 is 0 and whose
+  // diagonal is the end's), beginning where every factor has reached the value of the row
+  // before them (a lumped mass: row 1; a consistent one: where its pivots have converged).
+  rows.uniform_end = std::max<Eigen::Index>(n - 2, 1);
+  const Eigen::Index ref = rows.uniform_end - 1;
+  const auto same_row = [&](Eigen::Index i) {
+    return rows.mass_diag[i] == rows.mass_diag[ref] &&
+           rows.stiffness_diag[i] == rows.stiffness_diag[ref] &&
+           inverse_pivot[i] == inverse_pivot[ref] && lower_ratio[i] == lower_ratio[ref] &&
+           upper_ratio[i] == upper_ratio[ref] && upper_ratio2[i] == upper_ratio2[ref];
+  };
+  rows.uniform_begin = ref >= 1 ? ref : rows.uniform_end;
+  while (rows.uniform_begin > 1 && same_row(rows.uniform_begin - 1)) --rows.uniform_begin;
+  run_cdm_batch(b);
+  finish_lanes(count, start, traces, summaries);
+}
+
+// ---- The Noh–Bathe explicit scheme (core/noh_bathe.hpp) ----
+
+// What NohBatheExplicit::step reads: the rod's rows (K, and M's factorisation), the lanes'
+// arrays and each lane's coefficients (its own p).
+struct NohBatheRows {
+  Eigen::Index n;
+  const double *stiffness_diag, *inverse_pivot, *lower_ratio, *upper_ratio, *upper_ratio2,
+      *influence;
+  double stiffness_off;
+  Eigen::Index uniform_begin, uniform_end;  // as CdmRows'
+  // The state u, v, a; u at the next point of the grid (NohBatheExplicit's u_next_); the
+  // sub-step's a_p. Between the sub-steps v holds v_p.
+  Lanes *u, *v, *a, *next, *sub_a;
+  Lanes gap;
+  // NohBatheExplicit::step's pΔt, (1−p)Δt, ½·pΔt, c₁, c₂, w0, wp, w1, per lane.
+  Lanes first, second, half_first, scale_first, scale_second, w0, wp, w1;
+};
+
+[[gnu::always_inline]] inline RowFactors row_factors(const NohBatheRows& b, Eigen::Index i) {
+  return {Lanes{},
+          splat(b.stiffness_diag[i]),
+          splat(b.inverse_pivot[i]),
+          -splat(b.lower_ratio[i]),
+          -splat(b.upper_ratio[i]),
+          splat(b.upper_ratio2[i])};
+}
+
+// The forward pass of one sub-step's solve_acceleration: a = 0 − K·u_next (Tridiagonal::
+// multiply_add with −1 onto a zeroed a), then the forward sweep with M's factorisation into
+// `out`. kSecond (the second sub-step): the row's state first takes u = u_next and
+// v = v_p + w0·a + wp·a_p (NohBatheExplicit::step's order), reading the old a before `out` (= a)
+// overwrites it.
+template <bool kSecond>
+[[gnu::always_inline]] inline void noh_bathe_forward(const NohBatheRows& b,
+                                                     const RowFactors& uniform, Lanes* out) {
+  const Eigen::Index n = b.n, last = n - 1;
+  const Lanes zero{}, stiffness_off = splat(b.stiffness_off);
+  struct Ahead {
+    Lanes u, q;
+  };
+  const auto load = [&](Eigen::Index j) __attribute__((always_inline)) {
+    Ahead x;
+    x.u = b.next[j];
+    x.q = stiffness_off * x.u;
+    return x;
+  };
+  Ahead prev{}, cur = load(0), next{};
+  Lanes eliminated{};
+  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
+      __attribute__((always_inline)) {
+    if constexpr (!kLast) next = load(i + 1);
+    if constexpr (kSecond) {
+      store(&b.u[i], cur.u);
+      store(&b.v[i], (b.v[i] + b.w0 * b.a[i]) + b.wp * b.sub_a[i]);
+    }
+    Lanes stiffness;
+    if constexpr (kFirst) {
+      stiffness = f.stiffness_diag * cur.u + next.q;
+    } else if constexpr (kLast) {
+      stiffness = prev.q + f.stiffness_diag * cur.u;
+    } else {
+      stiffness = (prev.q + f.stiffness_diag * cur.u) + next.q;
+    }
+    Lanes r = (zero - stiffness) * f.inverse_pivot;
+    if constexpr (!kFirst) r = fma(f.minus_lower_ratio, eliminated, r);
+    store(&out[i], r);
+    eliminated = r;
+    prev = cur;
+    cur = next;
+  };
+  forward.template operator()<true, false>(0, row_factors(b, 0));
+  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
+  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
+  Eigen::Index i = 1;
+  for (; i < std::min(uniform_begin, last); ++i) {
+    forward.template operator()<false, false>(i, row_factors(b, i));
+  }
+#pragma GCC unroll 2
+  for (; i < uniform_end; ++i) forward.template operator()<false, false>(i, uniform);
+  for (; i < last; ++i) forward.template operator()<false, false>(i, row_factors(b, i));
+  forward.template operator()<false, true>(last, row_factors(b, last));
+}
+
+// The back substitution with M's factorisation of the forward pass's y in x_rows, calling
+// finish(i, x_i) with each solved x_i (the last row's first, then up the rod), which stores
+// what the row's sub-step makes of it.
+template <class Finish>
+[[gnu::always_inline]] inline void noh_bathe_backward(const NohBatheRows& b,
+                                                      const RowFactors& uniform, Lanes* x_rows,
+                                                      Finish&& finish) {
+  const Eigen::Index n = b.n, last = n - 1;
+  Lanes x1 = x_rows[last];
+  finish(last, x1);
+  Lanes x2{}, y_next;
+  {
+    const Eigen::Index i = last - 1;
+    y_next = x_rows[i];
+    x2 = x1;
+    x1 = fma(-splat(b.upper_ratio[i]), x1, y_next);
+    finish(i, x1);
+  }
+  const auto backward = [&](Eigen::Index i, const Lanes& minus_ratio, const Lanes& ratio2)
+      __attribute__((always_inline)) {
+    const Lanes y = x_rows[i];
+    const Lanes solved = fma(ratio2, x2, fma(minus_ratio, y_next, y));
+    finish(i, solved);
+    y_next = y;
+    x2 = x1;
+    x1 = solved;
+  };
+  const Eigen::Index uniform_last = b.uniform_end - 1;
+  Eigen::Index i = last - 2;
+  for (; i > uniform_last; --i) {
+    const RowFactors f = row_factors(b, i);
+    backward(i, f.minus_upper_ratio, f.upper_ratio2);
+  }
+#pragma GCC unroll 2
+  for (; i >= b.uniform_begin; --i) backward(i, uniform.minus_upper_ratio, uniform.upper_ratio2);
+  for (; i >= 0; --i) {
+    const RowFactors f = row_factors(b, i);
+    backward(i, f.minus_upper_ratio, f.upper_ratio2);
+  }
+}
+
+// One step of the Noh–Bathe explicit scheme in every lane (NohBatheExplicit::step, single wall,
+// no damping; the velocity predictor it forms feeds only the damping term, so it is not formed).
+// Returns λ of the equilibrium at t + Δt.
+//   Sub-step 1: a_p from M·a_p = −K·u_next; u_next ← u_next + (1−p)Δt·(v + ½pΔt·a) + c₁·a_p, the
+//     contact λ_p = (u_next,c − gap)/(c₁·(M⁻¹e_c)_c) where it penetrates, a_p −= λ_p·M⁻¹e_c,
+//     u_next −= (c₁·λ_p)·M⁻¹e_c, u_next,c = gap; v_p = v + ½pΔt·(a + a_p).
+//   Sub-step 2: u = u_next, v = (v_p + w0·a) + wp·a_p; a from M·a = −K·u; u_next ← (u + pΔt·v) +
+//     c₂·a with the contact as above (c₂, λ); v += w1·a.
+// Each sub-step is a forward pass (K·u_next, the forward sweep) and a back substitution that
+// finishes each row as it is solved (the contact test needs the last row only, which the
+// forward sweep leaves final).
+//
+// Flops per unknown and lane (no contact; count them in noh_bathe_forward and the finishes):
+// sub-step 1, the forward pass 3 mul 3 add/sub 1 FMA (K·u with the off-diagonal product shared
+// by two rows, 0 − K·u, the sweep), the back substitution 2 FMA, u_next 3 mul 3 add, v_p 1 mul
+// 2 add; sub-step 2, the forward pass 2 mul 2 add (v) and 3 mul 3 add 1 FMA, the back
+// substitution 2 FMA, u_next 2 mul 2 add, v 1 mul 1 add: 15 mul 16 add/sub 6 FMA, 43 flops in
+// 37 instructions a step (HHT's: 23 in 14), 18.5 instructions a stage. Stores per unknown and
+// register: 1 + 3 (sub-step 1), 3 + 3 (sub-step 2), 10 (HHT's: 4). While some lane is in
+// contact a back substitution also subtracts λ·M⁻¹e_c from a and (c·λ)·M⁻¹e_c from u_next
+// (2 mul 2 sub 2 blends).
+template <bool kAnyContact>
+[[gnu::always_inline]] inline void noh_bathe_finish_first(const NohBatheRows& b,
+                                                          const LaneMask& closes,
+                                                          const Lanes& lambda,
+                                                          const Lanes& scaled_lambda,
+                                                          Eigen::Index i, const Lanes& solved) {
+  const Lanes v = b.v[i], a = b.a[i];
+  Lanes next = (b.next[i] + b.second * (v + b.half_first * a)) + b.scale_first * solved;
+  Lanes sub_a = solved;
+  if constexpr (kAnyContact) {
+    const Lanes influence = splat(b.influence[i]);
+    sub_a = select(closes, solved - lambda * influence, solved);
+    next = select(closes, next - scaled_lambda * influence, next);
+  }
+  store(&b.sub_a[i], sub_a);
+  store(&b.next[i], next);
+  store(&b.v[i], v + b.half_first * (a + sub_a));
+}
+
+template <bool kAnyContact>
+[[gnu::always_inline]] inline void noh_bathe_finish_second(const NohBatheRows& b,
+                                                           const LaneMask& closes,
+                                                           const Lanes& lambda,
+                                                           const Lanes& scaled_lambda,
+                                                           Eigen::Index i, const Lanes& solved) {
+  const Lanes v = b.v[i];
+  Lanes next = (b.u[i] + b.first * v) + b.scale_second * solved;
+  Lanes a = solved;
+  if constexpr (kAnyContact) {
+    const Lanes influence = splat(b.influence[i]);
+    a = select(closes, solved - lambda * influence, solved);
+    next = select(closes, next - scaled_lambda * influence, next);
+  }
+  store(&b.a[i], a);
+  store(&b.next[i], next);
+  store(&b.v[i], v + b.w1 * a);
+}
+
+[[gnu::always_inline]] inline Lanes noh_bathe_step_lanes(const NohBatheRows& rows,
+                                                         const RowFactors& uniform_row) {
+  const NohBatheRows b = rows;  // local copies: see cdm_step_lanes
+  const RowFactors uniform = uniform_row;
+  const Eigen::Index last = b.n - 1;
+  const Lanes influence = splat(b.influence[last]);
+
+  // Sub-step 1. The contact-free u_next of the last row (as the finish computes it) decides λ_p.
+  noh_bathe_forward<false>(b, uniform, b.sub_a);
+  const Lanes free_first = (b.next[last] + b.second * (b.v[last] + b.half_first * b.a[last])) +
+                           b.scale_first * b.sub_a[last];
+  const LaneMask closes_first = greater(free_first, b.gap);
+  if (any_lane(closes_first)) {
+    const Lanes lambda =
+        select(closes_first, (free_first - b.gap) / (b.scale_first * influence), Lanes{});
+    const Lanes scaled = b.scale_first * lambda;
+    noh_bathe_backward(
+        b, uniform,
+        b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_first<true>(b, closes_first, lambda, scaled, i, solved);
+        });
+    store(&b.next[last], select(closes_first, b.gap, b.next[last]));
+  } else {
+    noh_bathe_backward(
+        b, uniform,
+        b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_first<false>(b, closes_first, Lanes{}, Lanes{}, i, solved);
+        });
+  }
+
+  // Sub-step 2.
+  noh_bathe_forward<true>(b, uniform, b.a);
+  const Lanes free_second = (b.u[last] + b.first * b.v[last]) + b.scale_second * b.a[last];
+  const LaneMask closes_second = greater(free_second, b.gap);
+  Lanes lambda{};
+  if (any_lane(closes_second)) {
+    lambda = select(closes_second, (free_second - b.gap) / (b.scale_second * influence), Lanes{});
+    const Lanes scaled = b.scale_second * lambda;
+    noh_bathe_backward(
+        b, uniform, b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_second<true>(b, closes_second, lambda, scaled, i, solved);
+        });
+    store(&b.next[last], select(closes_second, b.gap, b.next[last]));
+  } else {
+    noh_bathe_backward(
+        b, uniform, b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          noh_bathe_finish_second<false>(b, closes_second, Lanes{}, Lanes{}, i, solved);
+        });
+  }
+  return lambda;
+}
+
+// ½vᵀMv + ½uᵀKu of every lane (SecondOrderSystem::energy), each form in
+// Tridiagonal::quadratic_form's order.
+[[gnu::always_inline]] inline Lanes plain_energy_lanes(const Tridiagonal& mass,
+                                                       const Tridiagonal& stiffness, const Lanes* u,
+                                                       const Lanes* v, Eigen::Index n) {
+  Lanes kinetic{}, strain{};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Lanes v_prev = i > 0 ? v[i - 1] : Lanes{}, v_next = i + 1 < n ? v[i + 1] : Lanes{};
+    const Lanes u_prev = i > 0 ? u[i - 1] : Lanes{}, u_next = i + 1 < n ? u[i + 1] : Lanes{};
+    kinetic = kinetic + v[i] * quadratic_form_row(mass, i, v_prev, v[i], v_next);
+    strain = strain + u[i] * quadratic_form_row(stiffness, i, u_prev, u[i], u_next);
+  }
+  return 0.5 * kinetic + 0.5 * strain;
+}
+
+struct NohBatheBatch {
+  NohBatheRows rows;
+  const Tridiagonal *mass, *stiffness;
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;  // each lane's state after initialize
+  Lanes* start_next;                      // and its u_next, [unknown][lane]
+  LaneLoop loop;
+};
+
+IMPACTID_SIMD_VERSIONS void run_noh_bathe_batch(NohBatheBatch& b) {
+  NohBatheRows& rows = b.rows;
+  const RowFactors uniform = row_factors(rows, rows.uniform_begin);
+  const Eigen::Index n = rows.n;
+  run_lanes(b.lanes, b.loop,
+            lane_stepper(
+                [&](int l) __attribute__((always_inline)) {
+                  const State& start = (*b.start)[static_cast<std::size_t>(l)];
+                  for (Eigen::Index i = 0; i < n; ++i) {
+                    rows.u[i].set(l, start.u[i]);
+                    rows.v[i].set(l, start.v[i]);
+                    rows.a[i].set(l, start.a[i]);
+                    rows.next[i].set(l, b.start_next[i][l]);
+                    rows.sub_a[i].set(l, 0.0);
+                  }
+                  return LaneStart{.lambda = start.lambda, .t = start.t};
+                },
+                [&](bool, const Lanes&)
+                    __attribute__((always_inline)) { return noh_bathe_step_lanes(rows, uniform); },
+                [&]() __attribute__((always_inline)) { return rows.v[n - 1]; },
+                [&]() __attribute__((always_inline)) {
+                  return plain_energy_lanes(*b.mass, *b.stiffness, rows.u, rows.v, n);
+                },
+                [&](int l) __attribute__((always_inline)) {
+                  for (Eigen::Index i = 0; i < n; ++i) {
+                    rows.u[i].set(l, 0.0);
+                    rows.v[i].set(l, 0.0);
+                    rows.a[i].set(l, 0.0);
+                    rows.next[i].set(l, 0.0);
+                    rows.sub_a[i].set(l, 0.0);
+                  }
+                }));
+}
+
+void simulate_noh_bathe_batch(std::span<const RodScene> scenes,
+                              std::span<const MethodParams> methods, const RunOptions& options,
+                              std::vector<LaneBlock>& storage,
+                              std::array<State, kBatchLanes>& starts,
+                              std::array<ContactTrace, kBatchLanes>& traces,
+                              std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
+  const Eigen::Index n = system.size();
+  const double dt = derive(scenes[0]).time_step;
+
+  storage.assign(static_cast<std::size_t>(6 * n), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
+  NohBatheBatch b{};
+  NohBatheRows& rows = b.rows;
+  rows.n = n;
+  rows.u = block;
+  rows.v = block + n;
+  rows.a = block + 2 * n;
+  rows.next = block + 3 * n;
+  rows.sub_a = block + 4 * n;
+  b.start_next = block + 5 * n;
+  rows.gap = splat(kInf);  // unused lanes never touch a wall
+  b.mass = &system.mass;
+  b.stiffness = &system.stiffness;
+  b.start = &starts;
+  b.loop = {.area = scenes[0].area,
+            .dt = dt,
+            .energy_check_interval = options.energy_check_interval,
+            .energy_growth_limit = options.energy_growth_limit};
+
+  // M's factorisation and M⁻¹·e_c (NohBatheExplicit::initialize's) are every lane's.
+  TridiagonalFactorization factorization;
+  const bool factored = factorization.factor(system.mass);
+  const bool uniform =
+      symmetric_uniform_off_diagonals(system.stiffness) && system.contact_dof == n - 1;
+  const Eigen::VectorXd influence =
+      factored ? factorization.inverse_column(system.contact_dof) : Eigen::VectorXd();
+  // Every lane prepared first: initialize changes a lane's start state (the contact at the
+  // start corrects a), which a later lane of the same velocity would otherwise copy
+  // (prepare_lane).
+  std::array<bool, kBatchLanes> prepared{};
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    prepared[lane] =
+        prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
+  }
+  NohBatheExplicit stepper;
+  bool any = false;
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    if (!prepared[lane]) continue;
+    const RodScene& scene = scenes[lane];
+    const auto& params = std::get<NohBatheParams>(methods[lane]);
+    LaneRun& run = b.lanes[lane];
+    RunSummary& summary = summaries[lane];
+    State& state = starts[lane];
+    const State before = state;
+    system.gap = scene.gap;
+    const NohBatheCoefficients c = noh_bathe_coefficients(params);
+    // run_noh_bathe (core/simulation.cpp): the start, the stable step and its warning.
+    if (!stepper.initialize(system, c, dt, state) || !uniform) {
+      summary.status = RunStatus::failed;
+      summary.message = uniform ? "noh-bathe: singular mass matrix"
+                                : "batched kernel: the stiffness is not uniform along the rod";
+      run = LaneRun{};
+      continue;
+    }
+    summary.stable_dt = stepper.stable_step();
+    if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
+      summary.warning = "dt = " + format_value(dt) + " s exceeds noh-bathe's stable step " +
+                        format_value(stepper.stable_step()) +
+                        " s (Omega_crit = " + format_value(noh_bathe_critical_omega(params.p)) +
+                        " at p = " + format_value(params.p) + "): lower the step";
+    }
+    // NohBatheExplicit::initialize's u_next: u_p with the contact at the start (its λ and the
+    // correction of a are already in `state`).
+    const double p = c.p;
+    const double scale_start = 0.5 * (p * dt) * (p * dt);
+    Eigen::VectorXd next = before.u + (p * dt) * before.v + scale_start * before.a;
+    const Eigen::Index contact = system.contact_dof;
+    if (next[contact] > system.gap) {
+      const double lambda = (next[contact] - system.gap) / (scale_start * influence[contact]);
+      next -= (scale_start * lambda) * influence;
+      next[contact] = system.gap;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) b.start_next[i].set(l, next[i]);
+    // NohBatheExplicit::initialize's and ::step's coefficients, by their expressions.
+    const double first = p * dt, second = (1.0 - p) * dt;
+    rows.first.set(l, first);
+    rows.second.set(l, second);
+    rows.half_first.set(l, 0.5 * first);
+    rows.scale_first.set(l, 0.5 * (1.0 - p) * dt * dt);
+    rows.scale_second.set(l, dt * dt * p * ((1.0 - p) * c.q2 + 0.5 * p));
+    rows.w0.set(l, second * c.q0);
+    rows.wp.set(l, second * (0.5 + c.q1));
+    rows.w1.set(l, second * c.q2);
+    rows.gap.set(l, scene.gap);
+    any = true;
+  }
+  if (any) {
+    Eigen::VectorXd upper_ratio2(n);
+    const Eigen::VectorXd& upper_ratio = factorization.upper_ratios();
+    for (Eigen::Index i = 0; i < n; ++i) {  // as TridiagonalFactorization::factor forms it
+      upper_ratio2[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
+    }
+    rows.stiffness_diag = system.stiffness.diag.data();
+    rows.inverse_pivot = factorization.inverse_pivots().data();
+    rows.lower_ratio = factorization.lower_ratios().data();
+    rows.upper_ratio = upper_ratio.data();
+    rows.upper_ratio2 = upper_ratio2.data();
+    rows.influence = influence.data();
+    rows.stiffness_off = system.stiffness.lower[1];
+    rows.uniform_end = std::max<Eigen::Index>(n - 2, 1);
+    const Eigen::Index ref = rows.uniform_end - 1;
+    const auto same_row = [&](Eigen::Index i) {
+      return rows.stiffness_diag[i] == rows.stiffness_diag[ref] &&
+             rows.inverse_pivot[i] == rows.inverse_pivot[ref] &&
+             rows.lower_ratio[i] == rows.lower_ratio[ref] && upper_ratio[i] == upper_ratio[ref] &&
+             upper_ratio2[i] == upper_ratio2[ref];
+    };
+    rows.uniform_begin = ref >= 1 ? ref : rows.uniform_end;
+    while (rows.uniform_begin > 1 && same_row(rows.uniform_begin - 1)) --rows.uniform_begin;
+    run_noh_bathe_batch(b);
+  }
+  finish_lanes(count, start, traces, summaries);
+}
+
+}  // namespace
+
+ExplicitBatchKind explicit_batch_kind(const MethodParams& method) {
+  if (std::holds_alternative<CentralDifferenceParams>(method)) {
+    return ExplicitBatchKind::central_difference;
+  }
+  if (std::holds_alternative<NohBatheParams>(method)) return ExplicitBatchKind::noh_bathe;
+  return ExplicitBatchKind::none;
+}
+
+bool explicit_batchable(const RodScene& scene, const MethodParams& method) {
+  switch (explicit_batch_kind(method)) {
+    case ExplicitBatchKind::central_difference:
+      // Damping adds terms to the step and to the left-hand matrix (per velocity variant) that
+      // the kernel does not have: damped central difference runs through simulate().
+      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+    case ExplicitBatchKind::noh_bathe:
+      // Damping adds a product with C to each sub-step: damped runs go through simulate().
+      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+    case ExplicitBatchKind::none:
+      return false;
+  }
+  return false;
+}
+
+void simulate_explicit_batch(std::span<const RodScene> scenes,
+                             std::span<const MethodParams> methods, const RunOptions& options,
+                             BatchWorkspace& workspace, std::span<RunSummary> summaries) {
+  switch (explicit_batch_kind(methods[0])) {
+    case ExplicitBatchKind::central_difference:
+      simulate_cdm_batch(scenes, methods, options, workspace.storage_, workspace.start_,
+                         workspace.traces, summaries);
+      return;
+    case ExplicitBatchKind::noh_bathe:
+      simulate_noh_bathe_batch(scenes, methods, options, workspace.storage_, workspace.start_,
+                               workspace.traces, summaries);
+      return;
+    case ExplicitBatchKind::none:
+      break;
+  }
+  assert(false && "simulate_explicit_batch: not an explicit batch");
+}
+
+}  // namespace impactid
