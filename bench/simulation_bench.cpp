@@ -174,6 +174,40 @@ BENCHMARK(BM_MethodDofStep)
     ->DenseRange(0, static_cast<int>(method_registry().size()) - 1)
     ->Unit(benchmark::kMicrosecond);
 
+// Wilson-θ's step kind over a whole run: its default on the default scene goes unstable after
+// about 50 steps (REPRODUCTION.md), so BM_MethodDofStep's figure for it mostly measures a batch's
+// set-up. Here the energy bound is lifted (1000·E0) and every run steps all its samples, as a
+// stable point of a sweep does. Arg 0: kBatchLanes runs through the batched kernel; 1: one run
+// through simulate(). Counter: ns/dof-step per run, as BM_MethodDofStep's (compare with its HHT
+// row of the same run).
+void BM_WilsonThetaDofStep(benchmark::State& state) {
+  const bool batched = state.range(0) == 0;
+  state.SetLabel(batched ? "wilson-theta batched, bound lifted"
+                         : "wilson-theta scalar, bound lifted");
+  const RodScene scene;
+  const RunOptions options{.energy_growth_limit = 1000.0};
+  const std::vector<RodScene> scenes(kBatchLanes, scene);
+  const std::vector<MethodParams> methods(kBatchLanes, WilsonThetaParams{});
+  std::vector<RunSummary> summaries(batched ? kBatchLanes : 1);
+  BatchWorkspace batch_workspace;
+  SimulationWorkspace workspace;
+  double dof_steps = 0.0;
+  for (auto _ : state) {
+    if (batched) {
+      simulate_batch(scenes, methods, options, batch_workspace, summaries);
+    } else {
+      summaries[0] = simulate(scene, WilsonThetaParams{}, options, workspace);
+    }
+    for (const RunSummary& s : summaries) {
+      dof_steps += (scene.elements + 1.0) * static_cast<double>(s.steps - s.skipped_steps);
+    }
+    benchmark::DoNotOptimize(summaries[0].final_energy);
+  }
+  state.counters["ns/dof-step"] = benchmark::Counter(
+      dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_WilsonThetaDofStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 // What each skip saves: HHT on a scene with a long free flight (gap 0.2 mm: 428 of 1650 steps
 // before the impact). 0: every skip on (the defaults); 1: free flight stepped; 2: energy checked
 // every step; 3: histories recorded (displacement and energy at every sample); 4: none.

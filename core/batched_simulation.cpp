@@ -92,11 +92,17 @@ template <bool kFirst>
 //
 // kPlain: every row holds plain u, v, a (the composite schemes' sub-steps start from such
 // states: composite_step_lanes), none the deferred form. kLaneStep: the step is c.lane_dt, one
-// per lane (the composite's first sub-step), not c.dt.
+// per lane (the composite's first sub-step), not c.dt. kExtended (with kPlain: Wilson-θ's
+// extended step, wilson_theta_step_lanes): the step reads a from `a_source`, not from
+// arrays.a, which only takes the solve (the acceleration at the step's end), and stores no
+// predictors but the last row's: arrays.u and .v keep their values in every row but the last
+// (the interpolation that follows reads them; the caller restores the last), and the step
+// stores 2 vectors per unknown instead of 4.
 template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kPlain = false,
-          bool kLaneStep = false>
+          bool kLaneStep = false, bool kExtended = false>
 [[gnu::always_inline]] inline Lanes step_lanes(const LaneArrays& arrays, const LaneCoefficients& c,
-                                               const Lanes& lambda) {
+                                               const Lanes& lambda,
+                                               const Lanes* a_source = nullptr) {
   // A local copy, so that the compiler keeps it in registers: a store through a Lanes pointer
   // (may_alias) could otherwise change it, and every use would reload it. (c must be such a
   // copy too: run_batch's.) Without these copies the step ran 2.5 times as many instructions.
@@ -126,9 +132,17 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kPlain = fals
     Lanes u, v, a, p;
   };
   const auto predict = [&]<bool kLastRow>(Eigen::Index i) __attribute__((always_inline)) {
-    const Lanes a = x.a[i];
-    const WeightedRow weighted = predict_row < !kLastRow && !kPlain, kStartingLanes,
-                      kDamping > (c, dt, minus_af, &x.u[i], &x.v[i], a);
+    const Lanes a = kExtended ? a_source[i] : x.a[i];
+    WeightedRow weighted;
+    if constexpr (kExtended && !kLastRow) {
+      // predict_row's operations on plain rows, without its stores (u*, v* are dead here).
+      const Lanes du = fma(dt, x.v[i], c.dt2_b0 * a);
+      weighted.u = fma(minus_af, du, x.u[i] + du);
+      if constexpr (kDamping) weighted.v = fma(minus_af, c.dt_g0 * a, fma(c.dt_g0, a, x.v[i]));
+    } else {
+      weighted = predict_row < !kLastRow && !kPlain, kStartingLanes,
+      kDamping > (c, dt, minus_af, &x.u[i], &x.v[i], a);
+    }
     Weighted w;
     w.u = weighted.u;
     w.p = k_lower * w.u;
@@ -328,20 +342,89 @@ template <bool kDamping, bool kStartingLanes>
   return step_lanes<kDamping, false, false, true>(x, second, lambda);
 }
 
+// Wilson-θ's constants per lane (core/wilson_theta.hpp, WilsonTheta::step and
+// set_gap_offsets), by the scalar expressions: 1/θ, θ³ = (θ·θ)·θ, Q's weight τ·τ/3 and P's
+// Δt·Δt·(3 − 1/θ)/6 (τ = θ·Δt, the extended step's lane_dt).
+struct WilsonLanes {
+  Lanes inverse_theta, theta3, q_weight, p_weight;
+};
+
+// One Wilson-θ step (core/wilson_theta.hpp: WilsonTheta::step, the rod's single wall) in every
+// lane: `x` holds plain u, v, a at t in every row (this step kind keeps no deferred form), `mid`
+// takes the extended step's state, `extended` is the linear-acceleration step over τ = θ·Δt
+// (lane_dt; its gap is set here at every step). Lane by lane the scalar step's operations:
+//   1. the wall's gap shifted onto the extended step: Q and P at the contact dof,
+//      gap' = gap + ((Q + θ³·(gap − P)) − gap) (set_gap_offsets, then the integrator's
+//      system.gap + offset);
+//   2. the extended step on the state (step_lanes, kExtended: plain rows, step τ per lane, its
+//      contact on gap', λ at t as the scalar's mid_.lambda; the scalar steps a copy mid = state,
+//      which here only takes the solve a_θ);
+//   3. the interpolation back to t + Δt, row by row: a₁ = a₀ + (a_θ − a₀)·(1/θ),
+//      u += Δt·v + (Δt·Δt/6)·(2·a₀ + a₁), v += (½·Δt)·(a₀ + a₁), in the scalar loop's order
+//      (no fused multiply-add: the scalar has none);
+//   4. the node snapped onto the unshifted wall where λ_θ > 0.
+// Returns each lane's λ_θ, the reported multiplier.
+//
+// Flops per unknown and lane (no damping; count them here and in step_lanes): step 2,
+// step_lanes on plain rows, 3 mul 7 FMA 2 add = 19 flops (2 stores: the forward-swept rhs and
+// the solve); step 3, 1 sub 1 mul 1 add for a₁, 3 mul 3 add for u, 1 add 1 mul 1 add for v:
+// 12 flops (3 stores). Total 31 flops per unknown and step in 24 instructions (1.3 times HHT's
+// 23 flops in 14), 5 stores per unknown and register against HHT's 4. Step 1 is O(1). Damping:
+// step_lanes' 9 (its v predictor is then formed without being stored).
+template <bool kDamping>
+[[gnu::always_inline]] inline Lanes wilson_theta_step_lanes(
+    const LaneArrays& arrays, const LaneArrays& mid_arrays, LaneCoefficients& extended,
+    const LaneCoefficients& c, const WilsonLanes& wilson, const Lanes& lambda) {
+  const LaneArrays x = arrays, mid = mid_arrays;  // local copies: see step_lanes
+  const Eigen::Index n = x.n, last = n - 1;
+  const Lanes dt = splat(c.dt), tau = extended.lane_dt;
+  const Lanes u_last = x.u[last], v_last = x.v[last];
+  {
+    const Lanes a = x.a[last];
+    const Lanes q = (u_last + tau * v_last) + wilson.q_weight * a;
+    const Lanes p = (u_last + dt * v_last) + wilson.p_weight * a;
+    extended.gap = c.gap + ((q + wilson.theta3 * (c.gap - p)) - c.gap);
+  }
+  // The extended step from the state itself (the scalar's copy mid = state is not needed: the
+  // step reads u, v, a and writes only the solve, into mid.a, and the last row's u, v, which
+  // are put back after it).
+  LaneArrays e = x;
+  e.a = mid.a;
+  e.inverse_pivot = mid.inverse_pivot;
+  const Lanes new_lambda =
+      step_lanes<kDamping, false, false, true, true, true>(e, extended, lambda, x.a);
+  store(&x.u[last], u_last);
+  store(&x.v[last], v_last);
+  const double dt_value = c.dt;
+  const Lanes sixth_dt2 = splat(dt_value * dt_value / 6.0), half_dt = splat(0.5 * dt_value);
+  const Lanes two = splat(2.0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Lanes a0 = x.a[i];
+    const Lanes a1 = a0 + (mid.a[i] - a0) * wilson.inverse_theta;
+    store(&x.u[i], x.u[i] + (dt * x.v[i] + sixth_dt2 * (two * a0 + a1)));
+    store(&x.v[i], x.v[i] + half_dt * (a0 + a1));
+    store(&x.a[i], a1);
+  }
+  x.u[last] = select(greater(new_lambda, Lanes{}), c.gap, x.u[last]);
+  return new_lambda;
+}
+
 // ½·vᵀMv + ½·uᵀKu of every lane after step_lanes, each form summed in
 // Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy). Every row but the last
 // holds u*, v*, a: u and v are formed as the next forward sweep will form them, so with the
 // same bits. The two sums share one loop: each is a chain of dependent adds, and side by side
 // they overlap. The interior rows of K and M are one row each (checked by simulate_batch), held
 // in registers: loading and broadcasting six values per row made the energy, checked every
-// energy_check_interval steps, a twentieth of the batch's time.
+// energy_check_interval steps, a twentieth of the batch's time. kPlain: every row holds plain
+// u, v (Wilson-θ's step leaves no deferred form).
+template <bool kPlain = false>
 [[gnu::always_inline]] inline Lanes lane_energy(const LaneArrays& x, const LaneCoefficients& c) {
   const Eigen::Index n = x.n, last = n - 1;
   struct Row {
     Lanes u, v;
   };
   const auto state = [&](Eigen::Index i) __attribute__((always_inline)) {
-    if (i == last) return Row{x.u[i], x.v[i]};
+    if (kPlain || i == last) return Row{x.u[i], x.v[i]};
     const Lanes a = x.a[i];
     return Row{fma(c.b1_dt2, a, x.u[i]), fma(c.g1_dt, a, x.v[i])};
   };
@@ -368,15 +451,31 @@ template <bool kDamping, bool kStartingLanes>
   return 0.5 * kinetic + 0.5 * strain;
 }
 
+// The kind of step a batch takes (one per batch: same_batch).
+enum class StepKind {
+  single_step,   // the ImplicitCoefficients family: step_lanes
+  composite,     // Bathe, ρ∞-Bathe, TR-BDF2: composite_step_lanes
+  wilson_theta,  // wilson_theta_step_lanes
+};
+
+StepKind step_kind(const MethodParams& method) {
+  if (is_composite(method)) return StepKind::composite;
+  if (std::holds_alternative<WilsonThetaParams>(method)) return StepKind::wilson_theta;
+  return StepKind::single_step;
+}
+
 struct Batch {
   LaneArrays arrays;
-  LaneCoefficients coefficients;  // the single-step method's; a composite's second sub-step's
-  // The composite schemes only (composite = true): the first sub-step's coefficients and its
-  // state (arrays: the mid state and the first sub-step's factorisation), the predictor weights.
-  bool composite;
+  // The single-step method's; a composite's second sub-step's; Wilson-θ's Δt and wall gap.
+  LaneCoefficients coefficients;
+  // The composite schemes and Wilson-θ only: the first sub-step's (Wilson-θ: the extended
+  // step's) coefficients and its state (arrays: the mid state and that step's factorisation);
+  // the composites' predictor weights, Wilson-θ's constants.
+  StepKind kind;
   LaneArrays mid;
   LaneCoefficients first;
   CompositeLanes weights;
+  WilsonLanes wilson;
   std::array<LaneRun, kBatchLanes> lanes;
   std::array<State, kBatchLanes>* start;
   double area;
@@ -389,8 +488,8 @@ void set_lane(const LaneArrays& x, int lane, const State* state) {
   set_lane_state(x.u, x.v, x.a, x.n, lane, state);
 }
 
-// The batch loop (core/batch_lanes.hpp: run_lanes) with the implicit or composite step.
-template <bool kDamping, bool kMassTerm, bool kComposite>
+// The batch loop (core/batch_lanes.hpp: run_lanes) with the implicit, composite or Wilson-θ step.
+template <bool kDamping, bool kMassTerm, StepKind kKind>
 [[gnu::always_inline]] inline void run_batch(Batch& b) {
   const LaneArrays& x = b.arrays;
   // A local copy, taken once: the compiler then knows that the step's stores through Lanes
@@ -398,8 +497,9 @@ template <bool kDamping, bool kMassTerm, bool kComposite>
   // Batch, every field was reloaded after every store; copied at every step (a 2 KB copy) it
   // cost a twentieth of the batch's time.
   LaneCoefficients c = b.coefficients;
-  const LaneCoefficients first = b.first;  // composite only, as the two below
+  LaneCoefficients first = b.first;  // composite and Wilson-θ only, as the three below
   const CompositeLanes weights = b.weights;
+  const WilsonLanes wilson = b.wilson;
   const LaneArrays mid = b.mid;
   const Eigen::Index contact = x.n - 1;
   const LaneLoop loop{.area = b.area,
@@ -417,7 +517,9 @@ template <bool kDamping, bool kMassTerm, bool kComposite>
           },
           [&](bool starting, const Lanes& lambda) __attribute__((always_inline)) {
             Lanes next;
-            if constexpr (kComposite) {
+            if constexpr (kKind == StepKind::wilson_theta) {  // plain rows: starting needs nothing
+              next = wilson_theta_step_lanes<kDamping>(x, mid, first, c, wilson, lambda);
+            } else if constexpr (kKind == StepKind::composite) {
               if (starting) {
                 next = composite_step_lanes<kDamping, true>(x, mid, first, c, weights, lambda);
                 c.plain_state = LaneMask{};
@@ -433,25 +535,36 @@ template <bool kDamping, bool kMassTerm, bool kComposite>
             return next;
           },
           [&]() __attribute__((always_inline)) { return x.v[contact]; },
-          [&]() __attribute__((always_inline)) { return lane_energy(x, c); },
+          [&]() __attribute__((always_inline)) {
+            return lane_energy<kKind == StepKind::wilson_theta>(x, c);
+          },
           [&](int l) __attribute__((always_inline)) { set_lane(x, l, nullptr); }));
 }
 
 // The batch loop for the machine at hand: GCC compiles it for each target and picks one when
 // the program starts. Everything it calls in the step loop is inlined into each version.
 IMPACTID_SIMD_VERSIONS void run_batch_any(Batch& b) {
-  if (b.composite) {  // both sub-steps have α_m = 0
+  if (b.kind == StepKind::composite) {  // both sub-steps have α_m = 0
     if (b.arrays.damping != nullptr) {
-      run_batch<true, false, true>(b);
+      run_batch<true, false, StepKind::composite>(b);
     } else {
-      run_batch<false, false, true>(b);
+      run_batch<false, false, StepKind::composite>(b);
+    }
+    return;
+  }
+  if (b.kind == StepKind::wilson_theta) {  // the extended step has α_m = 0
+    if (b.arrays.damping != nullptr) {
+      run_batch<true, false, StepKind::wilson_theta>(b);
+    } else {
+      run_batch<false, false, StepKind::wilson_theta>(b);
     }
     return;
   }
   with_kernel_flags(
       b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
-      [&b]<bool kDamping, bool kMassTerm>()
-          __attribute__((always_inline)) { run_batch<kDamping, kMassTerm, false>(b); });
+      [&b]<bool kDamping, bool kMassTerm>() __attribute__((always_inline)) {
+        run_batch<kDamping, kMassTerm, StepKind::single_step>(b);
+      });
 }
 
 // True when a's off-diagonals are one value each (lower in rows 1..n−1, upper in rows
@@ -568,19 +681,20 @@ void set_lane_coefficients(int l, const ImplicitCoefficients& co, double dt, dou
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
   // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
   // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
-  // single-step implicit family and the composite schemes (not central difference, Houbolt,
-  // Wilson-θ or Noh–Bathe), with Lagrange multipliers (not the penalty or augmented-Lagrangian
-  // contact laws).
+  // single-step implicit family, the composite schemes and Wilson-θ, and (core/
+  // batched_explicit.hpp) the explicit methods it knows (not Houbolt, Kim's scheme or KR-α),
+  // with Lagrange multipliers (not the penalty or augmented-Lagrangian contact laws).
   return (is_single_step_implicit(method) || is_composite(method) ||
+          std::holds_alternative<WilsonThetaParams>(method) ||
           explicit_batchable(scene, method)) &&
          !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
 }
 
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
                 const RodScene& b, const MethodParams& method_b, const RunOptions& options_b) {
-  // A batch steps one kind of step: the single-step family's or the composite schemes' (each
-  // lane its own method and parameters within it, γ too).
-  if (is_composite(method_a) != is_composite(method_b)) return false;
+  // A batch steps one kind of step: the single-step family's, the composite schemes' or
+  // Wilson-θ's (each lane its own method and parameters within it, γ and θ too).
+  if (step_kind(method_a) != step_kind(method_b)) return false;
   // An explicit method's batch (core/batched_explicit.hpp) steps that method only.
   if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
   // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
@@ -611,9 +725,11 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   const double dt = derive(scenes[0]).time_step;
 
   // The interleaved arrays: state, inverse pivots; for a composite scheme also the sub-step's
-  // state and its factorisation's inverse pivots.
-  const bool composite = is_composite(methods[0]);
-  const int arrays = composite ? 8 : 4;
+  // state and its factorisation's inverse pivots, for Wilson-θ the extended step's.
+  const StepKind kind = step_kind(methods[0]);
+  const bool composite = kind == StepKind::composite;
+  const bool two_steps = kind != StepKind::single_step;  // a second state and factorisation
+  const int arrays = two_steps ? 8 : 4;
   ws.storage_.assign(static_cast<std::size_t>(arrays * n), LaneBlock{});
   Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
   const auto take = [&] {
@@ -647,8 +763,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   }
   x.u = take(), x.v = take(), x.a = take();
   x.inverse_pivot = take();
-  b.composite = composite;
-  if (composite) {
+  b.kind = kind;
+  if (two_steps) {
     b.mid = x;
     b.mid.u = take(), b.mid.v = take(), b.mid.a = take();
     b.mid.inverse_pivot = take();
@@ -673,7 +789,7 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     const RodScene& scene = scenes[static_cast<std::size_t>(l)];
     const MethodParams& method = methods[static_cast<std::size_t>(l)];
     // same_batch: one kind of step per batch.
-    assert(is_composite(method) == composite);
+    assert(step_kind(method) == kind);
     LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
     if (!prepare_lane(system, scenes, l, options, dt, summaries, ws.traces, ws.start_, run)) {
       continue;
@@ -689,16 +805,30 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
       b.weights.q0.set(l, cc.q0);
       b.weights.q1.set(l, cc.q1);
       b.weights.q2_minus_1_dt.set(l, (cc.q2 - 1.0) * dt);
+    } else if (const auto* wilson = std::get_if<WilsonThetaParams>(&method)) {
+      // WilsonTheta::initialize's extended step over θ·Δt; the sample's step Δt and the wall's
+      // gap in k (the extended step's gap is set at every step); set_gap_offsets' constants.
+      const WilsonThetaCoefficients wc = wilson_theta_coefficients(*wilson);
+      const double theta = wc.theta, tau = theta * dt;
+      set_lane_coefficients(l, wc.extended, tau, scene.gap, first, first_weights);
+      k.gap.set(l, scene.gap);
+      b.wilson.inverse_theta.set(l, 1.0 / theta);
+      b.wilson.theta3.set(l, theta * theta * theta);
+      b.wilson.q_weight.set(l, tau * tau / 3.0);
+      b.wilson.p_weight.set(l, dt * dt * (3.0 - 1.0 / theta) / 6.0);
     } else {
       set_lane_coefficients(l, implicit_coefficients(method), dt, scene.gap, k, weights);
     }
     factored.set(l, true);
   }
-  if (composite) {
+  if (two_steps) {
     factor_lanes(system, methods, first_weights, factored, uniform_interior, first,
                  b.mid.inverse_pivot, b);
   }
-  factor_lanes(system, methods, weights, factored, uniform_interior, k, x.inverse_pivot, b);
+  // Wilson-θ has one factorisation, the extended step's.
+  if (kind != StepKind::wilson_theta) {
+    factor_lanes(system, methods, weights, factored, uniform_interior, k, x.inverse_pivot, b);
+  }
   run_batch_any(b);
   finish_lanes(count, start, ws.traces, summaries);
 }

@@ -1,6 +1,7 @@
 // Several simulations of one rod advanced together, one per SIMD lane: the implicit step of
 // core/implicit_integrator.hpp for kBatchLanes parameter points at once (issue 5, "Speed"), and
-// the composite schemes' two sub-steps of core/bathe_composite.hpp (issue 19, "Speed").
+// the composite schemes' two sub-steps of core/bathe_composite.hpp and Wilson-θ's extended step
+// with its interpolation (core/wilson_theta.hpp; issue 19, "Speed").
 //
 // Why: a single run's step is two tridiagonal sweeps, each a serial recurrence whose latency
 // (a multiply, a subtract and a multiply per unknown, ~12 cycles) bounds the scalar path far
@@ -36,15 +37,24 @@
 // stages, with 13 stores per unknown and register against HHT's 4 (the stores bound the step);
 // damping adds 18 (composite_step_lanes counts them).
 //
-// What batches (batchable / same_batch): single-step implicit methods and composite schemes on
-// the single-wall rod scene (no far wall), with Lagrange contact and no histories requested;
-// lanes of one batch share the rod (elements, length, material, area, mass matrix, damping),
-// the time step and the kind of step (single-step or composite: a batch steps one), and may
-// differ in the method and its parameters (a composite's γ too), the gap, the velocity and the
-// end time. Scenes of bodies have their own kernel (core/batched_chain.hpp), and so have central
-// difference and Noh–Bathe (core/batched_explicit.hpp: simulate_batch hands their batches over);
-// everything else (Houbolt, Wilson-θ, Kim's scheme, KR-α; penalty and augmented-Lagrangian
-// contact) runs through simulate().
+// Wilson-θ (WilsonTheta::step) keeps plain u, v, a in every row: its gap shifted onto the
+// extended step (O(1), at the contact dof), the step over θ·Δt (θ per lane) from plain rows
+// (19 flops per unknown; it reads the state in place, where the scalar steps a copy, and stores
+// only its solve), the interpolation back to t + Δt (12 flops; no fused multiply-add, as the
+// scalar has none) and the node snapped onto the wall: 31 flops per unknown and step without
+// damping (24 instructions, 1.3 times HHT's), with 5 stores per unknown and register against
+// HHT's 4; damping adds 9 (wilson_theta_step_lanes counts them). Its energy is checked on the
+// plain state, its reported multiplier is the extended step's, as the scalar path's.
+//
+// What batches (batchable / same_batch): single-step implicit methods, composite schemes and
+// Wilson-θ on the single-wall rod scene (no far wall), with Lagrange contact and no histories
+// requested; lanes of one batch share the rod (elements, length, material, area, mass matrix,
+// damping), the time step and the kind of step (single-step, composite or Wilson-θ: a batch
+// steps one), and may differ in the method and its parameters (a composite's γ, Wilson's θ too),
+// the gap, the velocity and the end time. Scenes of bodies have their own kernel
+// (core/batched_chain.hpp), and so have central difference and Noh–Bathe (core/
+// batched_explicit.hpp: simulate_batch hands their batches over); everything else (Houbolt,
+// Kim's scheme, KR-α; penalty and augmented-Lagrangian contact) runs through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once
@@ -66,15 +76,15 @@ namespace impactid {
 inline constexpr int kBatchLanes = 16;
 
 /// Whether a run can go through simulate_batch at all: a single-step implicit method, a
-/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2) or an explicit method of core/batched_explicit.hpp
-/// (explicit_batchable), Lagrange contact, a scene the kernel knows (single wall: far_gap unset),
-/// no histories.
+/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2), Wilson-θ or an explicit method of
+/// core/batched_explicit.hpp (explicit_batchable), Lagrange contact, a scene the kernel knows
+/// (single wall: far_gap unset), no histories.
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options);
 
 /// Whether two batchable runs can share a batch: the same rod and time step, the same run
-/// options, and both single-step methods, both composite schemes or both the same explicit
-/// method. They may differ in method and its parameters (a composite's sub-step ratio γ too),
-/// gap, velocity and end time.
+/// options, and both single-step methods, both composite schemes, both Wilson-θ or both the
+/// same explicit method. They may differ in method and its parameters (a composite's sub-step
+/// ratio γ, Wilson's θ too), gap, velocity and end time.
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
                 const RodScene& b, const MethodParams& method_b, const RunOptions& options_b);
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -253,6 +254,119 @@ TEST(BatchedSimulation, CompositeLanesOnDampedRodsAndWithRunOptions) {
   EXPECT_EQ(overflow[2].status, RunStatus::ok) << overflow[2].message;
 }
 
+// Wilson-θ (core/wilson_theta.hpp: one extended step over θ·Δt, the interpolation back to Δt,
+// the wall's constraint at the samples through a shifted gap) in a full batch: θ per lane, lanes
+// that go unstable at different samples (on the paper's scene every θ does, REPRODUCTION.md)
+// among lanes that end ok (runs that end in the contact before the energy has grown, a rod moving
+// away; a lifted energy bound is a run option, the same for a batch: the next test), other gaps,
+// velocities and end times.
+TEST(BatchedSimulation, WilsonThetaLanesEqualTheScalarRunBitForBit) {
+  RodScene far_gap_scene;
+  far_gap_scene.gap = 0.2;
+  RodScene slow;
+  slow.velocity = 300.0;
+  slow.gap = 0.05;
+  RodScene touching;
+  touching.gap = 0.0;
+  RodScene short_run;
+  short_run.t_end = 2e-5;  // ends during the contact, before the energy has grown
+  RodScene shorter_run;
+  shorter_run.t_end = 1.5e-5;
+  RodScene away;
+  away.velocity = -500.0;  // never reaches the wall
+  RodScene fast;
+  fast.velocity = 5000.0;
+  const std::vector<LaneRun> runs = {
+      {"wilson-theta (unstable)", RodScene{}, WilsonThetaParams{}},
+      {"wilson-theta 2, short run", short_run, WilsonThetaParams{.theta = 2.0}},
+      {"wilson-theta, shorter run", shorter_run, WilsonThetaParams{}},
+      {"wilson-theta 1.5, gap 0.2", far_gap_scene, WilsonThetaParams{.theta = 1.5}},
+      {"wilson-theta 3, moving away", away, WilsonThetaParams{.theta = 3.0}},
+      {"wilson-theta 1.37, slow", slow, WilsonThetaParams{.theta = 1.37}},
+      {"wilson-theta 2.5, gap 0", touching, WilsonThetaParams{.theta = 2.5}},
+      {"wilson-theta 1.8, fast", fast, WilsonThetaParams{.theta = 1.8}},
+      {"wilson-theta 1.45", RodScene{}, WilsonThetaParams{.theta = 1.45}},
+      {"wilson-theta 1.7, short run", short_run, WilsonThetaParams{.theta = 1.7}},
+      {"wilson-theta 2.2", RodScene{}, WilsonThetaParams{.theta = 2.2}},
+      {"wilson-theta 1.6, shorter run", shorter_run, WilsonThetaParams{.theta = 1.6}},
+      {"wilson-theta 2.8, gap 0.2", far_gap_scene, WilsonThetaParams{.theta = 2.8}},
+      {"wilson-theta, moving away", away, WilsonThetaParams{}},
+      {"wilson-theta 1.9, slow", slow, WilsonThetaParams{.theta = 1.9}},
+      {"wilson-theta 4, short run", short_run, WilsonThetaParams{.theta = 4.0}},
+  };
+  ASSERT_EQ(runs.size(), static_cast<std::size_t>(kBatchLanes));
+  const std::vector<RunSummary> scalar = expect_batch_equals_scalar(runs);
+  EXPECT_EQ(scalar[0].status, RunStatus::unstable);
+  EXPECT_LT(scalar[0].steps, scalar[0].planned_steps);
+  for (const std::size_t ok : {1, 2, 4, 9, 11, 13, 15}) {
+    EXPECT_EQ(scalar[ok].status, RunStatus::ok) << runs[ok].name << ": " << scalar[ok].message;
+  }
+  for (const std::size_t unstable : {3, 5, 6, 7, 8, 10, 12, 14}) {
+    EXPECT_EQ(scalar[unstable].status, RunStatus::unstable) << runs[unstable].name;
+  }
+  // The short runs end in the contact (which Wilson-θ's chatter opens and closes): the wall
+  // pushes in them.
+  SimulationWorkspace ws;
+  EXPECT_EQ(simulate(short_run, WilsonThetaParams{.theta = 2.0}, RunOptions{}, ws).status,
+            RunStatus::ok);
+  EXPECT_GT(*std::max_element(ws.trace.pressure.begin(), ws.trace.pressure.end()), 0.0);
+  EXPECT_NE(scalar[3].skipped_steps, scalar[0].skipped_steps);
+  EXPECT_EQ(scalar[6].skipped_steps, 0);
+  EXPECT_LT(scalar[1].planned_steps, scalar[0].planned_steps);
+}
+
+// Wilson-θ on damped rods, a consistent mass, another Courant number (one per batch), a partial
+// batch; run options (the energy bound lifted: every lane runs to its end; energy checked every
+// step) honoured lane by lane; a lane whose values overflow between energy checks.
+TEST(BatchedSimulation, WilsonThetaLanesOnOtherRodsAndWithRunOptions) {
+  RodScene damped;
+  damped.mass = MassMatrix::consistent;
+  damped.rayleigh_mass = 200.0;
+  damped.rayleigh_stiffness = 2e-8;
+  RodScene stiffness_damped;
+  stiffness_damped.rayleigh_stiffness = 2e-8;
+  RodScene consistent;
+  consistent.mass = MassMatrix::consistent;
+  RodScene coarse;
+  coarse.courant = 2.0;
+  RodScene fine;
+  fine.courant = 0.25;
+  fine.t_end = 3e-4;
+  for (const RodScene& scene : {damped, stiffness_damped, consistent, coarse, fine}) {
+    RodScene short_run = scene;
+    short_run.t_end = 1e-4;
+    RodScene slow = scene;
+    slow.velocity = 200.0;
+    expect_batch_equals_scalar({
+        {"wilson-theta", scene, WilsonThetaParams{}},
+        {"wilson-theta 2", scene, WilsonThetaParams{.theta = 2.0}},
+        {"wilson-theta 1.5, short run", short_run, WilsonThetaParams{.theta = 1.5}},
+        {"wilson-theta 2.6, slow", slow, WilsonThetaParams{.theta = 2.6}},
+    });
+  }
+  const std::vector<LaneRun> runs = {
+      {"wilson-theta", RodScene{}, WilsonThetaParams{}},
+      {"wilson-theta 2", RodScene{}, WilsonThetaParams{.theta = 2.0}},
+      {"wilson-theta 3", RodScene{}, WilsonThetaParams{.theta = 3.0}},
+  };
+  const std::vector<RunSummary> lifted =
+      expect_batch_equals_scalar(runs, RunOptions{.energy_growth_limit = 1000.0});
+  for (const RunSummary& s : lifted) EXPECT_EQ(s.status, RunStatus::ok) << s.message;
+  expect_batch_equals_scalar(runs,
+                             RunOptions{.energy_check_interval = 50, .skip_free_flight = false});
+  expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 1});
+  const std::vector<RunSummary> failed =
+      expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 0});
+  EXPECT_EQ(failed[0].status, RunStatus::failed);
+  RodScene very_coarse;
+  very_coarse.courant = 3.0;
+  expect_batch_equals_scalar(
+      {{"wilson-theta", very_coarse, WilsonThetaParams{}},
+       {"wilson-theta 1.5", very_coarse, WilsonThetaParams{.theta = 1.5}},
+       {"wilson-theta 2", very_coarse, WilsonThetaParams{.theta = 2.0}}},
+      RunOptions{.energy_growth_limit = 1e300, .energy_check_interval = 100'000});
+}
+
 TEST(BatchedSimulation, WhatMayShareABatch) {
   const RunOptions options;
   EXPECT_TRUE(batchable(RodScene{}, HhtParams{}, options));
@@ -301,6 +415,23 @@ TEST(BatchedSimulation, WhatMayShareABatch) {
     penalty.contact.law = law;
     EXPECT_FALSE(batchable(RodScene{}, RhoBatheParams{}, penalty)) << to_string(law);
   }
+  // Wilson-θ batches with Wilson-θ only, each lane its own θ; its penalty laws are not offered
+  // (simulate() says so), Houbolt is not batched.
+  const MethodParams wilson = WilsonThetaParams{};
+  EXPECT_TRUE(batchable(RodScene{}, wilson, options));
+  EXPECT_FALSE(batchable(RodScene{}, wilson, RunOptions{.record_history = true}));
+  EXPECT_FALSE(batchable(two_walls, wilson, options));
+  EXPECT_TRUE(
+      same_batch(RodScene{}, wilson, options, other_gap, WilsonThetaParams{.theta = 2.0}, options));
+  EXPECT_FALSE(same_batch(RodScene{}, wilson, options, other_dt, wilson, options));
+  for (const MethodParams& other : {hht, MethodParams{BatheParams{}}}) {
+    EXPECT_FALSE(same_batch(RodScene{}, wilson, options, RodScene{}, other, options));
+    EXPECT_FALSE(same_batch(RodScene{}, other, options, RodScene{}, wilson, options));
+  }
+  RunOptions penalty = options;
+  penalty.contact.law = ContactLaw::penalty;
+  EXPECT_FALSE(batchable(RodScene{}, wilson, penalty));
+  EXPECT_FALSE(batchable(RodScene{}, HouboltParams{}, options));
 }
 
 }  // namespace
