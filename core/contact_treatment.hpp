@@ -10,15 +10,17 @@
 //   penetrates. For the implicit methods it is the same problem with D + diag(1/(w·k)) (the
 //   spring solved with the step, so the step stays unconditionally stable); the penetration is
 //   then λ/k. For central difference it is the explicit force λ_t = k·max(0, g(u_t)) at t, the
-//   penalty of explicit codes: the spring raises the highest frequency, so the stable step shrinks
-//   with k (core/stable_step.hpp computes it, and the run reports it).
-// - **augmented-lagrangian**: Uzawa's iterations on the penalty problem of every method, central
-//   difference included: μ_{j+1} solves the penalty problem around μ_j, (D + C)·μ = p + C·μ_j with
-//   C = diag(1/(w·k)), from μ_0 = 0 (the penalty solution) until the largest penetration is at
-//   most `augmented_tolerance` times the largest contact-free one, or `augmented_max_iterations`
-//   are done. μ converges to the Lagrange multiplier: its error shrinks by 1/(1 + w·k·d) per
-//   iteration for a single contact (d = D's entry), so a stiffer k converges faster. The
-//   iterations are counted in the run summary.
+//   penalty of explicit codes, and for the explicit multi-stage schemes (Noh–Bathe, Kim's) each
+//   stage's at the displacement its equilibrium is taken at (core/explicit_stage_contact.hpp): the
+//   spring raises the highest frequency, so the stable step shrinks with k (core/stable_step.hpp
+//   computes it, and the run reports it). KR-α takes no penalty (core/kr_alpha.hpp says why).
+// - **augmented-lagrangian**: Uzawa's iterations on the penalty problem of every method, the
+//   explicit ones' forward increments included: μ_{j+1} solves the penalty problem around μ_j, (D +
+//   C)·μ = p + C·μ_j with C = diag(1/(w·k)), from μ_0 = 0 (the penalty solution) until the largest
+//   penetration is at most `augmented_tolerance` times the largest contact-free one, or
+//   `augmented_max_iterations` are done. μ converges to the Lagrange multiplier: its error shrinks
+//   by 1/(1 + w·k·d) per iteration for a single contact (d = D's entry), so a stiffer k converges
+//   faster. The iterations are counted in the run summary.
 //
 // The penalty stiffness k [N/mm] is `penalty_stiffness` when given, otherwise `penalty_factor`
 // times the contact dof's stiffness K_cc (for a constraint between two bodies, the smaller of its

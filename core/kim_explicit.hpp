@@ -2,9 +2,10 @@
 // for structural dynamics and various dynamic problems", Int. J. Numer. Methods Eng. 120 (2019)
 // 1–28, doi:10.1002/nme.6098; formulas, range of p and stability limit at KimExplicitParams,
 // core/method.hpp) on the tridiagonal systems (the rod, scenes of bodies, a model of tridiagonal
-// matrices), with Lagrange-multiplier contact. This is not the seed paper's ref. 17 (Kim,
-// Engineering Structures 195 (2019) 358–372, parameter ρ_b): that scheme's formulas were not
-// available to us; this one is the same author's scheme of the same year, as Kratos implements it.
+// matrices), with the three contact laws of core/contact_treatment.hpp. This is not the seed
+// paper's ref. 17 (Kim, Engineering Structures 195 (2019) 358–372, parameter ρ_b): that scheme's
+// formulas were not available to us; this one is the same author's scheme of the same year, as
+// Kratos implements it.
 //
 // The previous step's acceleration: the step starts from (u₀, v₀, a₀) with a₀ the acceleration the
 // last step computed at its predicted ũ₁ (with that stage's contact force), not the equilibrium
@@ -14,9 +15,10 @@
 // scheme's own formulas carry forward, so a₀ holds the force that acted at the end of the previous
 // step (restarting from the equilibrium at u₁ would make the step a different scheme).
 //
-// Contact: a forward increment at each stage, as central difference's (Carpenter, Taylor & Katona
-// 1991, core/central_difference.hpp) and Noh–Bathe's (core/noh_bathe.hpp). A stage's acceleration
-// cannot change the displacement it is evaluated at, only later ones, linearly:
+// Contact (Lagrange multipliers, the default): a forward increment at each stage, as central
+// difference's (Carpenter, Taylor & Katona 1991, core/central_difference.hpp) and Noh–Bathe's
+// (core/noh_bathe.hpp). A stage's acceleration cannot change the displacement it is evaluated at,
+// only later ones, linearly:
 //   stage 1 (equilibrium at t + pΔt, at u_p): ũ₁ = (terms without a_p) + s₁·a_p, s₁ = Δt²/(6p);
 //     its multipliers λ_p put the predicted ũ₁, where stage 2 evaluates the forces, on the walls;
 //   stage 2 (equilibrium at t + Δt, at ũ₁): u₁ = (…) + s_u·a₁, s_u = (1 − 2p)·Δt²/(12(1 − p)), and
@@ -39,8 +41,18 @@
 // KimExplicitParams refuses those p). The start's u_p is fixed in initialize() the same way, by a
 // multiplier at the start (coefficient (pΔt)²/2), which then belongs to the start's acceleration.
 //
-// Not offered (the run is refused with a message, core/simulation.cpp): penalty and augmented-
-// Lagrangian contact, and a model of sparse matrices (it would need a sparse factorisation of M).
+// Penalty: at each stage the explicit spring force λ = k·max(0, g) of the displacement its
+// equilibrium is taken at: λ_p of u_p, λ₁ of ũ₁ (at p = ½ the sample u₁ itself; otherwise u₁
+// differs from ũ₁ by s_u·Δa, and the sample's penetration from the spring's by as much), as
+// central difference's at t. Nothing is solved for the next force point. The springs raise
+// ω_max: the stable step Ω_crit(p)/ω_bound uses core/stable_step.hpp's bound with them, and a
+// step above it is flagged before the run starts. Augmented Lagrangian: Uzawa's iterations on
+// each of the forward-increment problems above (stage 1, the sample, the next force point) with
+// the springs' compliances (core/explicit_stage_contact.hpp), counted in the run summary.
+// Neither snaps a node onto its wall.
+//
+// Not offered (the run is refused with a message, core/simulation.cpp): a model of sparse
+// matrices (it would need a sparse factorisation of M).
 //
 // Per step: two solves with the factorised M (diagonal for a lumped mass), two products with K
 // (and with C when damped), O(n) vector work, no allocation once sized (initialize sizes all).
@@ -48,13 +60,11 @@
 // Thread safety: one object per thread.
 #pragma once
 
-#include <utility>
-#include <vector>
-
+#include "core/contact_treatment.hpp"
+#include "core/explicit_stage_contact.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
-#include "core/tridiagonal.hpp"
 
 namespace impactid {
 
@@ -64,8 +74,9 @@ class KimExplicit {
   /// `start` (a₀ consistent), with the contact at the start (the header): start.a and its
   /// multipliers (lambda, far_lambda or multipliers) then include that force. False if M is
   /// singular.
+  /// `contact` says how the constraints are enforced (the header; default Lagrange).
   bool initialize(const SecondOrderSystem& system, const KimExplicitCoefficients& coefficients,
-                  double dt, State& start);
+                  double dt, State& start, const ContactPenalties& contact = {});
 
   /// Advances state from t to t + Δt: u₁, v₁, the acceleration a₁ of the second stage (at ũ₁) and
   /// its multipliers λ₁. Returns true if a constraint pushes at t + Δt.
@@ -76,24 +87,15 @@ class KimExplicit {
   /// The largest step certified stable without damping: Ω_crit(p)/ω_bound with core/
   /// stable_step.hpp's Gershgorin bound ω_bound on ω_max [s]; 0 when none can be certified (a
   /// mass that is not diagonal).
-  double stable_step() const { return stable_step_; }
+  double stable_step() const { return contact_.stable_step(); }
   /// Whether Δt is within stable_step() (up to a relative 1e-12).
-  bool within_stability_limit() const { return within_limit_; }
+  bool within_stability_limit() const { return contact_.within_stability_limit(); }
+  /// Augmented-Lagrangian iterations since initialize(), and the stage problems that hit the cap.
+  long contact_iterations() const { return contact_.contact_iterations(); }
+  long unconverged_contact_steps() const { return contact_.unconverged_contact_steps(); }
 
  private:
-  // The multipliers that put `next` (contact-free; `scale`·M⁻¹·force is its response) on its
-  // walls: corrects `a` and `next`, snaps the pushed walls' dofs, and keeps the multipliers as
-  // the last ones (main_, far_ or forces_). Returns true if a constraint pushes.
-  bool enforce(const SecondOrderSystem& system, double scale, const Eigen::MatrixXd& delassus,
-               Eigen::VectorXd& a, Eigen::VectorXd& next);
-  // x −= factor·M⁻¹·Gᵀ·(the last multipliers).
-  void apply_last(const SecondOrderSystem& system, double factor, Eigen::VectorXd& x);
-  // Adds the last multipliers to `at`'s.
-  void add_last(const SecondOrderSystem& system, State& at) const;
   static void clear_multipliers(State& at);
-  // M·a = −K·u − C·v_predicted.
-  void solve_acceleration(const SecondOrderSystem& system, const Eigen::VectorXd& u,
-                          const Eigen::VectorXd& v_predicted, Eigen::VectorXd& a);
   // D at dof i from a₀ (a0_), a_p (sub_.a) and a₁ (state.a).
   double divided_difference(Eigen::Index i, const State& state) const;
   // u₁ = ũ₁ + cu·Δt²·D and v₁ = ṽ₁ + cv·Δt·D; correct_velocity() the latter only (after a
@@ -103,21 +105,12 @@ class KimExplicit {
 
   KimExplicitCoefficients c_{};
   double dt_ = 0.0;
-  double scale_start_ = 0.0, scale_first_ = 0.0;  // (pΔt)²/2, s₁
-  double scale_sample_ = 0.0, scale_next_ = 0.0;  // s_u, s_n
-  double stable_step_ = 0.0;
-  bool within_limit_ = false;
-  TridiagonalFactorization mass_;
-  Eigen::VectorXd contact_influence_;  // M⁻¹·e_c
-  Eigen::VectorXd far_influence_;      // M⁻¹·e_far; empty without a far wall
-  // The constraint list's columns M⁻¹·G_kᵀ, their non-zero rows, and s·G·M⁻¹·Gᵀ per target.
-  Eigen::MatrixXd constraint_influence_;
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
-  Eigen::MatrixXd delassus_start_, delassus_first_, delassus_sample_, delassus_next_;
-  Eigen::VectorXd violation_, forces_, scaled_forces_;
-  double main_ = 0.0, far_ = 0.0;  // the last multipliers of the one- and two-wall contact
-  State sub_;                      // the first stage: at t + pΔt
-  Eigen::VectorXd a0_;             // a₀ of the step
+  // M, the stable step and the contact laws; the problems of the start, of stage 1, of the
+  // sample and of the next force point, scales (pΔt)²/2, s₁, s_u and s_n.
+  ExplicitStageContact contact_;
+  StageProblem start_, first_, sample_, next_;
+  State sub_;                                  // the first stage: at t + pΔt
+  Eigen::VectorXd a0_;                         // a₀ of the step
   Eigen::VectorXd u_predicted_, v_predicted_;  // ũ₁, ṽ₁
   Eigen::VectorXd u_next_;                     // u_p of the next step, fixed by the last stage
 };

@@ -4,6 +4,7 @@
 
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
+#include "core/implicit_integrator.hpp"  // solve_listed_augmented
 #include "core/parameter_error.hpp"
 #include "core/two_wall_contact.hpp"
 
@@ -94,12 +95,28 @@ bool KrAlphaExplicit::set_up(const SecondOrderSystem& system, bool start,
     return false;
   }
   response.delassus = (0.5 * (g + g.transpose())).eval();
+  if (contact_.law == ContactLaw::augmented_lagrangian) {
+    response.penalized = response.delassus;
+    response.penalized.diagonal() += compliance_;
+  }
   return true;
 }
 
 bool KrAlphaExplicit::initialize(const SecondOrderSystem& system,
-                                 const KrAlphaCoefficients& coefficients, double dt, State& start) {
+                                 const KrAlphaCoefficients& coefficients, double dt, State& start,
+                                 const ContactPenalties& contact) {
   failure_.clear();
+  contact_ = contact;
+  iterations_ = unconverged_ = 0;
+  const auto constraints = static_cast<Eigen::Index>(system.constraints.size());
+  if (contact_.law == ContactLaw::augmented_lagrangian) {
+    compliance_.resize(constraints);
+    for (Eigen::Index j = 0; j < constraints; ++j) {
+      compliance_[j] = 1.0 / contact_.listed[static_cast<std::size_t>(j)];
+    }
+    shift_.resize(constraints);
+    shifted_.resize(constraints);
+  }
   c_ = coefficients;
   dt_ = dt;
   scale_ = dt * dt * (0.5 + c_.gamma);
@@ -154,12 +171,19 @@ bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResp
       if (con.minus >= 0) g -= next[con.minus];
       violation_[j] = g;
     }
-    solve_contact_lcp(response.delassus.data(), violation_.data(), m, forces_.data());
+    if (contact_.lagrange()) {
+      solve_contact_lcp(response.delassus.data(), violation_.data(), m, forces_.data());
+    } else if (violation_.maxCoeff() > 0.0) {
+      count(solve_listed_augmented(response.delassus, response.penalized, compliance_, violation_,
+                                   contact_, forces_, shift_, shifted_));
+    } else {
+      forces_.setZero();
+    }
     apply_constraint_forces(response.a_list, response.rows_a, forces_, a);
     apply_constraint_forces(response.w_list, response.rows_w, forces_, w_);
     scaled_forces_ = scale_ * forces_;
     apply_constraint_forces(response.w_list, response.rows_w, scaled_forces_, next);
-    snap_walls(system.constraints, forces_, next);
+    if (contact_.lagrange()) snap_walls(system.constraints, forces_, next);
     at.multipliers = forces_;  // the same size: no allocation
     at.lambda = 0.0;           // the list's are in multipliers
     return forces_.size() > 0 && forces_.maxCoeff() > 0.0;
@@ -168,9 +192,19 @@ bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResp
   const double s = scale_;
   if (system.has_far_contact()) {
     const Eigen::Index far = system.far_contact_dof;
-    const TwoWallForces forces = solve_two_wall_contact(
-        next[contact] - system.gap, -system.far_gap - next[far], s * response.w_main[contact],
-        s * response.w_far[far], s * response.w_far[contact], s * response.w_main[far]);
+    TwoWallForces forces;
+    if (contact_.lagrange()) {
+      forces = solve_two_wall_contact(next[contact] - system.gap, -system.far_gap - next[far],
+                                      s * response.w_main[contact], s * response.w_far[far],
+                                      s * response.w_far[contact], s * response.w_main[far]);
+    } else {
+      ContactIterations iterations;
+      forces = two_wall_contact_forces(
+          next[contact] - system.gap, -system.far_gap - next[far], s * response.w_main[contact],
+          s * response.w_far[far], s * response.w_far[contact], s * response.w_main[far],
+          1.0 / contact_.main, 1.0 / contact_.far, contact_, iterations);
+      count(iterations);
+    }
     if (forces.main > 0.0) {
       a -= forces.main * response.a_main;
       w_ -= forces.main * response.w_main;
@@ -181,21 +215,36 @@ bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResp
       w_ += forces.far * response.w_far;
       next += (s * forces.far) * response.w_far;
     }
-    if (forces.main > 0.0) next[contact] = system.gap;  // exact, not a few ulps off
-    if (forces.far > 0.0) next[far] = -system.far_gap;
+    if (contact_.lagrange()) {
+      if (forces.main > 0.0) next[contact] = system.gap;  // exact, not a few ulps off
+      if (forces.far > 0.0) next[far] = -system.far_gap;
+    }
     at.lambda = forces.main;
     at.far_lambda = forces.far;
     return forces.main > 0.0 || forces.far > 0.0;
   }
   at.lambda = 0.0;
   if (!system.has_contact() || !(next[contact] > system.gap)) return false;
-  const double lambda = (next[contact] - system.gap) / (s * response.w_main[contact]);
+  double lambda = 0.0;
+  if (contact_.lagrange()) {
+    lambda = (next[contact] - system.gap) / (s * response.w_main[contact]);
+  } else {
+    ContactIterations iterations;
+    lambda = single_contact_force(next[contact] - system.gap, s * response.w_main[contact],
+                                  1.0 / contact_.main, contact_, iterations);
+    count(iterations);
+  }
   a -= lambda * response.a_main;
   w_ -= lambda * response.w_main;
   next -= (s * lambda) * response.w_main;
-  next[contact] = system.gap;
+  if (contact_.lagrange()) next[contact] = system.gap;
   at.lambda = lambda;
   return true;
+}
+
+void KrAlphaExplicit::count(const ContactIterations& iterations) {
+  iterations_ += iterations.iterations;
+  if (!iterations.converged) ++unconverged_;
 }
 
 bool KrAlphaExplicit::step(const SecondOrderSystem& system, State& state) {

@@ -2,7 +2,8 @@
 // stable explicit direct integration algorithms with controllable numerical energy dissipation",
 // Earthquake Engng Struct. Dyn. 43(9):1361–1380, doi:10.1002/eqe.2401; formulas, ρ∞ and the
 // derived α_m, α_f, β, γ at KrAlphaParams, core/method.hpp) on the tridiagonal systems (the rod,
-// scenes of bodies, a model of tridiagonal matrices), with Lagrange-multiplier contact.
+// scenes of bodies, a model of tridiagonal matrices), with Lagrange-multiplier contact (or the
+// augmented Lagrangian, below).
 //
 // The model-based matrices α1 = D⁻¹·M, α2 = (½ + γ)·α1 and α3 = D⁻¹·N, with
 //   D = M + γΔt·C + βΔt²·K,   N = α_m·M + α_f·γΔt·C + α_f·βΔt²·K,
@@ -45,9 +46,17 @@
 // a multiplier in the equilibrium at the start, M·a₀ = −K·u₀ − C·v₀ − Gᵀ·λ₀ (response
 // W₀ = D⁻¹·Gᵀ, scale Δt²/2), which then belongs to the start's acceleration.
 //
-// Not offered (the run is refused with a message, core/simulation.cpp): penalty and augmented-
-// Lagrangian contact, and a model of sparse matrices (it would need sparse factorisations of M,
-// D and E).
+// Augmented Lagrangian (core/contact_treatment.hpp): Uzawa's iterations on the forward
+// increment's problem above with the springs' compliances, (s·G·W + diag(1/k))·λ = g_next +
+// diag(1/k)·λ_j, to the tolerance or the cap, counted in the run summary; the node is not snapped.
+//
+// Not offered (the run is refused with a message, core/simulation.cpp): a model of sparse matrices
+// (it would need sparse factorisations of M, D and E), and penalty contact. An explicit penalty
+// (the spring of the sample's penetration in its equilibrium, as the other explicit methods',
+// core/explicit_stage_contact.hpp) acts outside the model-based matrices α1, α3 that make the
+// method unconditionally stable: its stable step is then set by the springs through α's
+// amplification, which core/stable_step.hpp's Gershgorin bound does not give, so a run above it
+// could not be flagged.
 //
 // Thread safety: one object per thread.
 #pragma once
@@ -56,6 +65,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
@@ -70,8 +80,9 @@ class KrAlphaExplicit {
   /// multipliers (lambda, far_lambda or multipliers) then include that force. False, with
   /// failure() saying why, if a matrix is singular or a constraint list's contact operator is
   /// not symmetric.
+  /// `contact`: Lagrange's multipliers (default) or the augmented Lagrangian (the header).
   bool initialize(const SecondOrderSystem& system, const KrAlphaCoefficients& coefficients,
-                  double dt, State& start);
+                  double dt, State& start, const ContactPenalties& contact = {});
 
   /// Advances state from t to t + Δt (u, v, a and the multipliers of the equilibrium at t + Δt).
   /// Returns true if a constraint pushes at t + Δt.
@@ -93,6 +104,9 @@ class KrAlphaExplicit {
 
   /// Why initialize() failed; empty after a success.
   const std::string& failure() const { return failure_; }
+  /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
+  long contact_iterations() const { return iterations_; }
+  long unconverged_contact_steps() const { return unconverged_; }
 
  private:
   // The response of the state to unit contact forces: of the acceleration (`a`) and of α1·a
@@ -103,6 +117,7 @@ class KrAlphaExplicit {
     Eigen::MatrixXd a_list, w_list;  // to each listed constraint's (columns)
     std::vector<std::pair<Eigen::Index, Eigen::Index>> rows_a, rows_w;  // their non-zero rows
     Eigen::MatrixXd delassus;                                           // s·G·W
+    Eigen::MatrixXd penalized;  // s·G·W + diag(1/k): augmented Lagrangian only
   };
   // The response to the force vector f on each contact: the start's a = M⁻¹·f, w = D⁻¹·f, or a
   // step's a = E⁻¹·D·M⁻¹·f, w = D⁻¹·M·a. Allocates: set-up only.
@@ -114,6 +129,7 @@ class KrAlphaExplicit {
   // `at`. Returns true if a constraint pushes.
   bool enforce(const SecondOrderSystem& system, const ContactResponse& response, Eigen::VectorXd& a,
                Eigen::VectorXd& next, State& at);
+  void count(const ContactIterations& iterations);
 
   KrAlphaCoefficients c_{};
   double dt_ = 0.0;
@@ -126,6 +142,10 @@ class KrAlphaExplicit {
   Eigen::VectorXd v_hat_;   // the method's velocity v̂, which lags the sample's by γΔt
   Eigen::VectorXd u_next_;  // the displacement of the next sample, fixed by the last equilibrium
   Eigen::VectorXd r_, y_;   // scratch
+  // The augmented Lagrangian's springs' compliances 1/k and scratch (m).
+  ContactPenalties contact_;
+  Eigen::VectorXd compliance_, shift_, shifted_;
+  long iterations_ = 0, unconverged_ = 0;
   std::string failure_;
 };
 

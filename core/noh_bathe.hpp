@@ -2,11 +2,12 @@
 // analysis of wave propagations", Computers & Structures 129:178–193,
 // doi:10.1016/j.compstruc.2013.06.007; formulas, range of p and stability limit at NohBatheParams,
 // core/method.hpp) on the tridiagonal systems (the rod, scenes of bodies, a model of tridiagonal
-// matrices), with Lagrange-multiplier contact.
+// matrices), with the three contact laws of core/contact_treatment.hpp.
 //
-// Contact: a forward increment at each sub-step, as central difference's (Carpenter, Taylor &
-// Katona 1991, core/central_difference.hpp). The acceleration a sub-step computes fixes the
-// displacement at the next point of the time grid t, t + pΔt, t + Δt, t + Δt + pΔt, …, linearly:
+// Contact (Lagrange multipliers, the default): a forward increment at each sub-step, as central
+// difference's (Carpenter, Taylor & Katona 1991, core/central_difference.hpp). The acceleration a
+// sub-step computes fixes the displacement at the next point of the time grid t, t + pΔt, t + Δt, t
+// + Δt + pΔt, …, linearly:
 //   sub-step 1 (equilibrium at t + pΔt):  u₁ = u_p + (1−p)Δt·(v₀ + pΔt/2·a₀) + c₁·a_p,
 //                                         c₁ = (1−p)Δt·pΔt/2 + ((1−p)Δt)²/2 = (1−p)Δt²/2;
 //   sub-step 2 (equilibrium at t + Δt):   u_{1+p} = u₁ + pΔt·v₁ + (pΔt)²/2·a₁
@@ -33,8 +34,17 @@
 // by a multiplier at the start (coefficient (pΔt)²/2), which then belongs to the start's
 // acceleration.
 //
-// Not offered (the run is refused with a message, core/simulation.cpp): penalty and augmented-
-// Lagrangian contact, and a model of sparse matrices (it would need a sparse factorisation of M).
+// Penalty: at each sub-step the explicit spring force λ = k·max(0, g) of the displacement its
+// equilibrium is taken at (u_p at t + pΔt, u₁ at t + Δt), as central difference's at t; so the
+// multiplier reported with the sample t + Δt is the spring of the sample's own penetration. The
+// springs raise ω_max: the stable step Ω_crit(p)/ω_bound uses core/stable_step.hpp's bound with
+// them, and a step above it is flagged before the run starts. Augmented Lagrangian: Uzawa's
+// iterations on each sub-step's forward-increment problem with the springs' compliances
+// (core/explicit_stage_contact.hpp), counted in the run summary. Neither snaps a node onto its
+// wall.
+//
+// Not offered (the run is refused with a message, core/simulation.cpp): a model of sparse
+// matrices (it would need a sparse factorisation of M).
 //
 // Per step: two solves with the factorised M (diagonal for a lumped mass), two products with K
 // (and with C when damped), O(n) vector work, no allocation once sized (initialize sizes all).
@@ -42,13 +52,11 @@
 // Thread safety: one object per thread.
 #pragma once
 
-#include <utility>
-#include <vector>
-
+#include "core/contact_treatment.hpp"
+#include "core/explicit_stage_contact.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
-#include "core/tridiagonal.hpp"
 
 namespace impactid {
 
@@ -58,8 +66,9 @@ class NohBatheExplicit {
   /// `start` (a₀ consistent), with the contact at the start (the header): start.a and its
   /// multipliers (lambda, far_lambda or multipliers) then include that force. False if M is
   /// singular.
+  /// `contact` says how the constraints are enforced (the header; default Lagrange).
   bool initialize(const SecondOrderSystem& system, const NohBatheCoefficients& coefficients,
-                  double dt, State& start);
+                  double dt, State& start, const ContactPenalties& contact = {});
 
   /// Advances state from t to t + Δt (u, v, a and the multipliers of the equilibrium at t + Δt).
   /// Returns true if a constraint pushes at t + Δt.
@@ -70,33 +79,20 @@ class NohBatheExplicit {
   /// The largest step certified stable without damping: Ω_crit(p)/ω_bound with core/
   /// stable_step.hpp's Gershgorin bound ω_bound on ω_max [s]; 0 when none can be certified (a
   /// mass that is not diagonal).
-  double stable_step() const { return stable_step_; }
+  double stable_step() const { return contact_.stable_step(); }
   /// Whether Δt is within stable_step() (up to a relative 1e-12).
-  bool within_stability_limit() const { return within_limit_; }
+  bool within_stability_limit() const { return contact_.within_stability_limit(); }
+  /// Augmented-Lagrangian iterations since initialize(), and the sub-steps that hit the cap.
+  long contact_iterations() const { return contact_.contact_iterations(); }
+  long unconverged_contact_steps() const { return contact_.unconverged_contact_steps(); }
 
  private:
-  // The contact of one sub-step: `next` holds the contact-free displacement of the next grid
-  // point, to which `scale`·M⁻¹·(force) is the response; corrects `a` and `next` and writes the
-  // multipliers into `at`. Returns true if a constraint pushes.
-  bool enforce(const SecondOrderSystem& system, double scale, const Eigen::MatrixXd& delassus,
-               Eigen::VectorXd& a, Eigen::VectorXd& next, State& at);
-  // M·a = −K·u − C·v_predicted.
-  void solve_acceleration(const SecondOrderSystem& system, const Eigen::VectorXd& u,
-                          const Eigen::VectorXd& v_predicted, Eigen::VectorXd& a);
-
   NohBatheCoefficients c_{};
   double dt_ = 0.0;
-  double scale_start_ = 0.0, scale_first_ = 0.0, scale_second_ = 0.0;  // (pΔt)²/2, c₁, c₂
-  double stable_step_ = 0.0;
-  bool within_limit_ = false;
-  TridiagonalFactorization mass_;
-  Eigen::VectorXd contact_influence_;  // M⁻¹·e_c
-  Eigen::VectorXd far_influence_;      // M⁻¹·e_far; empty without a far wall
-  // The constraint list's columns M⁻¹·G_kᵀ, their non-zero rows, and c·G·M⁻¹·Gᵀ per sub-step.
-  Eigen::MatrixXd constraint_influence_;
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
-  Eigen::MatrixXd delassus_start_, delassus_first_, delassus_second_;
-  Eigen::VectorXd violation_, forces_, scaled_forces_;
+  // M, the stable step and the contact laws; the problems of the start and of each sub-step,
+  // scales (pΔt)²/2, c₁ and c₂.
+  ExplicitStageContact contact_;
+  StageProblem start_, first_, second_;
   State sub_;               // the state at t + pΔt
   Eigen::VectorXd u_next_;  // the displacement of the next sub-step point, fixed by the last
   Eigen::VectorXd scratch_;

@@ -205,15 +205,6 @@ template <class HouboltStepper, class WilsonStepper, class System, class Run>
 bool run_multistep(const System& system, const MethodParams& method, double dt,
                    const ContactPenalties& contact, HouboltStepper& houbolt, WilsonStepper& wilson,
                    RunSummary& summary, Run&& run) {
-  // Wilson-θ's constraint sits at t + Δt through a gap shifted on its extended step
-  // (core/wilson_theta.hpp): a spring there would act on the extended step's penetration, θ³
-  // times the sample's, so its penalty law is not offered.
-  if (std::holds_alternative<WilsonThetaParams>(method) && !contact.lagrange()) {
-    summary.status = RunStatus::failed;
-    summary.message = std::string("wilson-theta: contact = ") + to_string(contact.law) +
-                      " is not available; it takes Lagrange multipliers";
-    return true;
-  }
   if (std::holds_alternative<HouboltParams>(method)) {
     if (houbolt.initialize(system, dt, contact)) {
       run(LoopStepper{[&](State& s) { houbolt.step(system, s); }, plain_energy(system)});
@@ -226,8 +217,9 @@ bool run_multistep(const System& system, const MethodParams& method, double dt,
     return true;
   }
   if (const auto* p = std::get_if<WilsonThetaParams>(&method)) {
-    if (wilson.initialize(system, wilson_theta_coefficients(*p), dt)) {
+    if (wilson.initialize(system, wilson_theta_coefficients(*p), dt, contact)) {
       run(LoopStepper{[&](State& s) { wilson.step(system, s); }, plain_energy(system)});
+      count_contact_iterations(wilson, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string("wilson-theta: ") + first_failure({&wilson.extended()});
@@ -237,20 +229,21 @@ bool run_multistep(const System& system, const MethodParams& method, double dt,
   return false;
 }
 
-// The Noh–Bathe explicit scheme (core/noh_bathe.hpp): Lagrange multipliers only; its stable step
+// The end of an explicit method's warning for a step above its stable step: what to lower.
+std::string penalty_springs(const ContactPenalties& contact) {
+  return contact.law == ContactLaw::penalty
+             ? " with the penalty springs: lower the step or the penalty stiffness"
+             : ": lower the step";
+}
+
+// The Noh–Bathe explicit scheme (core/noh_bathe.hpp): its stable step (with the penalty's springs)
 // is reported, and a step above it is flagged before the run starts (the run still goes, as
 // central difference's does: the energy bound then stops it).
 template <class Run>
 void run_noh_bathe(const SecondOrderSystem& system, const NohBatheParams& params, double dt,
                    const ContactPenalties& contact, NohBatheExplicit& stepper, State& state,
                    RunSummary& summary, Run&& run) {
-  if (!contact.lagrange()) {
-    summary.status = RunStatus::failed;
-    summary.message = std::string("noh-bathe: contact = ") + to_string(contact.law) +
-                      " is not available; it takes Lagrange multipliers";
-    return;
-  }
-  if (!stepper.initialize(system, noh_bathe_coefficients(params), dt, state)) {
+  if (!stepper.initialize(system, noh_bathe_coefficients(params), dt, state, contact)) {
     summary.status = RunStatus::failed;
     summary.message = "noh-bathe: singular mass matrix";
     return;
@@ -260,24 +253,19 @@ void run_noh_bathe(const SecondOrderSystem& system, const NohBatheParams& params
     summary.warning = "dt = " + format_value(dt) + " s exceeds noh-bathe's stable step " +
                       format_value(stepper.stable_step()) +
                       " s (Omega_crit = " + format_value(noh_bathe_critical_omega(params.p)) +
-                      " at p = " + format_value(params.p) + "): lower the step";
+                      " at p = " + format_value(params.p) + ")" + penalty_springs(contact);
   }
   run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+  count_contact_iterations(stepper, summary);
 }
 
-// Kim's two-stage explicit scheme (core/kim_explicit.hpp): as Noh–Bathe's, Lagrange multipliers
-// only, its stable step reported and a step above it flagged before the run starts.
+// Kim's two-stage explicit scheme (core/kim_explicit.hpp): as Noh–Bathe's, its stable step reported
+// and a step above it flagged before the run starts.
 template <class Run>
 void run_kim_explicit(const SecondOrderSystem& system, const KimExplicitParams& params, double dt,
                       const ContactPenalties& contact, KimExplicit& stepper, State& state,
                       RunSummary& summary, Run&& run) {
-  if (!contact.lagrange()) {
-    summary.status = RunStatus::failed;
-    summary.message = std::string("kim-explicit: contact = ") + to_string(contact.law) +
-                      " is not available; it takes Lagrange multipliers";
-    return;
-  }
-  if (!stepper.initialize(system, kim_explicit_coefficients(params), dt, state)) {
+  if (!stepper.initialize(system, kim_explicit_coefficients(params), dt, state, contact)) {
     summary.status = RunStatus::failed;
     summary.message = "kim-explicit: singular mass matrix";
     return;
@@ -287,30 +275,49 @@ void run_kim_explicit(const SecondOrderSystem& system, const KimExplicitParams& 
     summary.warning = "dt = " + format_value(dt) + " s exceeds kim-explicit's stable step " +
                       format_value(stepper.stable_step()) +
                       " s (Omega_crit = " + format_value(kim_explicit_critical_omega(params.p)) +
-                      " at p = " + format_value(params.p) + "): lower the step";
+                      " at p = " + format_value(params.p) + ")" + penalty_springs(contact);
   }
   run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+  count_contact_iterations(stepper, summary);
 }
 
-// The KR-α explicit method (core/kr_alpha.hpp): Lagrange multipliers only; unconditionally
-// stable, so there is no stable step to report.
+// The KR-α explicit method (core/kr_alpha.hpp): Lagrange multipliers or the augmented Lagrangian
+// (not the penalty: the header says why); unconditionally stable, so there is no stable step to
+// report.
 template <class Run>
 void run_kr_alpha(const SecondOrderSystem& system, const KrAlphaParams& params, double dt,
                   const ContactPenalties& contact, KrAlphaExplicit& stepper, State& state,
                   RunSummary& summary, Run&& run) {
-  if (!contact.lagrange()) {
+  if (contact.law == ContactLaw::penalty) {
     summary.status = RunStatus::failed;
-    summary.message = std::string("kr-alpha: contact = ") + to_string(contact.law) +
-                      " is not available; it takes Lagrange multipliers";
+    summary.message =
+        "kr-alpha: contact = penalty is not available; it takes Lagrange "
+        "multipliers or the augmented Lagrangian";
     return;
   }
-  if (!stepper.initialize(system, kr_alpha_coefficients(params), dt, state)) {
+  if (!stepper.initialize(system, kr_alpha_coefficients(params), dt, state, contact)) {
     summary.status = RunStatus::failed;
     summary.message = "kr-alpha: " + stepper.failure();
     return;
   }
   run(LoopStepper{[&](State& s) { stepper.step(system, s); },
                   [&](const State& s) { return stepper.energy(system, s); }});
+  count_contact_iterations(stepper, summary);
+}
+
+// Central difference's stable step (with the penalty's springs) into the summary, and a penalty
+// run above it flagged before it starts.
+template <class Stepper>
+void flag_penalty_step(const Stepper& stepper, double dt, const ContactPenalties& contact,
+                       RunSummary& summary) {
+  summary.stable_dt = stepper.stable_step();
+  if (contact.law == ContactLaw::penalty && !stepper.within_stability_limit()) {
+    summary.warning = "dt = " + format_value(dt) +
+                      " s exceeds central difference's stable step with the penalty springs, " +
+                      (stepper.stable_step() > 0.0 ? format_value(stepper.stable_step()) + " s"
+                                                   : std::string("which needs a diagonal mass")) +
+                      ": lower the step or the penalty stiffness";
+  }
 }
 
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
@@ -337,15 +344,7 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
     CentralDifference& stepper = ws.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state, contact)) {
-      summary.stable_dt = stepper.stable_step();
-      if (contact.law == ContactLaw::penalty && !stepper.within_stability_limit()) {
-        summary.warning =
-            "dt = " + format_value(dt) +
-            " s exceeds central difference's stable step with the penalty springs, " +
-            (stepper.stable_step() > 0.0 ? format_value(stepper.stable_step()) + " s"
-                                         : std::string("which needs a diagonal mass")) +
-            ": lower the step or the penalty stiffness";
-      }
+      flag_penalty_step(stepper, dt, contact, summary);
       stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
       run(LoopStepper{[&](State& s) { stepper.step(system, s); },
                       [&](const State& s) { return stepper.energy(system, s); }});
@@ -406,18 +405,13 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
-    if (!contact.lagrange()) {  // core/sparse_integrators.hpp says why
-      summary.status = RunStatus::failed;
-      summary.message = std::string("cdm: contact = ") + to_string(contact.law) +
-                        " is not available on a model of sparse matrices; it takes Lagrange "
-                        "multipliers there (choose an implicit method)";
-      return;
-    }
     SparseCentralDifference& stepper = ws.sparse_central_difference;
-    if (stepper.initialize(system, cdm->velocity, dt, state)) {
+    if (stepper.initialize(system, cdm->velocity, dt, state, contact)) {
+      flag_penalty_step(stepper, dt, contact, summary);
       stepper.step(system, state);  // the state at t_k
       run(LoopStepper{[&](State& s) { stepper.step(system, s); },
                       [&](const State& s) { return stepper.energy(system, s); }});
+      count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = "central difference: " + stepper.failure();

@@ -1,5 +1,6 @@
 #include "core/sparse_integrators.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -185,18 +186,23 @@ bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
 }
 
 bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity velocity,
-                                         double dt, const State& initial) {
+                                         double dt, const State& initial,
+                                         const ContactPenalties& contact) {
   velocity_ = velocity;
   dt_ = dt;
   t_ = initial.t;
   failure_.clear();
+  contact_ = contact;
+  iterations_ = unconverged_ = 0;
   if (!is_diagonal(system.mass)) {
     failure_ =
         "central difference needs a diagonal (lumped) mass matrix; this model's M has entries off "
         "the diagonal: lump it (row sums) or choose an implicit method";
     return false;
   }
-  within_limit_ = within_explicit_limit(dt, highest_frequency_squared_bound(system));
+  const double bound = highest_frequency_squared_bound(system, contact);
+  within_limit_ = within_explicit_limit(dt, bound);
+  stable_step_ = std::isfinite(bound) ? 2.0 / std::sqrt(bound) : 0.0;
   const bool damped = velocity == CdmVelocity::central && system.has_damping();
   SparseMatrix lhs = (1.0 / (dt * dt)) * system.mass;
   if (damped) lhs += (0.5 / dt) * system.damping;
@@ -215,6 +221,16 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
   violation_.resize(m);
   forces_.setZero(m);
   lcp_.resize(m);
+  if (contact_.law == ContactLaw::augmented_lagrangian) {
+    compliance_.resize(m);
+    for (int j = 0; j < m; ++j) {
+      compliance_[j] = 1.0 / contact_.listed[static_cast<std::size_t>(j)];
+    }
+    penalized_ = delassus_;
+    penalized_.diagonal() += compliance_;
+    shift_.resize(m);
+    shifted_.resize(m);
+  }
   return true;
 }
 
@@ -233,15 +249,32 @@ bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
     }
   }
   factorization_.solve_in_place(u_next_);
+  // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
+  const Eigen::VectorXd& checked = contact_.law == ContactLaw::penalty ? u_ : u_next_;
   const bool active = contact_forces(
-      system.constraints, factorization_, [&](Eigen::Index i) { return u_next_[i]; },
+      system.constraints, factorization_, [&](Eigen::Index i) { return checked[i]; },
       [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; },
       [&] {
-        solve_contact_lcp(delassus_.data(), violation_.data(), static_cast<int>(violation_.size()),
-                          forces_.data(), lcp_);
+        const auto m = static_cast<int>(violation_.size());
+        if (contact_.lagrange()) {
+          solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data(), lcp_);
+        } else if (contact_.law == ContactLaw::penalty) {
+          for (int j = 0; j < m; ++j) {
+            forces_[j] =
+                contact_.listed[static_cast<std::size_t>(j)] * std::max(0.0, violation_[j]);
+          }
+        } else if (violation_.maxCoeff() > 0.0) {
+          const ContactIterations it =
+              solve_listed_augmented(delassus_, penalized_, compliance_, violation_, contact_,
+                                     forces_, shift_, shifted_, &lcp_);
+          iterations_ += it.iterations;
+          if (!it.converged) ++unconverged_;
+        } else {
+          forces_.setZero();
+        }
       },
       violation_, forces_, correction_, u_next_);
-  if (active) snap_walls(system.constraints, forces_, u_next_);
+  if (active && contact_.lagrange()) snap_walls(system.constraints, forces_, u_next_);
 
   at_t.u = u_;
   if (velocity_ == CdmVelocity::central) {

@@ -23,9 +23,10 @@
 // The implicit integrator takes the penalty and augmented-Lagrangian laws as the tridiagonal one
 // does (core/contact_treatment.hpp): the same problem with D + diag(1/(w·k)), and Uzawa's
 // iterations on it, counted; walls are then not snapped (the penalty's node stands in the wall by
-// λ/k). Central difference on a sparse model keeps Lagrange's multipliers only: its explicit
-// penalty would need the stable step of M⁻¹(K + springs), which core/stable_step.hpp bounds for
-// tridiagonal systems only.
+// λ/k). So does central difference, as on a tridiagonal system (core/central_difference.hpp): the
+// penalty's explicit force k·max(0, g(u_t)) at t, its stable step from core/stable_step.hpp's
+// bound on M⁻¹(K + springs) (reported, and a step above it flagged before the run), and Uzawa's
+// iterations on the forward increment's penalty problem.
 //
 // Central difference needs a diagonal M (a lumped mass): initialize() refuses another with a
 // message that says so. With stiffness-proportional or other non-diagonal damping the left-hand
@@ -87,25 +88,41 @@ class SparseCentralDifference {
  public:
   /// Factors the left-hand matrix and starts from `initial` (Taylor start, as CentralDifference).
   /// Returns false with failure() when M is not diagonal or a pivot is not positive.
-  bool initialize(const SparseSystem& system, CdmVelocity velocity, double dt,
-                  const State& initial);
+  /// `contact`: the law of every constraint (resolve_contact of the model), as
+  /// CentralDifference's: Lagrange's forward increment, the explicit penalty force at t, or
+  /// Uzawa's iterations on the forward increment's penalty problem.
+  bool initialize(const SparseSystem& system, CdmVelocity velocity, double dt, const State& initial,
+                  const ContactPenalties& contact = {});
   /// As CentralDifference::step: fills `at_t` with the state at the current t, moves to t + Δt.
   bool step(const SparseSystem& system, State& at_t);
   /// As CentralDifference::energy (core/central_difference.hpp): the method's own energy at
   /// t + Δt/2 after a step() within the explicit limit, the plain one of `at_t` otherwise.
   double energy(const SparseSystem& system, const State& at_t);
   const std::string& failure() const { return failure_; }
+  /// As CentralDifference's: whether Δt is within the explicit limit with the penalty's springs,
+  /// and the largest step certified stable (2/ω_bound) [s].
+  bool within_stability_limit() const { return within_limit_; }
+  double stable_step() const { return stable_step_; }
+  /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
+  long contact_iterations() const { return iterations_; }
+  long unconverged_contact_steps() const { return unconverged_; }
 
  private:
   CdmVelocity velocity_ = CdmVelocity::central;
   double dt_ = 0.0;
   double t_ = 0.0;
   bool within_limit_ = false;
+  double stable_step_ = 0.0;
   SparseFactorization factorization_;
   Eigen::VectorXd u_previous_, u_, u_next_, scratch_, correction_;
   Eigen::MatrixXd delassus_;
   Eigen::VectorXd violation_, forces_;
   ContactLcpWorkspace lcp_;
+  // The contact law (weight 1, as CentralDifference's).
+  ContactPenalties contact_;
+  Eigen::MatrixXd penalized_;                     // D + diag(compliance_): augmented Lagrangian
+  Eigen::VectorXd compliance_, shift_, shifted_;  // augmented Lagrangian
+  long iterations_ = 0, unconverged_ = 0;
   std::string failure_;
 };
 

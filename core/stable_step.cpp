@@ -7,7 +7,19 @@ namespace impactid {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A listed constraint's spring k adds k to its wall's dof's row sum, or 2·k to each of a pair's
+// (|+k| on the diagonal and |−k| off it).
+void add_springs(const std::vector<Constraint>& constraints, const std::vector<double>& springs,
+                 Eigen::VectorXd& rows) {
+  for (std::size_t j = 0; j < constraints.size(); ++j) {
+    const Constraint& c = constraints[j];
+    const double per_dof = (c.plus >= 0 && c.minus >= 0 ? 2.0 : 1.0) * springs[j];
+    if (c.plus >= 0) rows[c.plus] += per_dof;
+    if (c.minus >= 0) rows[c.minus] += per_dof;
+  }
 }
+}  // namespace
 
 double highest_frequency_squared_bound(const SecondOrderSystem& system) {
   return highest_frequency_squared_bound(system, ContactPenalties{});
@@ -22,12 +34,7 @@ double highest_frequency_squared_bound(const SecondOrderSystem& system,
   Eigen::VectorXd springs = Eigen::VectorXd::Zero(n);
   if (contact.law == ContactLaw::penalty) {
     if (system.has_constraint_list()) {
-      for (std::size_t j = 0; j < system.constraints.size(); ++j) {
-        const Constraint& c = system.constraints[j];
-        const double per_dof = (c.plus >= 0 && c.minus >= 0 ? 2.0 : 1.0) * contact.listed[j];
-        if (c.plus >= 0) springs[c.plus] += per_dof;
-        if (c.minus >= 0) springs[c.minus] += per_dof;
-      }
+      add_springs(system.constraints, contact.listed, springs);
     } else {
       if (system.has_contact()) springs[system.contact_dof] += contact.main;
       if (system.has_far_contact()) springs[system.far_contact_dof] += contact.far;
@@ -45,6 +52,11 @@ double highest_frequency_squared_bound(const SecondOrderSystem& system,
 }
 
 double highest_frequency_squared_bound(const SparseSystem& system) {
+  return highest_frequency_squared_bound(system, ContactPenalties{});
+}
+
+double highest_frequency_squared_bound(const SparseSystem& system,
+                                       const ContactPenalties& contact) {
   const SparseMatrix& m = system.mass;
   if (!is_diagonal(m)) return kInf;
   const Eigen::VectorXd mass = m.diagonal();
@@ -55,6 +67,9 @@ double highest_frequency_squared_bound(const SparseSystem& system) {
     for (SparseMatrix::InnerIterator it(system.stiffness, j); it; ++it) {
       row[j] += std::abs(it.value());
     }
+  }
+  if (contact.law == ContactLaw::penalty) {
+    add_springs(system.constraints, contact.listed, row);
   }
   return (row.array() / mass.array()).maxCoeff();
 }

@@ -28,6 +28,7 @@ double highest_frequency_squared_bound(const SparseSystem& system);
 /// add nothing (their forces are implicit).
 double highest_frequency_squared_bound(const SecondOrderSystem& system,
                                        const ContactPenalties& contact);
+double highest_frequency_squared_bound(const SparseSystem& system, const ContactPenalties& contact);
 
 /// Whether Δt·ω_bound <= 2 up to round-off (relative 1e-12 on Δt²·ω², so that Courant 1 computed
 /// as h/c counts as within): an explicit step that certainly does not excite a growing mode.

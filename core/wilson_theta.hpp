@@ -43,6 +43,14 @@
 // up to 1.06e-4 mm (a hundredth of the scene's gap) beyond the wall at the samples, so the
 // sample's Signorini conditions fail: that variant is not offered.
 //
+// Penalty and augmented Lagrangian, where the constraint is enforced: on the extended step's
+// shifted gap, by the integrator's own laws (core/contact_treatment.hpp). The sample's penetration
+// g_{n+1} is 1/θ³ of the extended step's on the shifted gap, so the extended step's springs are
+// k/θ³: its force k/θ³·(θ³·g_{n+1}) is then the spring k of the sample's own penetration,
+// λ = k·max(0, g_{n+1}) at every sample, as the single-step methods' at the end of their step.
+// The augmented Lagrangian's Uzawa iterations run on the same shifted problem (counted) and reach
+// the Lagrange multipliers; neither law snaps the node onto its wall.
+//
 // Works with ImplicitIntegrator (tridiagonal systems: the rod, scenes of bodies) and
 // SparseImplicitIntegrator (a user's model) alike. Per step: one solve of the factorised matrix
 // M + (τ/2)·C + (τ²/6)·K, O(n) extra vector work, no allocation once the state's sizes are set.
@@ -53,6 +61,7 @@
 #include <type_traits>
 
 #include "core/constraint_set.hpp"
+#include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
@@ -64,11 +73,15 @@ template <class Integrator, class System>
 class WilsonTheta {
  public:
   /// Factors the extended step's effective matrix. False if it is singular (or not positive
-  /// definite, for the sparse integrator, whose failure() then says why).
-  bool initialize(const System& system, const WilsonThetaCoefficients& coefficients, double dt) {
+  /// definite, for the sparse integrator, whose failure() then says why). `contact`: the law of
+  /// every constraint, its springs k as at the sample (the header).
+  bool initialize(const System& system, const WilsonThetaCoefficients& coefficients, double dt,
+                  const ContactPenalties& contact = {}) {
     theta_ = coefficients.theta;
     dt_ = dt;
-    return extended_.initialize(system, coefficients.extended, theta_ * dt);
+    lagrange_ = contact.lagrange();
+    return extended_.initialize(system, coefficients.extended, theta_ * dt,
+                                extended_springs(contact, theta_));
   }
 
   /// Advances state from t to t + Δt; its acceleration must be consistent with u and v (as for
@@ -99,6 +112,9 @@ class WilsonTheta {
   /// walls (for tests).
   const State& extended_state() const { return mid_; }
   const Integrator& extended() const { return extended_; }
+  /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
+  long contact_iterations() const { return extended_.contact_iterations(); }
+  long unconverged_contact_steps() const { return extended_.unconverged_contact_steps(); }
 
  private:
   // gap' − gap for every constraint, from Q and P at its dofs (file comment).
@@ -131,8 +147,20 @@ class WilsonTheta {
     }
   }
 
-  // Walls exactly on their (unshifted) gap where they push at t + Δt.
+  // The extended step's springs: k/θ³ for a spring k at the sample, whose penetration is 1/θ³
+  // of the extended step's on the shifted gap (the header).
+  static ContactPenalties extended_springs(ContactPenalties contact, double theta) {
+    const double theta3 = theta * theta * theta;
+    contact.main /= theta3;
+    contact.far /= theta3;
+    for (double& k : contact.listed) k /= theta3;
+    return contact;
+  }
+
+  // Walls exactly on their (unshifted) gap where they push at t + Δt (Lagrange's multipliers; the
+  // other laws leave the node where the force put it).
   void snap(const System& system, State& s) const {
+    if (!lagrange_) return;
     snap_walls(system.constraints, s.multipliers, s.u);
     if constexpr (std::is_same_v<System, SecondOrderSystem>) {
       if (system.has_constraint_list()) return;
@@ -143,6 +171,7 @@ class WilsonTheta {
 
   double theta_ = 1.4;
   double dt_ = 0.0;
+  bool lagrange_ = true;
   Integrator extended_;
   State mid_;
 };

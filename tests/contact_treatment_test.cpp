@@ -209,13 +209,13 @@ TEST(ContactTreatment, BadSettingsAreRefusedByName) {
   const RunSummary summary = simulate(RodScene{}, HhtParams{}, options, ws);
   EXPECT_EQ(summary.status, RunStatus::failed);
   EXPECT_NE(summary.message.find("penalty_factor"), std::string::npos);
-  // Wilson-θ takes Lagrange multipliers only (core/simulation.cpp says why): another law fails,
-  // naming the method.
+  // KR-α takes no penalty (core/kr_alpha.hpp says why): that run fails, naming the method.
   options.contact = {.law = ContactLaw::penalty};
-  const RunSummary refused = simulate(RodScene{}, WilsonThetaParams{}, options, ws);
+  const RunSummary refused = simulate(RodScene{}, KrAlphaParams{}, options, ws);
   EXPECT_EQ(refused.status, RunStatus::failed);
   EXPECT_EQ(refused.message,
-            "wilson-theta: contact = penalty is not available; it takes Lagrange multipliers");
+            "kr-alpha: contact = penalty is not available; it takes Lagrange multipliers or the "
+            "augmented Lagrangian");
 }
 
 }  // namespace

@@ -300,18 +300,10 @@ TEST(NohBathe, SignoriniConditionsHoldBetweenTwoWallsAndInASceneOfBodies) {
   EXPECT_TRUE(testing::every_contact_pushes_and_never_pulls(ws.trace));
 }
 
-// Penalty and augmented-Lagrangian contact, and models of sparse matrices, are refused naming
-// the method.
+// Models of sparse matrices are refused naming the method (the contact laws run:
+// tests/explicit_stage_contact_test.cpp).
 TEST(NohBathe, RefusesWhatItDoesNotSupport) {
   SimulationWorkspace ws;
-  for (const ContactLaw law : {ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
-    RunOptions options;
-    options.contact = {.law = law};
-    const RunSummary refused = simulate(RodScene{}, NohBatheParams{}, options, ws);
-    EXPECT_EQ(refused.status, RunStatus::failed);
-    EXPECT_NE(refused.message.find("noh-bathe: contact = "), std::string::npos) << refused.message;
-    EXPECT_NE(refused.message.find("Lagrange multipliers"), std::string::npos);
-  }
   const Simulation block = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
   const AssembledScene scene = assemble(*block.model);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/central_difference.hpp"
 #include "core/contact_lcp.hpp"
 #include "core/implicit_integrator.hpp"
 #include "core/model_scene.hpp"
@@ -383,7 +384,7 @@ TEST(SparseImplicitIntegrator, PenaltyAndAugmentedLagrangianAsTheChainIntegrator
 // Through simulate() on a model that only the sparse path takes (K beyond the band): every
 // implicit method runs the penalty and augmented-Lagrangian laws with λ >= 0 at every sample;
 // the penalty leaves the node in the wall, the augmented Lagrangian within its tolerance of
-// Lagrange's; central difference says it takes Lagrange's multipliers there.
+// Lagrange's; so does central difference, with its stable step under the penalty.
 TEST(ModelScene, SparseModelsTakeThePenaltyAndAugmentedLagrangianLaws) {
   auto triangle = std::make_shared<Model>();
   const Eigen::Matrix3d k{{2, -1, -1}, {-1, 2, -1}, {-1, -1, 2}};
@@ -429,15 +430,100 @@ TEST(ModelScene, SparseModelsTakeThePenaltyAndAugmentedLagrangianLaws) {
       ASSERT_NEAR(ws.trace.pressure[i], lagrange_pressure[i], 1e-6 * scale) << "sample " << i;
     }
   }
+  // Central difference: the explicit penalty within its stable step with the spring (M = I, K's
+  // row sums 400, the spring f·K_11 = 200·f on DOF 1: ω_bound² = 400 + 200·f), reported; above
+  // it the run is flagged before it starts.
   SimulationWorkspace ws;
+  const RunSummary lagrange = simulate(scene, CentralDifferenceParams{}, base, ws);
+  ASSERT_EQ(lagrange.status, RunStatus::ok) << lagrange.message;
+  EXPECT_NEAR(lagrange.stable_dt, 2.0 / std::sqrt(400.0), 1e-15);
+  const std::vector<double> lagrange_pressure = ws.trace.pressure;
   RunOptions penalty = base;
-  penalty.contact.law = ContactLaw::penalty;
+  penalty.contact = {.law = ContactLaw::penalty, .penalty_factor = 10.0};
   const RunSummary cdm = simulate(scene, CentralDifferenceParams{}, penalty, ws);
-  EXPECT_EQ(cdm.status, RunStatus::failed);
-  EXPECT_NE(cdm.message.find("cdm: contact = penalty is not available on a model of sparse "
-                             "matrices"),
+  ASSERT_EQ(cdm.status, RunStatus::ok) << cdm.message;
+  EXPECT_TRUE(cdm.warning.empty()) << cdm.warning;
+  EXPECT_NEAR(cdm.stable_dt, 2.0 / std::sqrt(400.0 + 2000.0), 1e-15);
+  EXPECT_GT(cdm.max_penetration, 0.0);
+  for (const double pressure : ws.trace.pressure) ASSERT_GE(pressure, 0.0);
+  penalty.contact.penalty_factor = 1e5;  // stable step 4.5e-4 s < Δt = 1e-3 s
+  const RunSummary flagged = simulate(scene, CentralDifferenceParams{}, penalty, ws);
+  EXPECT_NEAR(flagged.stable_dt, 2.0 / std::sqrt(400.0 + 2e7), 1e-15);
+  EXPECT_NE(flagged.warning.find("exceeds central difference's stable step with the penalty "
+                                 "springs"),
             std::string::npos)
-      << cdm.message;
+      << flagged.warning;
+  RunOptions augmented = base;
+  augmented.contact = {.law = ContactLaw::augmented_lagrangian,
+                       .penalty_factor = 1e3,
+                       .augmented_tolerance = 1e-12,
+                       .augmented_max_iterations = 1000};
+  const RunSummary al = simulate(scene, CentralDifferenceParams{}, augmented, ws);
+  ASSERT_EQ(al.status, RunStatus::ok) << al.message;
+  EXPECT_GT(al.contact_iterations, 0);
+  EXPECT_EQ(al.unconverged_contact_steps, 0);
+  EXPECT_LT(al.max_penetration, 1e-8 * 0.3);
+  const double scale = *std::max_element(lagrange_pressure.begin(), lagrange_pressure.end());
+  for (std::size_t i = 0; i < lagrange_pressure.size(); ++i) {
+    ASSERT_NEAR(ws.trace.pressure[i], lagrange_pressure[i], 1e-6 * scale) << "sample " << i;
+  }
+}
+
+// Central difference on a sparse model under the penalty and augmented-Lagrangian laws: the same
+// numbers as the tridiagonal central difference's constraint list with the same springs, the
+// penalty's force the spring of u_t, λ_t = k·max(0, g(u_t)), at every step, and the same stable
+// step with the spring, 2/√((2 + f)·k/m).
+TEST(SparseCentralDifference, PenaltyAndAugmentedLagrangianAsTheChainCentralDifference) {
+  const TwoMasses model;
+  const SparseSystem system = model.system();
+  const SecondOrderSystem chain = as_chain(system);
+  const double dt = (kPi / model.omega()) / 400.0;
+  const double impulse_scale = model.v0 * std::sqrt(model.k * model.m);
+  for (const ContactLaw law : {ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+    SCOPED_TRACE(to_string(law));
+    // Uzawa's error shrinks by 1/(1 + k·Δt²/m) per iteration: a stiff spring for the augmented
+    // Lagrangian (its force is not explicit: no stable step to mind).
+    const double factor = law == ContactLaw::penalty ? 3.0 : 1e4;
+    const ContactTreatment treatment{.law = law,
+                                     .penalty_factor = factor,
+                                     .augmented_tolerance = 1e-9,
+                                     .augmented_max_iterations = 1000};
+    const ContactPenalties sparse_contact = resolve_contact(treatment, system);
+    const ContactPenalties chain_contact = resolve_contact(treatment, chain);
+    State s = model.start();
+    State r = s;
+    SparseCentralDifference stepper;
+    CentralDifference reference;
+    ASSERT_TRUE(stepper.initialize(system, CdmVelocity::central, dt, s, sparse_contact));
+    ASSERT_TRUE(reference.initialize(chain, CdmVelocity::central, dt, r, chain_contact));
+    EXPECT_NEAR(stepper.stable_step(), reference.stable_step(), 1e-15);
+    if (law == ContactLaw::penalty) {
+      EXPECT_NEAR(stepper.stable_step(), 2.0 / std::sqrt((2.0 + factor) * model.k / model.m),
+                  1e-15);
+    }
+    int active = 0;
+    const double end = model.impact() + 3.0 * kPi / model.omega();
+    while (s.t < end) {
+      stepper.step(system, s);
+      reference.step(chain, r);
+      ASSERT_GE(s.multipliers[0], 0.0);
+      const double penetration = s.u[1] - model.gap;
+      if (law == ContactLaw::penalty) {
+        ASSERT_NEAR(s.multipliers[0], factor * model.k * std::max(0.0, penetration),
+                    1e-9 * impulse_scale)
+            << "t = " << s.t;
+      } else {
+        ASSERT_LE(penetration, 1e-9 * model.gap) << "t = " << s.t;
+      }
+      active += s.multipliers[0] > 0.0;
+      ASSERT_NEAR(s.u[0], r.u[0], 1e-12 * model.gap) << "t = " << s.t;
+      ASSERT_NEAR(s.multipliers[0], r.multipliers[0], 1e-9 * impulse_scale) << "t = " << s.t;
+    }
+    EXPECT_GT(active, 0);
+    EXPECT_EQ(stepper.contact_iterations(), reference.contact_iterations());
+    if (law == ContactLaw::augmented_lagrangian) EXPECT_GT(stepper.contact_iterations(), 0);
+    EXPECT_EQ(stepper.unconverged_contact_steps(), 0);
+  }
 }
 
 }  // namespace

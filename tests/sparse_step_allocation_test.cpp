@@ -69,40 +69,49 @@ TEST(SparseStep, AllocatesNothingOnTheBlock) {
   ASSERT_TRUE(scene.sparse);
   const SparseSystem& system = *scene.sparse;
   for (const bool cdm : {false, true}) {
-    State s;
-    s.u = Eigen::VectorXd::Zero(system.size());
-    s.v = scene.initial_velocity;
-    s.a = Eigen::VectorXd::Zero(system.size());
-    s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
-    SparseImplicitIntegrator implicit;
-    SparseCentralDifference explicit_;
-    // The set-up allocates, inside the core library: the counter sees the library's calls.
-    allocations = 0;
-    counting = true;
-    ASSERT_TRUE(cdm ? explicit_.initialize(system, CdmVelocity::central, scene.dt, s)
-                    : implicit.initialize(system, implicit_coefficients(HhtParams{.alpha = -0.1}),
-                                          scene.dt));
-    counting = false;
-    EXPECT_GT(allocations.load(), 0);
-    const auto step = [&] {
-      if (cdm) {
-        explicit_.step(system, s);
-      } else {
-        implicit.step(system, s);
+    for (const ContactLaw law :
+         {ContactLaw::lagrange, ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+      // The penalty and augmented-Lagrangian laws too: their contact problems and Uzawa's
+      // iterations use storage sized by initialize().
+      const ContactPenalties contact = resolve_contact({.law = law}, system);
+      State s;
+      s.u = Eigen::VectorXd::Zero(system.size());
+      s.v = scene.initial_velocity;
+      s.a = Eigen::VectorXd::Zero(system.size());
+      s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
+      SparseImplicitIntegrator implicit;
+      SparseCentralDifference explicit_;
+      // The set-up allocates, inside the core library: the counter sees the library's calls.
+      allocations = 0;
+      counting = true;
+      ASSERT_TRUE(cdm ? explicit_.initialize(system, CdmVelocity::central, scene.dt, s, contact)
+                      : implicit.initialize(system, implicit_coefficients(HhtParams{.alpha = -0.1}),
+                                            scene.dt, contact));
+      counting = false;
+      EXPECT_GT(allocations.load(), 0);
+      const auto step = [&] {
+        if (cdm) {
+          explicit_.step(system, s);
+        } else {
+          implicit.step(system, s);
+        }
+      };
+      step();  // a first step may size scratch storage
+      allocations = 0;
+      counting = true;
+      // Through the impact: the steps with contact forces and the contact problem are included.
+      double largest = 0.0;
+      for (long i = 1; i < scene.step_count; ++i) {
+        step();
+        largest = std::max(largest, s.multipliers.maxCoeff());
       }
-    };
-    step();  // a first step may size scratch storage
-    allocations = 0;
-    counting = true;
-    // Through the impact: the steps with contact forces and the contact problem are included.
-    double largest = 0.0;
-    for (long i = 1; i < scene.step_count; ++i) {
-      step();
-      largest = std::max(largest, s.multipliers.maxCoeff());
+      counting = false;
+      EXPECT_EQ(allocations.load(), 0) << (cdm ? "central difference " : "hht ") << to_string(law);
+      EXPECT_GT(largest, 0.0) << to_string(law);  // the run did reach the plane
+      if (law == ContactLaw::augmented_lagrangian) {
+        EXPECT_GT(cdm ? explicit_.contact_iterations() : implicit.contact_iterations(), 0);
+      }
     }
-    counting = false;
-    EXPECT_EQ(allocations.load(), 0) << (cdm ? "central difference" : "hht");
-    EXPECT_GT(largest, 0.0);  // the run did reach the plane
   }
 }
 
@@ -151,27 +160,31 @@ TEST(SparseStep, NohBatheAllocatesNothing) {
   bodies.bodies = {Body{.name = "striker", .velocity = 1000.0, .segments = {Segment{}}},
                    Body{.name = "target", .gap = 0.01, .segments = {Segment{}}}};
   bodies.right_wall = Wall{.gap = 0.01};
-  for (const AssembledScene& scene :
-       {assemble(RodScene{}), assemble(two_walls), assemble(bodies)}) {
-    const SecondOrderSystem& system = scene.system;
-    State s;
-    s.u = Eigen::VectorXd::Zero(system.size());
-    s.v = scene.initial_velocity;
-    s.a = Eigen::VectorXd::Zero(system.size());
-    s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
-    NohBatheExplicit stepper;
-    ASSERT_TRUE(stepper.initialize(system, noh_bathe_coefficients({}), scene.dt, s));
-    allocations = 0;
-    counting = true;
-    double largest = 0.0;
-    for (long i = 0; i < scene.step_count; ++i) {
-      stepper.step(system, s);
-      largest =
-          std::max({largest, s.lambda, s.multipliers.size() ? s.multipliers.maxCoeff() : 0.0});
+  for (const ContactLaw law :
+       {ContactLaw::lagrange, ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+    for (const AssembledScene& scene :
+         {assemble(RodScene{}), assemble(two_walls), assemble(bodies)}) {
+      const SecondOrderSystem& system = scene.system;
+      State s;
+      s.u = Eigen::VectorXd::Zero(system.size());
+      s.v = scene.initial_velocity;
+      s.a = Eigen::VectorXd::Zero(system.size());
+      s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
+      NohBatheExplicit stepper;
+      ASSERT_TRUE(stepper.initialize(system, noh_bathe_coefficients({}), scene.dt, s,
+                                     resolve_contact({.law = law}, system)));
+      allocations = 0;
+      counting = true;
+      double largest = 0.0;
+      for (long i = 0; i < scene.step_count; ++i) {
+        stepper.step(system, s);
+        largest =
+            std::max({largest, s.lambda, s.multipliers.size() ? s.multipliers.maxCoeff() : 0.0});
+      }
+      counting = false;
+      EXPECT_EQ(allocations.load(), 0) << to_string(law);
+      EXPECT_GT(largest, 0.0) << to_string(law);  // the run did reach a wall
     }
-    counting = false;
-    EXPECT_EQ(allocations.load(), 0);
-    EXPECT_GT(largest, 0.0);  // the run did reach a wall
   }
 }
 
@@ -186,28 +199,32 @@ TEST(SparseStep, KimExplicitAllocatesNothing) {
   bodies.bodies = {Body{.name = "striker", .velocity = 1000.0, .segments = {Segment{}}},
                    Body{.name = "target", .gap = 0.01, .segments = {Segment{}}}};
   bodies.right_wall = Wall{.gap = 0.01};
-  for (const double p : {1.0 / 3.0, 0.5}) {
-    for (const AssembledScene& scene :
-         {assemble(RodScene{}), assemble(two_walls), assemble(bodies)}) {
-      const SecondOrderSystem& system = scene.system;
-      State s;
-      s.u = Eigen::VectorXd::Zero(system.size());
-      s.v = scene.initial_velocity;
-      s.a = Eigen::VectorXd::Zero(system.size());
-      s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
-      KimExplicit stepper;
-      ASSERT_TRUE(stepper.initialize(system, kim_explicit_coefficients({.p = p}), scene.dt, s));
-      allocations = 0;
-      counting = true;
-      double largest = 0.0;
-      for (long i = 0; i < scene.step_count; ++i) {
-        stepper.step(system, s);
-        largest =
-            std::max({largest, s.lambda, s.multipliers.size() ? s.multipliers.maxCoeff() : 0.0});
+  for (const ContactLaw law :
+       {ContactLaw::lagrange, ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+    for (const double p : {1.0 / 3.0, 0.5}) {
+      for (const AssembledScene& scene :
+           {assemble(RodScene{}), assemble(two_walls), assemble(bodies)}) {
+        const SecondOrderSystem& system = scene.system;
+        State s;
+        s.u = Eigen::VectorXd::Zero(system.size());
+        s.v = scene.initial_velocity;
+        s.a = Eigen::VectorXd::Zero(system.size());
+        s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
+        KimExplicit stepper;
+        ASSERT_TRUE(stepper.initialize(system, kim_explicit_coefficients({.p = p}), scene.dt, s,
+                                       resolve_contact({.law = law}, system)));
+        allocations = 0;
+        counting = true;
+        double largest = 0.0;
+        for (long i = 0; i < scene.step_count; ++i) {
+          stepper.step(system, s);
+          largest =
+              std::max({largest, s.lambda, s.multipliers.size() ? s.multipliers.maxCoeff() : 0.0});
+        }
+        counting = false;
+        EXPECT_EQ(allocations.load(), 0) << p << " " << to_string(law);
+        EXPECT_GT(largest, 0.0) << p << " " << to_string(law);
       }
-      counting = false;
-      EXPECT_EQ(allocations.load(), 0) << p;
-      EXPECT_GT(largest, 0.0) << p;
     }
   }
 }
@@ -225,27 +242,30 @@ TEST(SparseStep, KrAlphaAllocatesNothing) {
   bodies.bodies = {Body{.name = "striker", .velocity = 1000.0, .segments = {Segment{}}},
                    Body{.name = "target", .gap = 0.01, .segments = {Segment{}}}};
   bodies.right_wall = Wall{.gap = 0.01};
-  for (const AssembledScene& scene :
-       {assemble(RodScene{}), assemble(two_walls), assemble(damped), assemble(bodies)}) {
-    const SecondOrderSystem& system = scene.system;
-    State s;
-    s.u = Eigen::VectorXd::Zero(system.size());
-    s.v = scene.initial_velocity;
-    s.a = Eigen::VectorXd::Zero(system.size());
-    s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
-    KrAlphaExplicit stepper;
-    ASSERT_TRUE(stepper.initialize(system, kr_alpha_coefficients({}), scene.dt, s));
-    allocations = 0;
-    counting = true;
-    double largest = 0.0;
-    for (long i = 0; i < scene.step_count; ++i) {
-      stepper.step(system, s);
-      largest =
-          std::max({largest, s.lambda, s.multipliers.size() ? s.multipliers.maxCoeff() : 0.0});
+  for (const ContactLaw law : {ContactLaw::lagrange, ContactLaw::augmented_lagrangian}) {
+    for (const AssembledScene& scene :
+         {assemble(RodScene{}), assemble(two_walls), assemble(damped), assemble(bodies)}) {
+      const SecondOrderSystem& system = scene.system;
+      State s;
+      s.u = Eigen::VectorXd::Zero(system.size());
+      s.v = scene.initial_velocity;
+      s.a = Eigen::VectorXd::Zero(system.size());
+      s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
+      KrAlphaExplicit stepper;
+      ASSERT_TRUE(stepper.initialize(system, kr_alpha_coefficients({}), scene.dt, s,
+                                     resolve_contact({.law = law}, system)));
+      allocations = 0;
+      counting = true;
+      double largest = 0.0;
+      for (long i = 0; i < scene.step_count; ++i) {
+        stepper.step(system, s);
+        largest =
+            std::max({largest, s.lambda, s.multipliers.size() ? s.multipliers.maxCoeff() : 0.0});
+      }
+      counting = false;
+      EXPECT_EQ(allocations.load(), 0) << to_string(law);
+      EXPECT_GT(largest, 0.0) << to_string(law);  // the run did reach a wall
     }
-    counting = false;
-    EXPECT_EQ(allocations.load(), 0);
-    EXPECT_GT(largest, 0.0);  // the run did reach a wall
   }
 }
 

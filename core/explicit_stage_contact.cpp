@@ -1,0 +1,202 @@
+#include "core/explicit_stage_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/constraint_set.hpp"
+#include "core/contact_lcp.hpp"
+#include "core/implicit_integrator.hpp"  // solve_listed_augmented
+#include "core/stable_step.hpp"
+#include "core/two_wall_contact.hpp"
+
+namespace impactid {
+
+bool ExplicitStageContact::initialize(const SecondOrderSystem& system,
+                                      const ContactPenalties& contact, double critical_omega,
+                                      double dt) {
+  contact_ = contact;
+  iterations_ = unconverged_ = 0;
+  main_ = far_ = 0.0;
+  // Ω_crit over the Gershgorin bound on ω_max, with the penalty's springs (+inf, nothing
+  // certified, for a mass that is not diagonal).
+  const double bound = highest_frequency_squared_bound(system, contact);
+  if (!std::isfinite(bound)) {
+    stable_step_ = 0.0;
+    within_limit_ = false;
+  } else {
+    stable_step_ =
+        bound > 0.0 ? critical_omega / std::sqrt(bound) : std::numeric_limits<double>::infinity();
+    within_limit_ = dt * dt * bound <= critical_omega * critical_omega * (1.0 + 1e-12);
+  }
+
+  if (!mass_.factor(system.mass)) return false;
+  contact_influence_ = mass_.inverse_column(system.contact_dof);
+  if (system.has_far_contact()) {
+    far_influence_ = mass_.inverse_column(system.far_contact_dof);
+  } else {
+    far_influence_.resize(0);
+  }
+  set_up_constraints(system, mass_, 1.0, constraint_influence_, constraint_rows_, delassus_);
+  const auto m = static_cast<Eigen::Index>(system.constraints.size());
+  violation_.resize(m);
+  forces_.setZero(m);
+  scaled_forces_.resize(m);
+  if (contact_.law == ContactLaw::augmented_lagrangian) {
+    compliance_.resize(m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      compliance_[j] = 1.0 / contact_.listed[static_cast<std::size_t>(j)];
+    }
+    shift_.resize(m);
+    shifted_.resize(m);
+  }
+  return true;
+}
+
+StageProblem ExplicitStageContact::problem(double scale) const {
+  StageProblem out;
+  out.scale = scale;
+  out.delassus = scale * delassus_;
+  if (contact_.law == ContactLaw::augmented_lagrangian) {
+    out.penalized = out.delassus;
+    out.penalized.diagonal() += compliance_;
+  }
+  return out;
+}
+
+void ExplicitStageContact::solve_acceleration(const SecondOrderSystem& system,
+                                              const Eigen::VectorXd& u,
+                                              const Eigen::VectorXd& v_predicted,
+                                              Eigen::VectorXd& a) const {
+  a.setZero();
+  system.stiffness.multiply_add(-1.0, u, a);
+  if (system.has_damping()) system.damping.multiply_add(-1.0, v_predicted, a);
+  mass_.solve_in_place(a);
+}
+
+void ExplicitStageContact::count(const ContactIterations& iterations) {
+  iterations_ += iterations.iterations;
+  if (!iterations.converged) ++unconverged_;
+}
+
+bool ExplicitStageContact::enforce(const SecondOrderSystem& system, const StageProblem& problem,
+                                   Eigen::VectorXd& a, Eigen::VectorXd& next,
+                                   const Eigen::VectorXd& at_u) {
+  const double scale = problem.scale;
+  const bool penalty = contact_.law == ContactLaw::penalty;
+  main_ = 0.0;
+  far_ = 0.0;
+  if (system.has_constraint_list()) {
+    const auto m = static_cast<int>(system.constraints.size());
+    // The penalty's violations are those of the stage's own displacement (its force is
+    // explicit); the others' those of the next.
+    const Eigen::VectorXd& checked = penalty ? at_u : next;
+    for (int j = 0; j < m; ++j) {
+      const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
+      double g = -con.gap;
+      if (con.plus >= 0) g += checked[con.plus];
+      if (con.minus >= 0) g -= checked[con.minus];
+      violation_[j] = g;
+    }
+    if (contact_.lagrange()) {
+      solve_contact_lcp(problem.delassus.data(), violation_.data(), m, forces_.data());
+    } else if (penalty) {
+      for (int j = 0; j < m; ++j) {
+        forces_[j] = contact_.listed[static_cast<std::size_t>(j)] * std::max(0.0, violation_[j]);
+      }
+    } else if (violation_.maxCoeff() > 0.0) {
+      count(solve_listed_augmented(problem.delassus, problem.penalized, compliance_, violation_,
+                                   contact_, forces_, shift_, shifted_));
+    } else {
+      forces_.setZero();
+    }
+    if (!(forces_.size() > 0 && forces_.maxCoeff() > 0.0)) return false;
+    apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, a);
+    apply_last(system, scale, next);
+    if (contact_.lagrange()) snap_walls(system.constraints, forces_, next);
+    return true;
+  }
+  const Eigen::Index contact = system.contact_dof;
+  if (system.has_far_contact()) {
+    const Eigen::Index far = system.far_contact_dof;
+    TwoWallForces forces;
+    if (contact_.lagrange()) {
+      forces =
+          solve_two_wall_contact(next[contact] - system.gap, -system.far_gap - next[far],
+                                 scale * contact_influence_[contact], scale * far_influence_[far],
+                                 scale * far_influence_[contact], scale * contact_influence_[far]);
+    } else if (penalty) {
+      forces = {contact_.main * std::max(0.0, at_u[contact] - system.gap),
+                contact_.far * std::max(0.0, -system.far_gap - at_u[far])};
+    } else {
+      ContactIterations iterations;
+      forces =
+          two_wall_contact_forces(next[contact] - system.gap, -system.far_gap - next[far],
+                                  scale * contact_influence_[contact], scale * far_influence_[far],
+                                  scale * far_influence_[contact], scale * contact_influence_[far],
+                                  1.0 / contact_.main, 1.0 / contact_.far, contact_, iterations);
+      count(iterations);
+    }
+    main_ = forces.main;
+    far_ = forces.far;
+    if (!(main_ > 0.0 || far_ > 0.0)) return false;
+    apply_last(system, 1.0, a);
+    apply_last(system, scale, next);
+    if (contact_.lagrange()) {
+      if (main_ > 0.0) next[contact] = system.gap;  // exact, not a few ulps off
+      if (far_ > 0.0) next[far] = -system.far_gap;
+    }
+    return true;
+  }
+  if (!system.has_contact()) return false;
+  if (penalty) {
+    if (!(at_u[contact] > system.gap)) return false;
+    main_ = contact_.main * (at_u[contact] - system.gap);
+  } else {
+    if (!(next[contact] > system.gap)) return false;
+    if (contact_.lagrange()) {
+      main_ = (next[contact] - system.gap) / (scale * contact_influence_[contact]);
+    } else {
+      ContactIterations iterations;
+      main_ = single_contact_force(next[contact] - system.gap, scale * contact_influence_[contact],
+                                   1.0 / contact_.main, contact_, iterations);
+      count(iterations);
+    }
+  }
+  apply_last(system, 1.0, a);
+  apply_last(system, scale, next);
+  if (contact_.lagrange()) next[contact] = system.gap;
+  return true;
+}
+
+void ExplicitStageContact::apply_last(const SecondOrderSystem& system, double factor,
+                                      Eigen::VectorXd& x) {
+  if (system.has_constraint_list()) {
+    scaled_forces_ = factor * forces_;  // the same size: no allocation
+    apply_constraint_forces(constraint_influence_, constraint_rows_, scaled_forces_, x);
+    return;
+  }
+  if (main_ > 0.0) x -= (factor * main_) * contact_influence_;
+  if (far_ > 0.0) x += (factor * far_) * far_influence_;
+}
+
+void ExplicitStageContact::write_last(const SecondOrderSystem& system, State& at) const {
+  if (system.has_constraint_list()) {
+    at.multipliers = forces_;  // the same size: no allocation
+    at.lambda = 0.0;           // the list's are in multipliers
+    return;
+  }
+  at.lambda = main_;
+  if (system.has_far_contact()) at.far_lambda = far_;
+}
+
+void ExplicitStageContact::add_last(const SecondOrderSystem& system, State& at) const {
+  if (system.has_constraint_list()) {
+    at.multipliers += forces_;
+    return;
+  }
+  at.lambda += main_;
+  at.far_lambda += far_;
+}
+
+}  // namespace impactid
