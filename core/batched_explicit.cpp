@@ -12,6 +12,7 @@
 #include "core/central_difference.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/function_versions.hpp"
+#include "core/kim_explicit.hpp"
 #include "core/noh_bathe.hpp"
 #include "core/parameter_error.hpp"
 #include "core/second_order_system.hpp"
@@ -895,6 +896,372 @@ void simulate_noh_bathe_batch(std::span<const RodScene> scenes,
   finish_lanes(count, start, traces, summaries);
 }
 
+// ---- Kim's two-stage explicit scheme (core/kim_explicit.hpp) ----
+
+// What KimExplicit::step reads: M's factorisation and K (the solve's rows, as Noh–Bathe's: its
+// forward pass reads the displacement from `next`, set per stage), the lanes' arrays and each
+// lane's coefficients (its own p).
+struct KimRows {
+  NohBatheRows solve;  // n, K, M's factorisation, M⁻¹·e_c, the uniform rows; `next` is set per
+                       // stage, the rest of its arrays and coefficients are unused
+  // The state u, v, a (a₀ through the step); u_p of the next step (KimExplicit's u_next_); the
+  // first stage's a_p; the second stage's forward sweep. Between the stages u holds ũ₁ and v ṽ₁.
+  Lanes *u, *v, *a, *next, *sub_a, *sweep;
+  Lanes gap;
+  Lanes dt;  // Δt, ũ₁'s coefficient of v₀
+  // KimExplicit::step's pΔt, c.u0·Δt·Δt, s₁, c.v0·Δt, c.vp·Δt, its correct()'s c.cu·Δt·Δt and
+  // c.cv·Δt, the divided difference's d0, dp, d1, the scales s_u and s_n of the sample and the
+  // next force point, ½·pΔt·pΔt; per lane.
+  Lanes first, u0, scale_first, v0, vp, du, dv, d0, dp, d1, scale_sample, scale_next, half_first2;
+  // The gap where s_u > 0 (p < ½: the sample's own contact problem is solved), +∞ where not.
+  Lanes sample_gap;
+};
+
+// The divided difference D = (d0·a₀ + dp·a_p) + d1·a₁ (KimExplicit::divided_difference).
+[[gnu::always_inline]] inline Lanes kim_divided_difference(const KimRows& b, const Lanes& a0,
+                                                           const Lanes& sub_a, const Lanes& a) {
+  return (b.d0 * a0 + b.dp * sub_a) + b.d1 * a;
+}
+
+// Stage 1's finish of row i from its solved a_p: ũ₁ = ((u₀ + Δt·v₀) + u0·a₀) + s₁·a_p, the
+// contact's −λ_p·M⁻¹e_c on a_p and −(s₁·λ_p)·M⁻¹e_c on ũ₁ (kAnyContact, lanes `closes`), then
+// ṽ₁ = (v₀ + v0·a₀) + vp·a_p. ũ₁ and ṽ₁ replace u₀ and v₀.
+template <bool kAnyContact>
+[[gnu::always_inline]] inline void kim_finish_first(const KimRows& b, const LaneMask& closes,
+                                                    const Lanes& lambda, const Lanes& scaled_lambda,
+                                                    Eigen::Index i, const Lanes& solved) {
+  const Lanes u = b.u[i], v = b.v[i], a = b.a[i];
+  Lanes predicted = ((u + b.dt * v) + b.u0 * a) + b.scale_first * solved;
+  Lanes sub_a = solved;
+  if constexpr (kAnyContact) {
+    const Lanes influence = splat(b.solve.influence[i]);
+    sub_a = select(closes, solved - lambda * influence, solved);
+    predicted = select(closes, predicted - scaled_lambda * influence, predicted);
+  }
+  store(&b.sub_a[i], sub_a);
+  store(&b.u[i], predicted);
+  store(&b.v[i], (v + b.v0 * a) + b.vp * sub_a);
+}
+
+// The second stage's contact, as KimExplicit::step applies it: the sample's (lanes
+// `sample`, λ_s; scales s_u·λ_s) and the next force point's (lanes `next`, λ_n; s_n·λ_n and
+// s_u·λ_n). Zero where a lane has none.
+struct KimSecondContact {
+  LaneMask sample, next;
+  Lanes sample_lambda, sample_scaled, next_lambda, next_scaled, next_scaled_sample;
+};
+
+// Stage 2's finish of row i from its solved a₁ (a₀, a_p, ũ₁ and ṽ₁ in the row's arrays):
+// u₁ = ũ₁ + du·D, v₁ = ṽ₁ + dv·D (correct()); the sample's contact corrects a₁ and u₁ and takes
+// v₁ again from the corrected a₁ (correct_velocity()); the next u_p = (u₁ + pΔt·v₁) +
+// ½(pΔt)²·a₁; the next force point's contact corrects a₁, u_p and u₁ (by s_u·λ_n) and v₁ again.
+// The snaps of the last row are the caller's.
+template <bool kAnyContact>
+[[gnu::always_inline]] inline void kim_finish_second(const KimRows& b, const KimSecondContact& c,
+                                                     Eigen::Index i, const Lanes& solved) {
+  const Lanes a0 = b.a[i], sub_a = b.sub_a[i], predicted = b.u[i], v_predicted = b.v[i];
+  Lanes a = solved;
+  const Lanes d = kim_divided_difference(b, a0, sub_a, a);
+  Lanes u = predicted + b.du * d;
+  Lanes v = v_predicted + b.dv * d;
+  if constexpr (kAnyContact) {
+    const Lanes influence = splat(b.solve.influence[i]);
+    a = select(c.sample, a - c.sample_lambda * influence, a);
+    u = select(c.sample, u - c.sample_scaled * influence, u);
+    v = select(c.sample, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
+    Lanes next = (u + b.first * v) + b.half_first2 * a;
+    a = select(c.next, a - c.next_lambda * influence, a);
+    next = select(c.next, next - c.next_scaled * influence, next);
+    u = select(c.next, u - c.next_scaled_sample * influence, u);
+    v = select(c.next, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
+    store(&b.next[i], next);
+  } else {
+    store(&b.next[i], (u + b.first * v) + b.half_first2 * a);
+  }
+  store(&b.a[i], a);
+  store(&b.u[i], u);
+  store(&b.v[i], v);
+}
+
+// One step of Kim's scheme in every lane (KimExplicit::step, single wall, Lagrange, no damping;
+// its velocity predictor v₀ + pΔt·a₀ feeds only the damping term, so it is not formed). Returns
+// λ₁ of the sample t + Δt.
+//   Stage 1: a_p from M·a_p = −K·u_p (u_p in `next`); ũ₁ and its contact λ_p =
+//     (ũ₁,c − gap)/(s₁·(M⁻¹e_c)_c) where it penetrates, ũ₁,c = gap; ṽ₁.
+//   Stage 2: a₁ from M·a₁ = −K·ũ₁; u₁, v₁ (correct()); where s_u > 0 and u₁,c > gap the
+//     sample's λ_s, u₁,c = gap, v₁ again; u_p = (u₁ + pΔt·v₁) + ½(pΔt)²·a₁; where u_p,c > gap the
+//     next force point's λ_n, u_p,c = gap, u₁ −= (s_u·λ_n)·M⁻¹e_c, v₁ again; λ₁ = λ_s + λ_n.
+// As Noh–Bathe's, each stage is a forward pass and a back substitution that finishes every row
+// as it is solved; the contacts are decided on the last row first (the forward sweep leaves it
+// final, and the finishes of the last row only need its own numbers), by the scalar's
+// expressions.
+//
+// Flops per unknown and lane (no contact; count them in noh_bathe_forward and the finishes):
+// stage 1, the forward pass 3 mul 3 add/sub 1 FMA, the back substitution 2 FMA, ũ₁ 3 mul 3 add,
+// ṽ₁ 2 mul 2 add; stage 2 the same forward pass and back substitution, D 3 mul 2 add, u₁ and
+// v₁ 2 mul 2 add, u_p 2 mul 2 add: 18 mul 17 add/sub 6 FMA, 47 flops in 41 instructions a step
+// (HHT's: 23 in 14), 20.5 instructions a stage. Stores per unknown and register: 1 + 3 (stage
+// 1), 1 + 4 (stage 2), 9 (HHT's: 4). While some lane is in contact a finish also subtracts the
+// corrections (stage 1: 2 mul 2 sub 2 blends; stage 2, per contact, 3 mul 3 sub, D and v₁ again,
+// 4 blends).
+[[gnu::always_inline]] inline Lanes kim_step_lanes(const KimRows& rows,
+                                                   const RowFactors& uniform_row) {
+  const KimRows b = rows;  // local copies: see cdm_step_lanes
+  const RowFactors uniform = uniform_row;
+  const Eigen::Index last = b.solve.n - 1;
+  const Lanes influence = splat(b.solve.influence[last]);
+
+  // Stage 1: the forward pass from u_p into sub_a; λ_p from the last row's contact-free ũ₁.
+  NohBatheRows solve = b.solve;
+  solve.next = b.next;
+  noh_bathe_forward<false>(solve, uniform, b.sub_a);
+  const Lanes free_first =
+      ((b.u[last] + b.dt * b.v[last]) + b.u0 * b.a[last]) + b.scale_first * b.sub_a[last];
+  const LaneMask closes_first = greater(free_first, b.gap);
+  if (any_lane(closes_first)) {
+    const Lanes lambda =
+        select(closes_first, (free_first - b.gap) / (b.scale_first * influence), Lanes{});
+    const Lanes scaled = b.scale_first * lambda;
+    noh_bathe_backward(
+        solve, uniform,
+        b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          kim_finish_first<true>(b, closes_first, lambda, scaled, i, solved);
+        });
+    store(&b.u[last], select(closes_first, b.gap, b.u[last]));
+  } else {
+    noh_bathe_backward(
+        solve, uniform,
+        b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          kim_finish_first<false>(b, closes_first, Lanes{}, Lanes{}, i, solved);
+        });
+  }
+
+  // Stage 2: the forward pass from ũ₁ into sweep; the contacts from the last row's numbers, in
+  // KimExplicit::step's order and expressions.
+  solve.next = b.u;
+  noh_bathe_forward<false>(solve, uniform, b.sweep);
+  const Lanes a0 = b.a[last], sub_a = b.sub_a[last], v_predicted = b.v[last];
+  Lanes a = b.sweep[last];
+  Lanes d = kim_divided_difference(b, a0, sub_a, a);
+  Lanes u = b.u[last] + b.du * d;
+  Lanes v = v_predicted + b.dv * d;
+  KimSecondContact c{};
+  c.sample = greater(u, b.sample_gap);
+  if (any_lane(c.sample)) {
+    c.sample_lambda = select(c.sample, (u - b.gap) / (b.scale_sample * influence), Lanes{});
+    c.sample_scaled = b.scale_sample * c.sample_lambda;
+    a = select(c.sample, a - c.sample_lambda * influence, a);
+    u = select(c.sample, b.gap, u);
+    v = select(c.sample, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
+  }
+  Lanes next = (u + b.first * v) + b.half_first2 * a;
+  c.next = greater(next, b.gap);
+  Lanes lambda = c.sample_lambda;
+  if (any_lane(c.next)) {
+    c.next_lambda = select(c.next, (next - b.gap) / (b.scale_next * influence), Lanes{});
+    c.next_scaled = b.scale_next * c.next_lambda;
+    c.next_scaled_sample = b.scale_sample * c.next_lambda;
+    next = select(c.next, b.gap, next);
+    u = select(c.next, u - c.next_scaled_sample * influence, u);
+    lambda = select(c.next, lambda + c.next_lambda, lambda);
+  }
+  if (any_lane(c.sample) || any_lane(c.next)) {
+    noh_bathe_backward(
+        solve, uniform,
+        b.sweep, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          kim_finish_second<true>(b, c, i, solved);
+        });
+    // The last row as the scalar leaves it (its snaps onto the wall).
+    store(&b.u[last], u);
+    store(&b.next[last], next);
+  } else {
+    noh_bathe_backward(
+        solve, uniform,
+        b.sweep, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+          kim_finish_second<false>(b, c, i, solved);
+        });
+  }
+  return lambda;
+}
+
+struct KimBatch {
+  KimRows rows;
+  const Tridiagonal *mass, *stiffness;
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;  // each lane's state after initialize
+  Lanes* start_next;                      // and its u_p, [unknown][lane]
+  LaneLoop loop;
+};
+
+IMPACTID_SIMD_VERSIONS void run_kim_batch(KimBatch& b) {
+  KimRows& rows = b.rows;
+  const RowFactors uniform = row_factors(rows.solve, rows.solve.uniform_begin);
+  const Eigen::Index n = rows.solve.n;
+  const auto set_lane = [&](int l, const State* start) __attribute__((always_inline)) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      rows.u[i].set(l, start ? start->u[i] : 0.0);
+      rows.v[i].set(l, start ? start->v[i] : 0.0);
+      rows.a[i].set(l, start ? start->a[i] : 0.0);
+      rows.next[i].set(l, start ? b.start_next[i][l] : 0.0);
+      rows.sub_a[i].set(l, 0.0);
+      rows.sweep[i].set(l, 0.0);
+    }
+  };
+  run_lanes(b.lanes, b.loop,
+            lane_stepper(
+                [&](int l) __attribute__((always_inline)) {
+                  const State& start = (*b.start)[static_cast<std::size_t>(l)];
+                  set_lane(l, &start);
+                  return LaneStart{.lambda = start.lambda, .t = start.t};
+                },
+                [&](bool, const Lanes&)
+                    __attribute__((always_inline)) { return kim_step_lanes(rows, uniform); },
+                [&]() __attribute__((always_inline)) { return rows.v[n - 1]; },
+                [&]() __attribute__((always_inline)) {
+                  return plain_energy_lanes(*b.mass, *b.stiffness, rows.u, rows.v, n);
+                },
+                [&](int l) __attribute__((always_inline)) { set_lane(l, nullptr); }));
+}
+
+void simulate_kim_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
+                        const RunOptions& options, std::vector<LaneBlock>& storage,
+                        std::array<State, kBatchLanes>& starts,
+                        std::array<ContactTrace, kBatchLanes>& traces,
+                        std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
+  const Eigen::Index n = system.size();
+  const double dt = derive(scenes[0]).time_step;
+
+  storage.assign(static_cast<std::size_t>(7 * n), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
+  KimBatch b{};
+  KimRows& rows = b.rows;
+  rows.solve.n = n;
+  rows.u = block;
+  rows.v = block + n;
+  rows.a = block + 2 * n;
+  rows.next = block + 3 * n;
+  rows.sub_a = block + 4 * n;
+  rows.sweep = block + 5 * n;
+  b.start_next = block + 6 * n;
+  rows.gap = splat(kInf);  // unused lanes never touch a wall
+  rows.sample_gap = splat(kInf);
+  rows.dt = splat(dt);
+  b.mass = &system.mass;
+  b.stiffness = &system.stiffness;
+  b.start = &starts;
+  b.loop = {.area = scenes[0].area,
+            .dt = dt,
+            .energy_check_interval = options.energy_check_interval,
+            .energy_growth_limit = options.energy_growth_limit};
+
+  // M's factorisation and M⁻¹·e_c (ExplicitStageContact::initialize's) are every lane's.
+  TridiagonalFactorization factorization;
+  const bool factored = factorization.factor(system.mass);
+  const bool uniform =
+      symmetric_uniform_off_diagonals(system.stiffness) && system.contact_dof == n - 1;
+  const Eigen::VectorXd influence =
+      factored ? factorization.inverse_column(system.contact_dof) : Eigen::VectorXd();
+  // Every lane prepared first: initialize changes a lane's start state (the contact at the
+  // start corrects a), which a later lane of the same velocity would otherwise copy
+  // (prepare_lane).
+  std::array<bool, kBatchLanes> prepared{};
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    prepared[lane] =
+        prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
+  }
+  KimExplicit stepper;
+  bool any = false;
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    if (!prepared[lane]) continue;
+    const RodScene& scene = scenes[lane];
+    const auto& params = std::get<KimExplicitParams>(methods[lane]);
+    LaneRun& run = b.lanes[lane];
+    RunSummary& summary = summaries[lane];
+    State& state = starts[lane];
+    const State before = state;
+    system.gap = scene.gap;
+    const KimExplicitCoefficients c = kim_explicit_coefficients(params);
+    // run_kim_explicit (core/simulation.cpp): the start, the stable step and its warning.
+    if (!stepper.initialize(system, c, dt, state) || !uniform) {
+      summary.status = RunStatus::failed;
+      summary.message = uniform ? "kim-explicit: singular mass matrix"
+                                : "batched kernel: the stiffness is not uniform along the rod";
+      run = LaneRun{};
+      continue;
+    }
+    summary.stable_dt = stepper.stable_step();
+    if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
+      summary.warning = "dt = " + format_value(dt) + " s exceeds kim-explicit's stable step " +
+                        format_value(stepper.stable_step()) +
+                        " s (Omega_crit = " + format_value(kim_explicit_critical_omega(params.p)) +
+                        " at p = " + format_value(params.p) + "): lower the step";
+    }
+    // KimExplicit::initialize's u_p with the contact at the start (its λ and the correction of
+    // a are already in `state`).
+    const double p = c.p, dt2 = dt * dt;
+    const double scale_start = 0.5 * (p * dt) * (p * dt);
+    Eigen::VectorXd next = before.u + (p * dt) * before.v + scale_start * before.a;
+    const Eigen::Index contact = system.contact_dof;
+    if (next[contact] > system.gap) {
+      const double lambda = (next[contact] - system.gap) / (scale_start * influence[contact]);
+      next -= (scale_start * lambda) * influence;
+      next[contact] = system.gap;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) b.start_next[i].set(l, next[i]);
+    // KimExplicit::initialize's and ::step's coefficients, by their expressions.
+    const double first = p * dt;
+    const double scale_sample = c.cu * c.d1 * dt2;
+    rows.first.set(l, first);
+    rows.u0.set(l, c.u0 * dt * dt);
+    rows.scale_first.set(l, c.up * dt2);
+    rows.v0.set(l, c.v0 * dt);
+    rows.vp.set(l, c.vp * dt);
+    rows.du.set(l, c.cu * dt * dt);
+    rows.dv.set(l, c.cv * dt);
+    rows.d0.set(l, c.d0);
+    rows.dp.set(l, c.dp);
+    rows.d1.set(l, c.d1);
+    rows.scale_sample.set(l, scale_sample);
+    rows.scale_next.set(l, scale_sample + p * c.cv * c.d1 * dt2 + 0.5 * p * p * dt2);
+    rows.half_first2.set(l, 0.5 * first * first);
+    rows.sample_gap.set(l, scale_sample > 0.0 ? scene.gap : kInf);
+    rows.gap.set(l, scene.gap);
+    any = true;
+  }
+  if (any) {
+    Eigen::VectorXd upper_ratio2(n);
+    const Eigen::VectorXd& upper_ratio = factorization.upper_ratios();
+    for (Eigen::Index i = 0; i < n; ++i) {  // as TridiagonalFactorization::factor forms it
+      upper_ratio2[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
+    }
+    NohBatheRows& solve = rows.solve;
+    solve.stiffness_diag = system.stiffness.diag.data();
+    solve.inverse_pivot = factorization.inverse_pivots().data();
+    solve.lower_ratio = factorization.lower_ratios().data();
+    solve.upper_ratio = upper_ratio.data();
+    solve.upper_ratio2 = upper_ratio2.data();
+    solve.influence = influence.data();
+    solve.stiffness_off = system.stiffness.lower[1];
+    solve.uniform_end = std::max<Eigen::Index>(n - 2, 1);
+    const Eigen::Index ref = solve.uniform_end - 1;
+    const auto same_row = [&](Eigen::Index i) {
+      return solve.stiffness_diag[i] == solve.stiffness_diag[ref] &&
+             solve.inverse_pivot[i] == solve.inverse_pivot[ref] &&
+             solve.lower_ratio[i] == solve.lower_ratio[ref] && upper_ratio[i] == upper_ratio[ref] &&
+             upper_ratio2[i] == upper_ratio2[ref];
+    };
+    solve.uniform_begin = ref >= 1 ? ref : solve.uniform_end;
+    while (solve.uniform_begin > 1 && same_row(solve.uniform_begin - 1)) --solve.uniform_begin;
+    run_kim_batch(b);
+  }
+  finish_lanes(count, start, traces, summaries);
+}
+
 }  // namespace
 
 ExplicitBatchKind explicit_batch_kind(const MethodParams& method) {
@@ -902,6 +1269,7 @@ ExplicitBatchKind explicit_batch_kind(const MethodParams& method) {
     return ExplicitBatchKind::central_difference;
   }
   if (std::holds_alternative<NohBatheParams>(method)) return ExplicitBatchKind::noh_bathe;
+  if (std::holds_alternative<KimExplicitParams>(method)) return ExplicitBatchKind::kim_explicit;
   return ExplicitBatchKind::none;
 }
 
@@ -913,6 +1281,9 @@ bool explicit_batchable(const RodScene& scene, const MethodParams& method) {
       return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
     case ExplicitBatchKind::noh_bathe:
       // Damping adds a product with C to each sub-step: damped runs go through simulate().
+      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+    case ExplicitBatchKind::kim_explicit:
+      // Likewise a product with C to each stage.
       return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
     case ExplicitBatchKind::none:
       return false;
@@ -931,6 +1302,10 @@ void simulate_explicit_batch(std::span<const RodScene> scenes,
     case ExplicitBatchKind::noh_bathe:
       simulate_noh_bathe_batch(scenes, methods, options, workspace.storage_, workspace.start_,
                                workspace.traces, summaries);
+      return;
+    case ExplicitBatchKind::kim_explicit:
+      simulate_kim_batch(scenes, methods, options, workspace.storage_, workspace.start_,
+                         workspace.traces, summaries);
       return;
     case ExplicitBatchKind::none:
       break;

@@ -1,14 +1,15 @@
 // The rod's explicit methods advanced kBatchLanes runs at a time, one per SIMD lane (issue 19,
-// "Speed"): central difference (core/central_difference.hpp) and the Noh–Bathe explicit scheme
-// (core/noh_bathe.hpp), in the same [unknown][lane] layout, vocabulary (core/simd_lanes.hpp) and
-// per-lane bookkeeping (core/batch_lanes.hpp) as the implicit kernel (core/batched_simulation.hpp),
-// which hands these batches over here.
+// "Speed"): central difference (core/central_difference.hpp), the Noh–Bathe explicit scheme
+// (core/noh_bathe.hpp) and Kim's two-stage explicit scheme (core/kim_explicit.hpp), in the same
+// [unknown][lane] layout, vocabulary (core/simd_lanes.hpp) and per-lane bookkeeping
+// (core/batch_lanes.hpp) as the implicit kernel (core/batched_simulation.hpp), which hands these
+// batches over here.
 //
 // Why: central difference's step is a product with M and K and a solve with M/Δt² (one
-// tridiagonal factorisation, even for a lumped mass), Noh–Bathe's two products with K and two
-// solves with M: sweeps whose serial recurrences bound a single run far above its arithmetic, as
-// they bound the implicit step. Lanes are independent
-// runs; a vector instruction advances every lane by the same operation.
+// tridiagonal factorisation, even for a lumped mass), Noh–Bathe's and Kim's two products with K
+// and two solves with M: sweeps whose serial recurrences bound a single run far above its
+// arithmetic, as they bound the implicit step. Lanes are independent runs; a vector instruction
+// advances every lane by the same operation.
 //
 // Bit-identical to simulate(): every lane does CentralDifference::step's operations on its own
 // numbers in the same order, with the same fused multiply-adds (Tridiagonal::multiply's d·x
@@ -34,6 +35,11 @@
 // NohBatheExplicit::initialize's, lane by lane at set-up (its u_p, the contact at the start, the
 // stable step and the warning above it, as simulate() reports them); the energy is the plain one.
 //
+// Kim's scheme likewise: KimExplicit::step's operations lane by lane (each lane its own p), with
+// M's factorisation and M⁻¹·e_c; its three contacts (ũ₁ at stage 1; the sample, where p < ½, and
+// the next step's force point u_p at stage 2) decided on the last row in the scalar's order
+// before the back substitutions that apply them; the start is KimExplicit::initialize's.
+//
 // Per unknown and step a lane costs (central difference, no damping, either mass; counted at
 // the loops in core/batched_explicit.cpp): the forward pass 2·u_t − u_{t−Δt}, times 1/Δt² (2 mul
 // 1 sub), M's row (1 mul for the off-diagonal product shared by two rows, 1 FMA, 1 add), K's
@@ -42,14 +48,15 @@
 // in 14), with 2 stores per unknown and register (HHT's: 4). While some lane is in contact the
 // back substitution also subtracts λ·A⁻¹·e_c (1 mul 1 sub 1 blend). The velocity and the
 // contact are computed at the contact node only. Noh–Bathe (core/batched_explicit.cpp counts
-// it): 43 flops in 37 instructions a step of two stages, 10 stores per unknown and register.
+// it): 43 flops in 37 instructions a step of two stages, 10 stores per unknown and register;
+// Kim's (kim_step_lanes): 47 flops in 41 instructions a step of two stages, 9 stores.
 //
 // What batches (explicit_batch_kind, through batchable / same_batch): central difference with
-// either velocity variant and Noh–Bathe with any p, on an undamped rod with a lumped or a
-// consistent mass (damped runs go through simulate()), single wall, Lagrange contact, no
+// either velocity variant, Noh–Bathe and Kim's scheme with any p, on an undamped rod with a lumped
+// or a consistent mass (damped runs go through simulate()), single wall, Lagrange contact, no
 // histories; a batch holds one method, its lanes the same rod and time step, each its own gap,
-// velocity, end time and the method's parameter (the velocity variant, p). Kim's scheme and
-// KR-α run through simulate().
+// velocity, end time and the method's parameter (the velocity variant, p). KR-α runs through
+// simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_explicit_batch is reentrant.
 #pragma once
@@ -68,6 +75,7 @@ enum class ExplicitBatchKind {
   none,                ///< not an explicit method of this kernel
   central_difference,  ///< cdm
   noh_bathe,           ///< noh-bathe
+  kim_explicit,        ///< kim-explicit
 };
 
 /// Which explicit batch a method would join (none for every other method).

@@ -682,7 +682,7 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
   // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
   // single-step implicit family, the composite schemes and Wilson-θ, and (core/
-  // batched_explicit.hpp) the explicit methods it knows (not Houbolt, Kim's scheme or KR-α),
+  // batched_explicit.hpp) the explicit methods it knows (not Houbolt or KR-α),
   // with Lagrange multipliers (not the penalty or augmented-Lagrangian contact laws).
   return (is_single_step_implicit(method) || is_composite(method) ||
           std::holds_alternative<WilsonThetaParams>(method) ||

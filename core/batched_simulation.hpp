@@ -52,9 +52,9 @@
 // damping), the time step and the kind of step (single-step, composite or Wilson-θ: a batch
 // steps one), and may differ in the method and its parameters (a composite's γ, Wilson's θ too),
 // the gap, the velocity and the end time. Scenes of bodies have their own kernel
-// (core/batched_chain.hpp), and so have central difference and Noh–Bathe (core/
+// (core/batched_chain.hpp), and so have central difference, Noh–Bathe and Kim's scheme (core/
 // batched_explicit.hpp: simulate_batch hands their batches over); everything else (Houbolt,
-// Kim's scheme, KR-α; penalty and augmented-Lagrangian contact) runs through simulate().
+// KR-α; penalty and augmented-Lagrangian contact) runs through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once

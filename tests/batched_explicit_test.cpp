@@ -251,10 +251,94 @@ TEST(BatchedExplicit, NohBatheLanesAboveTheirStableStepStopAsTheScalarRun) {
   EXPECT_EQ(overflow[0].status, RunStatus::unstable);
 }
 
+// Kim's two-stage explicit scheme (two explicit stages, the contact a forward increment at each:
+// ũ₁ at stage 1, the sample and the next force point at stage 2; one at the start): full batches
+// of lanes with their own p (⅓ and ½ among them: at ½ the sample's own problem is not solved),
+// gap, velocity and end time, below its stable step, on a consistent mass, and above the step
+// for some lanes.
+std::vector<LaneRun> kim_lanes(const RodScene& base, const std::string& what) {
+  std::vector<LaneRun> runs = mixed_lanes(base, what);
+  const double ps[] = {0.5,  1.0 / 3.0, 0.4, 0.45, 0.35, 0.5,  0.42, 0.3611,
+                       0.48, 0.4418,    0.5, 0.34, 0.47, 0.39, 0.5,  0.44};
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    runs[k].method = KimExplicitParams{.p = ps[k]};
+    runs[k].name = runs[k].name + ", p " + std::to_string(ps[k]);
+  }
+  return runs;
+}
+
+TEST(BatchedExplicit, KimLanesEqualTheScalarRunBitForBit) {
+  for (const double courant : {0.5, 1.0, 1.2}) {
+    RodScene base;
+    base.courant = courant;
+    const std::string what = "kim courant " + std::to_string(courant);
+    const std::vector<LaneRun> runs = kim_lanes(base, what);
+    ASSERT_EQ(runs.size(), static_cast<std::size_t>(kBatchLanes));
+    const std::vector<RunSummary> scalar = expect_batch_equals_scalar(runs);
+    // The batch covers what it claims: lanes start and end at different samples, and both
+    // contact problems of stage 2 are met (λ > 0 at p = ½ and at p < ½).
+    EXPECT_EQ(scalar[0].status, RunStatus::ok) << what << ": " << scalar[0].message;
+    EXPECT_EQ(scalar[1].status, RunStatus::ok) << what << ": " << scalar[1].message;
+    EXPECT_NE(scalar[2].skipped_steps, scalar[0].skipped_steps) << what;
+    EXPECT_EQ(scalar[3].skipped_steps, 0) << what;
+    EXPECT_LT(scalar[6].planned_steps, scalar[0].planned_steps) << what;
+    EXPECT_GT(scalar[0].stable_dt, 0.0) << what;
+  }
+  RodScene consistent;
+  consistent.mass = MassMatrix::consistent;
+  consistent.courant = 0.4;
+  expect_batch_equals_scalar(kim_lanes(consistent, "kim consistent"));
+  // Lanes in contact at the start (gap 0: the start's multiplier corrects a₀) before lanes of
+  // the same velocity, which start from the uncorrected a₀.
+  RodScene touching;
+  touching.gap = 0.0;
+  touching.velocity = 300.0;
+  touching.courant = 0.25;
+  RodScene free = touching;
+  free.gap = 0.01;
+  expect_batch_equals_scalar({{"kim gap 0, p 0.5", touching, KimExplicitParams{.p = 0.5}},
+                              {"kim gap 0, p 0.4", touching, KimExplicitParams{.p = 0.4}},
+                              {"kim gap 0.01, p 1/3", free, KimExplicitParams{.p = 1.0 / 3.0}}});
+}
+
+// Above Ω_crit(p)/2 (1.22 at p = ⅓ and ½, 1.54 at 0.4418) lanes go unstable among lanes that
+// stay stable; a batch smaller than kBatchLanes; energy checks at every sample; overflow between
+// checks.
+TEST(BatchedExplicit, KimLanesAboveTheirStableStepStopAsTheScalarRun) {
+  RodScene base;
+  base.courant = 1.4;
+  const std::vector<RunSummary> scalar =
+      expect_batch_equals_scalar(kim_lanes(base, "kim courant 1.4"));
+  int unstable = 0, ok = 0;
+  for (const RunSummary& s : scalar) {
+    unstable += s.status == RunStatus::unstable;
+    ok += s.status == RunStatus::ok;
+  }
+  EXPECT_GT(unstable, 0);
+  EXPECT_GT(ok, 0);
+  EXPECT_FALSE(scalar[0].warning.empty());
+  expect_batch_equals_scalar({{"kim alone", RodScene{}, KimExplicitParams{}},
+                              {"kim p 1/3", RodScene{}, KimExplicitParams{.p = 1.0 / 3.0}}},
+                             RunOptions{.energy_check_interval = 1});
+  RodScene coarse;
+  coarse.courant = 3.0;
+  const std::vector<RunSummary> overflow = expect_batch_equals_scalar(
+      {{"kim, overflows", coarse, KimExplicitParams{}},
+       {"kim p 0.4, overflows", coarse, KimExplicitParams{.p = 0.4}}},
+      RunOptions{.energy_growth_limit = 1e300, .energy_check_interval = 100'000});
+  EXPECT_EQ(overflow[0].status, RunStatus::unstable);
+}
+
 TEST(BatchedExplicit, WhatMayShareABatch) {
   const RunOptions options;
   EXPECT_EQ(explicit_batch_kind(kCentral), ExplicitBatchKind::central_difference);
   EXPECT_EQ(explicit_batch_kind(NohBatheParams{}), ExplicitBatchKind::noh_bathe);
+  EXPECT_EQ(explicit_batch_kind(KimExplicitParams{}), ExplicitBatchKind::kim_explicit);
+  EXPECT_TRUE(batchable(RodScene{}, KimExplicitParams{.p = 0.4}, options));
+  EXPECT_FALSE(
+      same_batch(RodScene{}, NohBatheParams{}, options, RodScene{}, KimExplicitParams{}, options));
+  EXPECT_TRUE(same_batch(RodScene{}, KimExplicitParams{}, options, RodScene{},
+                         KimExplicitParams{.p = 1.0 / 3.0}, options));
   EXPECT_EQ(explicit_batch_kind(HhtParams{}), ExplicitBatchKind::none);
   EXPECT_TRUE(batchable(RodScene{}, NohBatheParams{.p = 0.7}, options));
   EXPECT_FALSE(same_batch(RodScene{}, kCentral, options, RodScene{}, NohBatheParams{}, options));

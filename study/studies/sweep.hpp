@@ -6,7 +6,7 @@
 //
 // A thread takes the points kBatchLanes at a time (a window, its unit of work), builds them and
 // runs them: consecutive points of the window that can share a batch (implicit methods, central
-// difference or Noh–Bathe on the same single-wall rod and time step, no histories:
+// difference, Noh–Bathe or Kim's scheme on the same single-wall rod and time step, no histories:
 // study/studies/evaluation.hpp) run together through the SIMD kernels of
 // core/batched_simulation.hpp, and each point of a batch reports the
 // batch's wall time divided by its points.
