@@ -409,6 +409,90 @@ template <bool kDamping>
   return new_lambda;
 }
 
+// Houbolt's three effective matrices per lane (core/houbolt.hpp: the start-up's two steps and
+// Houbolt's own), each its step's coefficients and its factorisation's inverse pivots, and the
+// two past displacements u_{n−1}, u_{n−2} and the initial velocity v₀ ([unknown][lane] each).
+struct HouboltLanes {
+  std::array<LaneCoefficients, 3> steps;  // first, second, steady (houbolt_coefficients)
+  std::array<Lanes*, 3> pivots;           // their inverse pivots
+  Lanes *back1, *back2, *start_velocity;
+};
+
+// Lane l takes step `phase`'s coefficients and factorisation (0, 1: the start-up's steps; 2:
+// Houbolt's), in c and x.inverse_pivot. O(n), twice per run and lane.
+inline void use_houbolt_step(const LaneArrays& x, const HouboltLanes& h, int phase, int l,
+                             LaneCoefficients& c) {
+  const LaneCoefficients& s = h.steps[static_cast<std::size_t>(phase)];
+  for (Lanes LaneCoefficients::*field :
+       {&LaneCoefficients::lane_dt, &LaneCoefficients::dt2_b0, &LaneCoefficients::dt_g0,
+        &LaneCoefficients::af, &LaneCoefficients::b1_dt2, &LaneCoefficients::g1_dt,
+        &LaneCoefficients::minus_am, &LaneCoefficients::one_minus_w, &LaneCoefficients::w,
+        &LaneCoefficients::gap, &LaneCoefficients::lower, &LaneCoefficients::upper,
+        &LaneCoefficients::tail_pivot, &LaneCoefficients::tail_ratio,
+        &LaneCoefficients::tail_lower_ratio, &LaneCoefficients::tail_ratio2}) {
+    (c.*field).set(l, (s.*field)[l]);
+  }
+  c.mass_term.set(l, s.mass_term[l]);
+  const Lanes* pivots = h.pivots[static_cast<std::size_t>(phase)];
+  for (Eigen::Index i = 0; i < x.n; ++i) x.inverse_pivot[i].set(l, pivots[i][l]);
+}
+
+// Houbolt's predictors (core/houbolt.hpp: Houbolt::step before its integrator's step) in every
+// lane, written into x as the plain state the step starts from, and the past displacements
+// shifted. `x` holds the previous step's deferred form (c: its coefficients; plain in
+// c.plain_state's lanes, kStartingLanes); `back1`, `back2` hold u_{n−1}, u_{n−2}. Lane by
+// lane, in the scalar expressions' order (no fused multiply-add: the scalar has none):
+//   phase 0 (step 1): u, v unchanged; v₀ = v;
+//   phase 1 (step 2): u* = ((16·u₁ − 11·u₀) − (6·Δt)·v₀)/5, v* = v₀ + (2·((u* − 2·u₁) + u₀))/Δt;
+//   phase 2: u* = ½·((5·u_n − 4·u_{n−1}) + u_{n−2}), v* = ((19·u_n − 26·u_{n−1}) + 7·u_{n−2})/
+//            (12·Δt);
+// then u = u* − Δt·v*, v = v*. The shift is the same in every phase (u_{n−1} becomes u_{n−2},
+// u_n becomes u_{n−1}): `back2` is overwritten with u_n, and the caller swaps the two
+// pointers. kStartup: some lane is in phase 0 or 1 (`phase0`, `phase1`); else every lane is in
+// phase 2 and only Houbolt's formulas are formed.
+//
+// Flops per unknown and lane (phase 2, no damping): the deferred update 2 FMA, u* 3 mul 2 add,
+// v* 3 mul 2 add 1 divide (12·Δt is formed once), u 1 mul 1 add: 17 flops (a divide among
+// them, as the scalar's), 3 stores (u, v, u_n).
+template <bool kStartingLanes, bool kStartup>
+[[gnu::always_inline]] inline void houbolt_predict_lanes(const LaneArrays& arrays,
+                                                         const LaneCoefficients& c,
+                                                         const HouboltLanes& h, Lanes* back1,
+                                                         Lanes* back2, const LaneMask& phase0,
+                                                         const LaneMask& phase1) {
+  const LaneArrays x = arrays;  // a local copy: see step_lanes
+  Lanes* const v0_row = h.start_velocity;
+  const Eigen::Index n = x.n, last = n - 1;
+  const double dt_value = c.dt;
+  const Lanes dt = splat(dt_value), twelve_dt = splat(12.0 * dt_value);
+  const Lanes six_dt = splat(6.0 * dt_value);
+  const Lanes half = splat(0.5), two = splat(2.0), five = splat(5.0), four = splat(4.0);
+  const Lanes nineteen = splat(19.0), twenty_six = splat(26.0), seven = splat(7.0);
+  const Lanes sixteen = splat(16.0), eleven = splat(11.0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Lanes un, v;
+    state_row<kStartingLanes>(x, c, i, i == last, un, v);
+    const Lanes u1 = back1[i], u2 = back2[i];
+    Lanes u_star = half * ((five * un - four * u1) + u2);
+    Lanes v_star = ((nineteen * un - twenty_six * u1) + seven * u2) / twelve_dt;
+    if constexpr (kStartup) {
+      // Phase 1: u₀ is back1 (about to become u_{n−2}), u₁ the state's u.
+      const Lanes v0 = v0_row[i];
+      const Lanes first_u_star = ((sixteen * un - eleven * u1) - six_dt * v0) / five;
+      const Lanes first_v_star = v0 + (two * ((first_u_star - two * un) + u1)) / dt;
+      u_star = select(phase1, first_u_star, u_star);
+      v_star = select(phase1, first_v_star, v_star);
+      store(&v0_row[i], select(phase0, v, v0));
+      store(&x.u[i], select(phase0, un, u_star - dt * v_star));
+      store(&x.v[i], select(phase0, v, v_star));
+    } else {
+      store(&x.u[i], u_star - dt * v_star);
+      store(&x.v[i], v_star);
+    }
+    store(&back2[i], un);
+  }
+}
+
 // ½·vᵀMv + ½·uᵀKu of every lane after step_lanes, each form summed in
 // Tridiagonal::quadratic_form's order (as SecondOrderSystem::energy). Every row but the last
 // holds u*, v*, a: u and v are formed as the next forward sweep will form them, so with the
@@ -456,11 +540,13 @@ enum class StepKind {
   single_step,   // the ImplicitCoefficients family: step_lanes
   composite,     // Bathe, ρ∞-Bathe, TR-BDF2: composite_step_lanes
   wilson_theta,  // wilson_theta_step_lanes
+  houbolt,       // houbolt_predict_lanes, then step_lanes from plain rows
 };
 
 StepKind step_kind(const MethodParams& method) {
   if (is_composite(method)) return StepKind::composite;
   if (std::holds_alternative<WilsonThetaParams>(method)) return StepKind::wilson_theta;
+  if (std::holds_alternative<HouboltParams>(method)) return StepKind::houbolt;
   return StepKind::single_step;
 }
 
@@ -476,6 +562,7 @@ struct Batch {
   LaneCoefficients first;
   CompositeLanes weights;
   WilsonLanes wilson;
+  HouboltLanes houbolt;  // Houbolt only
   std::array<LaneRun, kBatchLanes> lanes;
   std::array<State, kBatchLanes>* start;
   double area;
@@ -488,7 +575,8 @@ void set_lane(const LaneArrays& x, int lane, const State* state) {
   set_lane_state(x.u, x.v, x.a, x.n, lane, state);
 }
 
-// The batch loop (core/batch_lanes.hpp: run_lanes) with the implicit, composite or Wilson-θ step.
+// The batch loop (core/batch_lanes.hpp: run_lanes) with the implicit, composite, Wilson-θ or
+// Houbolt step.
 template <bool kDamping, bool kMassTerm, StepKind kKind>
 [[gnu::always_inline]] inline void run_batch(Batch& b) {
   const LaneArrays& x = b.arrays;
@@ -501,6 +589,14 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
   const CompositeLanes weights = b.weights;
   const WilsonLanes wilson = b.wilson;
   const LaneArrays mid = b.mid;
+  // Houbolt only: the past displacements (swapped at every step), each lane's place in the
+  // start-up: 0 and 1, its first and second step next; 2, Houbolt's step next, its coefficients
+  // still the second step's; 3, Houbolt's step with its own (every lane that is not stepping).
+  const HouboltLanes& houbolt = b.houbolt;
+  Lanes *back1 = houbolt.back1, *back2 = houbolt.back2;
+  std::array<int, kBatchLanes> phase;
+  phase.fill(3);
+  bool startup = false;
   const Eigen::Index contact = x.n - 1;
   const LaneLoop loop{.area = b.area,
                       .dt = b.dt,
@@ -513,11 +609,44 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
             const State& start = (*b.start)[static_cast<std::size_t>(l)];
             set_lane(x, l, &start);
             c.plain_state.set(l, true);
+            if constexpr (kKind == StepKind::houbolt) {
+              phase[static_cast<std::size_t>(l)] = 0;
+              startup = true;
+              use_houbolt_step(x, houbolt, 0, l, c);
+            }
             return LaneStart{.lambda = start.lambda, .t = start.t};
           },
           [&](bool starting, const Lanes& lambda) __attribute__((always_inline)) {
             Lanes next;
-            if constexpr (kKind == StepKind::wilson_theta) {  // plain rows: starting needs nothing
+            if constexpr (kKind == StepKind::houbolt) {
+              if (startup) {
+                LaneMask phase0{}, phase1{};
+                for (int l = 0; l < kBatchLanes; ++l) {
+                  phase0.set(l, phase[static_cast<std::size_t>(l)] == 0);
+                  phase1.set(l, phase[static_cast<std::size_t>(l)] == 1);
+                }
+                if (starting) {
+                  houbolt_predict_lanes<true, true>(x, c, houbolt, back1, back2, phase0, phase1);
+                } else {
+                  houbolt_predict_lanes<false, true>(x, c, houbolt, back1, back2, phase0, phase1);
+                }
+                // The state at t is formed (with the previous step's coefficients): lanes in
+                // their second step or entering Houbolt's take this step's.
+                startup = false;
+                for (int l = 0; l < kBatchLanes; ++l) {
+                  int& p = phase[static_cast<std::size_t>(l)];
+                  if (p == 1 || p == 2) use_houbolt_step(x, houbolt, p, l, c);
+                  if (p < 3) ++p;
+                  startup = startup || p < 3;
+                }
+              } else {
+                houbolt_predict_lanes<false, false>(x, c, houbolt, back1, back2, LaneMask{},
+                                                    LaneMask{});
+              }
+              std::swap(back1, back2);
+              c.plain_state = LaneMask{};
+              next = step_lanes<kDamping, false, false, true>(x, c, lambda);
+            } else if constexpr (kKind == StepKind::wilson_theta) {  // plain rows
               next = wilson_theta_step_lanes<kDamping>(x, mid, first, c, wilson, lambda);
             } else if constexpr (kKind == StepKind::composite) {
               if (starting) {
@@ -538,7 +667,12 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
           [&]() __attribute__((always_inline)) {
             return lane_energy<kKind == StepKind::wilson_theta>(x, c);
           },
-          [&](int l) __attribute__((always_inline)) { set_lane(x, l, nullptr); }));
+          [&](int l) __attribute__((always_inline)) {
+            set_lane(x, l, nullptr);
+            if constexpr (kKind == StepKind::houbolt) {
+              set_lane_state(back1, back2, houbolt.start_velocity, x.n, l, nullptr);
+            }
+          }));
 }
 
 // The batch loop for the machine at hand: GCC compiles it for each target and picks one when
@@ -549,6 +683,14 @@ IMPACTID_SIMD_VERSIONS void run_batch_any(Batch& b) {
       run_batch<true, false, StepKind::composite>(b);
     } else {
       run_batch<false, false, StepKind::composite>(b);
+    }
+    return;
+  }
+  if (b.kind == StepKind::houbolt) {  // its three steps have α_m = 0
+    if (b.arrays.damping != nullptr) {
+      run_batch<true, false, StepKind::houbolt>(b);
+    } else {
+      run_batch<false, false, StepKind::houbolt>(b);
     }
     return;
   }
@@ -681,19 +823,19 @@ void set_lane_coefficients(int l, const ImplicitCoefficients& co, double dt, dou
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
   // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
   // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
-  // single-step implicit family, the composite schemes and Wilson-θ, and (core/
-  // batched_explicit.hpp) the explicit methods it knows (not Houbolt or KR-α),
+  // single-step implicit family, the composite schemes, Wilson-θ and Houbolt, and (core/
+  // batched_explicit.hpp) the explicit methods it knows (not KR-α),
   // with Lagrange multipliers (not the penalty or augmented-Lagrangian contact laws).
   return (is_single_step_implicit(method) || is_composite(method) ||
           std::holds_alternative<WilsonThetaParams>(method) ||
-          explicit_batchable(scene, method)) &&
+          std::holds_alternative<HouboltParams>(method) || explicit_batchable(scene, method)) &&
          !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
 }
 
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
                 const RodScene& b, const MethodParams& method_b, const RunOptions& options_b) {
-  // A batch steps one kind of step: the single-step family's, the composite schemes' or
-  // Wilson-θ's (each lane its own method and parameters within it, γ and θ too).
+  // A batch steps one kind of step: the single-step family's, the composite schemes',
+  // Wilson-θ's or Houbolt's (each lane its own method and parameters within it, γ and θ too).
   if (step_kind(method_a) != step_kind(method_b)) return false;
   // An explicit method's batch (core/batched_explicit.hpp) steps that method only.
   if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
@@ -728,8 +870,10 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   // state and its factorisation's inverse pivots, for Wilson-θ the extended step's.
   const StepKind kind = step_kind(methods[0]);
   const bool composite = kind == StepKind::composite;
-  const bool two_steps = kind != StepKind::single_step;  // a second state and factorisation
-  const int arrays = two_steps ? 8 : 4;
+  const bool houbolt = kind == StepKind::houbolt;
+  // A second state and factorisation (Houbolt: its three factorisations and past displacements).
+  const bool two_steps = kind == StepKind::composite || kind == StepKind::wilson_theta;
+  const int arrays = two_steps ? 8 : houbolt ? 10 : 4;
   ws.storage_.assign(static_cast<std::size_t>(arrays * n), LaneBlock{});
   Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
   const auto take = [&] {
@@ -782,6 +926,18 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   first.gap = splat(kInf);
   first.dt = dt;  // unused: the first sub-step reads lane_dt
   first.tail_begin = 1;
+  HouboltLanes& h = b.houbolt;
+  std::array<EffectiveWeights, 3> houbolt_weights{};
+  if (houbolt) {
+    for (std::size_t p = 0; p < 3; ++p) {
+      h.steps[p].gap = splat(kInf);
+      h.steps[p].dt = dt;
+      h.steps[p].tail_begin = 1;
+      h.pivots[p] = take();
+    }
+    h.back1 = take(), h.back2 = take(), h.start_velocity = take();
+  }
+  const HouboltCoefficients houbolt_steps = houbolt_coefficients();
 
   EffectiveWeights weights{}, first_weights{};
   LaneMask factored{};  // the lanes whose effective matrix is to be factored
@@ -816,6 +972,10 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
       b.wilson.theta3.set(l, theta * theta * theta);
       b.wilson.q_weight.set(l, tau * tau / 3.0);
       b.wilson.p_weight.set(l, dt * dt * (3.0 - 1.0 / theta) / 6.0);
+    } else if (houbolt) {  // Houbolt::initialize's three integrators, all over Δt
+      set_lane_coefficients(l, houbolt_steps.first, dt, scene.gap, h.steps[0], houbolt_weights[0]);
+      set_lane_coefficients(l, houbolt_steps.second, dt, scene.gap, h.steps[1], houbolt_weights[1]);
+      set_lane_coefficients(l, houbolt_steps.steady, dt, scene.gap, h.steps[2], houbolt_weights[2]);
     } else {
       set_lane_coefficients(l, implicit_coefficients(method), dt, scene.gap, k, weights);
     }
@@ -825,8 +985,19 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     factor_lanes(system, methods, first_weights, factored, uniform_interior, first,
                  b.mid.inverse_pivot, b);
   }
-  // Wilson-θ has one factorisation, the extended step's.
-  if (kind != StepKind::wilson_theta) {
+  if (houbolt) {
+    // Each lane starts with the first step's coefficients (run_batch); lanes not stepping hold
+    // Houbolt's. The tail rows are those where all three factorisations have converged.
+    Eigen::Index tail = 1;
+    for (std::size_t p = 0; p < 3; ++p) {
+      factor_lanes(system, methods, houbolt_weights[p], factored, uniform_interior, h.steps[p],
+                   h.pivots[p], b);
+      tail = std::max(tail, h.steps[p].tail_begin);
+    }
+    for (LaneCoefficients& s : h.steps) s.tail_begin = tail;
+    k = h.steps[2];
+    std::copy_n(h.pivots[2], n, x.inverse_pivot);
+  } else if (kind != StepKind::wilson_theta) {  // Wilson-θ: one factorisation, the extended step's
     factor_lanes(system, methods, weights, factored, uniform_interior, k, x.inverse_pivot, b);
   }
   run_batch_any(b);

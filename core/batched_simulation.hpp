@@ -1,7 +1,8 @@
 // Several simulations of one rod advanced together, one per SIMD lane: the implicit step of
 // core/implicit_integrator.hpp for kBatchLanes parameter points at once (issue 5, "Speed"), and
-// the composite schemes' two sub-steps of core/bathe_composite.hpp and Wilson-θ's extended step
-// with its interpolation (core/wilson_theta.hpp; issue 19, "Speed").
+// the composite schemes' two sub-steps of core/bathe_composite.hpp, Wilson-θ's extended step
+// with its interpolation (core/wilson_theta.hpp) and Houbolt's predictors from its past
+// displacements with its start-up (core/houbolt.hpp; issue 19, "Speed").
 //
 // Why: a single run's step is two tridiagonal sweeps, each a serial recurrence whose latency
 // (a multiply, a subtract and a multiply per unknown, ~12 cycles) bounds the scalar path far
@@ -46,15 +47,28 @@
 // HHT's 4; damping adds 9 (wilson_theta_step_lanes counts them). Its energy is checked on the
 // plain state, its reported multiplier is the extended step's, as the scalar path's.
 //
-// What batches (batchable / same_batch): single-step implicit methods, composite schemes and
-// Wilson-θ on the single-wall rod scene (no far wall), with Lagrange contact and no histories
-// requested; lanes of one batch share the rod (elements, length, material, area, mass matrix,
-// damping), the time step and the kind of step (single-step, composite or Wilson-θ: a batch
-// steps one), and may differ in the method and its parameters (a composite's γ, Wilson's θ too),
-// the gap, the velocity and the end time. Scenes of bodies have their own kernel
+// Houbolt (Houbolt::step) keeps plain u, v, a in every row before its step and two past
+// displacements: its predictors u* = ½·((5·u_n − 4·u_{n−1}) + u_{n−2}), v* = ((19·u_n −
+// 26·u_{n−1}) + 7·u_{n−2})/(12·Δt) written as the plain start u = u* − Δt·v*, v = v* (17 flops
+// per unknown with the previous step's deferred update, a divide among them, as the scalar's;
+// 3 stores), then the single-step kernel from plain rows (19 flops): 36 flops per unknown and
+// step without damping (27 instructions, 1.6 times HHT's), 7 stores per unknown and register
+// against HHT's 4; damping adds step_lanes' 9. Each lane has its own place in the start-up
+// (lanes start stepping at different samples): a lane's first two steps take the start's
+// formulas and effective matrices (their coefficients and inverse pivots copied into the
+// lane's, O(n) twice per run), blended lane by lane with Houbolt's while some lane is in them.
+// Its energy is checked on the plain state, its reported multiplier is that of the equilibrium
+// at t + Δt, as the scalar path's.
+//
+// What batches (batchable / same_batch): single-step implicit methods, composite schemes,
+// Wilson-θ and Houbolt on the single-wall rod scene (no far wall), with Lagrange contact and no
+// histories requested; lanes of one batch share the rod (elements, length, material, area, mass
+// matrix, damping), the time step and the kind of step (single-step, composite, Wilson-θ or
+// Houbolt: a batch steps one), and may differ in the method and its parameters (a composite's γ,
+// Wilson's θ too), the gap, the velocity and the end time. Scenes of bodies have their own kernel
 // (core/batched_chain.hpp), and so have central difference, Noh–Bathe and Kim's scheme (core/
-// batched_explicit.hpp: simulate_batch hands their batches over); everything else (Houbolt,
-// KR-α; penalty and augmented-Lagrangian contact) runs through simulate().
+// batched_explicit.hpp: simulate_batch hands their batches over); everything else (KR-α;
+// penalty and augmented-Lagrangian contact) runs through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once
@@ -76,15 +90,15 @@ namespace impactid {
 inline constexpr int kBatchLanes = 16;
 
 /// Whether a run can go through simulate_batch at all: a single-step implicit method, a
-/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2), Wilson-θ or an explicit method of
+/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2), Wilson-θ, Houbolt or an explicit method of
 /// core/batched_explicit.hpp (explicit_batchable), Lagrange contact, a scene the kernel knows
 /// (single wall: far_gap unset), no histories.
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options);
 
 /// Whether two batchable runs can share a batch: the same rod and time step, the same run
-/// options, and both single-step methods, both composite schemes, both Wilson-θ or both the
-/// same explicit method. They may differ in method and its parameters (a composite's sub-step
-/// ratio γ, Wilson's θ too), gap, velocity and end time.
+/// options, and both single-step methods, both composite schemes, both Wilson-θ, both Houbolt or
+/// both the same explicit method. They may differ in method and its parameters (a composite's
+/// sub-step ratio γ, Wilson's θ too), gap, velocity and end time.
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
                 const RodScene& b, const MethodParams& method_b, const RunOptions& options_b);
 

@@ -367,6 +367,100 @@ TEST(BatchedSimulation, WilsonThetaLanesOnOtherRodsAndWithRunOptions) {
       RunOptions{.energy_growth_limit = 1e300, .energy_check_interval = 100'000});
 }
 
+// Houbolt (core/houbolt.hpp: a three-step method started by a cubic on the initial velocity
+// and acceleration, two start-up steps with their own effective matrices, the contact at the
+// samples) in a full batch: lanes that start stepping at different samples (free flights of
+// different lengths, each lane's start-up then at its own samples), other gaps, velocities and
+// end times, a rod moving away and one touching the wall at t = 0.
+TEST(BatchedSimulation, HouboltLanesEqualTheScalarRunBitForBit) {
+  std::vector<LaneRun> runs;
+  for (const double gap : {0.0, 0.01, 0.05, 0.2}) {
+    for (const double velocity : {-500.0, 300.0, 1000.0, 5000.0}) {
+      RodScene scene;
+      scene.gap = gap;
+      scene.velocity = velocity;
+      scene.t_end = runs.size() % 3 == 0 ? 2e-5 : runs.size() % 3 == 1 ? 1e-4 : scene.t_end;
+      runs.push_back({"houbolt, gap " + std::to_string(gap) + ", v " + std::to_string(velocity),
+                      scene, HouboltParams{}});
+    }
+  }
+  ASSERT_EQ(runs.size(), static_cast<std::size_t>(kBatchLanes));
+  const std::vector<RunSummary> scalar = expect_batch_equals_scalar(runs);
+  // Free flights of different lengths: the lanes start at different samples, and the lanes
+  // touching the wall at t = 0 at the first.
+  EXPECT_EQ(scalar[1].skipped_steps, 0);
+  EXPECT_NE(scalar[9].skipped_steps, scalar[5].skipped_steps);
+  EXPECT_GT(scalar[13].skipped_steps, scalar[9].skipped_steps);
+  SimulationWorkspace ws;
+  EXPECT_EQ(simulate(runs[6].scene, HouboltParams{}, RunOptions{}, ws).status, RunStatus::ok);
+  EXPECT_GT(*std::max_element(ws.trace.pressure.begin(), ws.trace.pressure.end()), 0.0);
+  expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 1});
+  expect_batch_equals_scalar(runs,
+                             RunOptions{.energy_check_interval = 50, .skip_free_flight = false});
+}
+
+// Houbolt on damped rods, a consistent mass, other Courant numbers (one per batch), partial
+// batches; an energy bound that some lanes exceed (unstable) while the others run on; a bad
+// check interval (failed).
+TEST(BatchedSimulation, HouboltLanesOnOtherRodsAndWithRunOptions) {
+  RodScene damped;
+  damped.mass = MassMatrix::consistent;
+  damped.rayleigh_mass = 200.0;
+  damped.rayleigh_stiffness = 2e-8;
+  RodScene stiffness_damped;
+  stiffness_damped.rayleigh_stiffness = 2e-8;
+  RodScene consistent;
+  consistent.mass = MassMatrix::consistent;
+  RodScene coarse;
+  coarse.courant = 2.0;
+  RodScene very_coarse;
+  very_coarse.courant = 10.0;
+  RodScene fine;
+  fine.courant = 0.25;
+  fine.t_end = 3e-4;
+  for (const RodScene& scene : {damped, stiffness_damped, consistent, coarse, very_coarse, fine}) {
+    RodScene short_run = scene;
+    short_run.t_end = 1e-4;
+    RodScene slow = scene;
+    slow.velocity = 200.0;
+    slow.gap = 0.0;
+    RodScene away = scene;
+    away.velocity = -100.0;
+    expect_batch_equals_scalar({
+        {"houbolt", scene, HouboltParams{}},
+        {"houbolt, short run", short_run, HouboltParams{}},
+        {"houbolt, slow, gap 0", slow, HouboltParams{}},
+        {"houbolt, moving away", away, HouboltParams{}},
+    });
+  }
+  // An energy bound barely above 1 (checked at every sample): a rod touching the wall at t = 0
+  // gains energy in its first step (the start-up's linear-acceleration step), and a slow rod
+  // far from the wall exceeds the bound late in its run (after 10'000 samples), while the
+  // other lanes run to their ends.
+  std::vector<LaneRun> runs;
+  for (const double gap : {0.0, 0.003, 0.01, 0.05}) {
+    for (const double velocity : {10.0, 1000.0, 5000.0}) {
+      RodScene scene;
+      scene.gap = gap;
+      scene.velocity = velocity;
+      runs.push_back({"houbolt, gap " + std::to_string(gap) + ", v " + std::to_string(velocity),
+                      scene, HouboltParams{}});
+    }
+  }
+  const std::vector<RunSummary> tight = expect_batch_equals_scalar(
+      runs, RunOptions{.energy_growth_limit = 1.0 + 1e-12, .energy_check_interval = 1});
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const bool unstable = k < 3 || k == 9;
+    EXPECT_EQ(tight[k].status, unstable ? RunStatus::unstable : RunStatus::ok) << runs[k].name;
+  }
+  EXPECT_EQ(tight[0].steps, 1);
+  EXPECT_GT(tight[9].steps, 10'000);  // late in its run (and after other lanes' ends)
+  EXPECT_LT(tight[9].steps, tight[9].planned_steps);
+  const std::vector<RunSummary> failed =
+      expect_batch_equals_scalar(runs, RunOptions{.energy_check_interval = 0});
+  EXPECT_EQ(failed[0].status, RunStatus::failed);
+}
+
 TEST(BatchedSimulation, WhatMayShareABatch) {
   const RunOptions options;
   EXPECT_TRUE(batchable(RodScene{}, HhtParams{}, options));
@@ -416,7 +510,7 @@ TEST(BatchedSimulation, WhatMayShareABatch) {
     EXPECT_FALSE(batchable(RodScene{}, RhoBatheParams{}, penalty)) << to_string(law);
   }
   // Wilson-θ batches with Wilson-θ only, each lane its own θ; its penalty laws are not offered
-  // (simulate() says so), Houbolt is not batched.
+  // (simulate() says so).
   const MethodParams wilson = WilsonThetaParams{};
   EXPECT_TRUE(batchable(RodScene{}, wilson, options));
   EXPECT_FALSE(batchable(RodScene{}, wilson, RunOptions{.record_history = true}));
@@ -431,7 +525,18 @@ TEST(BatchedSimulation, WhatMayShareABatch) {
   RunOptions penalty = options;
   penalty.contact.law = ContactLaw::penalty;
   EXPECT_FALSE(batchable(RodScene{}, wilson, penalty));
-  EXPECT_FALSE(batchable(RodScene{}, HouboltParams{}, options));
+  // Houbolt batches with Houbolt only (its own kind of step).
+  const MethodParams houbolt = HouboltParams{};
+  EXPECT_TRUE(batchable(RodScene{}, houbolt, options));
+  EXPECT_FALSE(batchable(RodScene{}, houbolt, RunOptions{.record_history = true}));
+  EXPECT_FALSE(batchable(two_walls, houbolt, options));
+  EXPECT_FALSE(batchable(RodScene{}, houbolt, penalty));
+  EXPECT_TRUE(same_batch(RodScene{}, houbolt, options, other_gap, houbolt, options));
+  EXPECT_FALSE(same_batch(RodScene{}, houbolt, options, other_dt, houbolt, options));
+  for (const MethodParams& other : {hht, MethodParams{BatheParams{}}, wilson}) {
+    EXPECT_FALSE(same_batch(RodScene{}, houbolt, options, RodScene{}, other, options));
+    EXPECT_FALSE(same_batch(RodScene{}, other, options, RodScene{}, houbolt, options));
+  }
 }
 
 }  // namespace
