@@ -9,50 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "batched_runs.hpp"
 #include "core/batched_simulation.hpp"
-#include "same_run.hpp"
 
 namespace impactid {
 namespace {
 
-using testing::expect_same_run;
-
-struct LaneRun {
-  std::string name;
-  RodScene scene;
-  MethodParams method;
-};
-
-// Runs `runs` as one batch through simulate_batch (the path a sweep takes) and each alone through
-// simulate(), and compares everything. Returns the scalar summaries, so that callers can check
-// that the batch covers what it claims.
-std::vector<RunSummary> expect_batch_equals_scalar(const std::vector<LaneRun>& runs,
-                                                   const RunOptions& options = {}) {
-  std::vector<RodScene> scenes;
-  std::vector<MethodParams> methods;
-  for (const LaneRun& r : runs) {
-    EXPECT_TRUE(batchable(r.scene, r.method, options)) << r.name;
-    EXPECT_TRUE(same_batch(runs[0].scene, runs[0].method, options, r.scene, r.method, options))
-        << r.name;
-    scenes.push_back(r.scene);
-    methods.push_back(r.method);
-  }
-  BatchWorkspace batch;
-  std::vector<RunSummary> batched(runs.size());
-  simulate_batch(scenes, methods, options, batch, batched);
-
-  std::vector<RunSummary> scalars;
-  SimulationWorkspace ws;
-  for (std::size_t k = 0; k < runs.size(); ++k) {
-    const std::string& name = runs[k].name;
-    const RunSummary s = simulate(runs[k].scene, runs[k].method, options, ws);
-    expect_same_run(batched[k], batch.traces[k], s, ws.trace, name);
-    EXPECT_TRUE(testing::same(batched[k].stable_dt, s.stable_dt)) << name;
-    EXPECT_EQ(batched[k].warning, s.warning) << name;
-    scalars.push_back(s);
-  }
-  return scalars;
-}
+using testing::expect_batch_equals_scalar;
+using testing::LaneRun;
 
 constexpr CentralDifferenceParams kCentral{};
 constexpr CentralDifferenceParams kBackward{.velocity = CdmVelocity::backward};

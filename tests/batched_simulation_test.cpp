@@ -12,46 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "same_run.hpp"
+#include "batched_runs.hpp"
 
 namespace impactid {
 namespace {
 
-using testing::expect_same_run;
-
-struct LaneRun {
-  std::string name;
-  RodScene scene;
-  MethodParams method;
-};
-
-// Runs `runs` as one batch and each alone through simulate(), and compares everything.
-// Returns the scalar summaries, so that callers can check the batch covers what it claims.
-std::vector<RunSummary> expect_batch_equals_scalar(const std::vector<LaneRun>& runs,
-                                                   const RunOptions& options = {}) {
-  std::vector<RodScene> scenes;
-  std::vector<MethodParams> methods;
-  for (const LaneRun& r : runs) {
-    EXPECT_TRUE(batchable(r.scene, r.method, options)) << r.name;
-    EXPECT_TRUE(same_batch(runs[0].scene, runs[0].method, options, r.scene, r.method, options))
-        << r.name;
-    scenes.push_back(r.scene);
-    methods.push_back(r.method);
-  }
-  BatchWorkspace batch;
-  std::vector<RunSummary> batched(runs.size());
-  simulate_batch(scenes, methods, options, batch, batched);
-
-  std::vector<RunSummary> scalars;
-  SimulationWorkspace ws;
-  for (std::size_t k = 0; k < runs.size(); ++k) {
-    const std::string& name = runs[k].name;
-    const RunSummary s = simulate(runs[k].scene, runs[k].method, options, ws);
-    expect_same_run(batched[k], batch.traces[k], s, ws.trace, name);
-    scalars.push_back(s);
-  }
-  return scalars;
-}
+using testing::expect_batch_equals_scalar;
+using testing::LaneRun;
 
 // A full batch of every implicit method, one lane unstable, lanes with other gaps (so other
 // free flights, impact times and step counts) and another velocity.
