@@ -19,9 +19,13 @@
 // symbol at load time from the processor's features. Elsewhere than x86-64 the marks are
 // empty: aarch64's baseline already has fused multiply-adds (std::fma is one instruction), and
 // the kernel's vector extensions compile to whatever vectors the target has.
+//
+// IMPACTID_SINGLE_VERSION leaves the marks empty, for a build that runs only where it is built
+// (scripts/sanitize, with -march=native): it checks the code, not the dispatch, and compiling
+// every kernel once per target under the sanitizers' instrumentation took most of its time.
 #pragma once
 
-#if defined(__x86_64__)
+#if defined(__x86_64__) && !defined(IMPACTID_SINGLE_VERSION)
 #define IMPACTID_FMA_VERSIONS __attribute__((target_clones("arch=x86-64-v3", "default")))
 #define IMPACTID_SIMD_VERSIONS \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
