@@ -1,8 +1,10 @@
 #include "core/batched_explicit.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <variant>
@@ -17,6 +19,7 @@
 #include "core/parameter_error.hpp"
 #include "core/second_order_system.hpp"
 #include "core/simd_lanes.hpp"
+#include "core/stable_step_warning.hpp"
 #include "core/tridiagonal.hpp"
 
 namespace impactid {
@@ -25,6 +28,20 @@ namespace {
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// `mask ? a : b` lane by lane as a blend of the bits (a mask lane is all ones or all zeros, as
+// greater() sets it): the same bits as simd::select. In Kim's kernel GCC 12 lowered
+// simd::select's vector conditional lane by lane, a compare and a branch per lane, where its
+// masks are the second stage's contacts (docs/performance.md); the blend of the bits is one
+// instruction per register (vpternlogq).
+[[gnu::always_inline]] inline Register select_bits(const MaskRegister& mask, const Register& a,
+                                                   const Register& b) {
+  return (Register)((mask & (MaskRegister)a) | (~mask & (MaskRegister)b));
+}
+[[gnu::always_inline]] inline Lanes select_bits(const LaneMask& mask, const Lanes& a,
+                                                const Lanes& b) {
+  return {select_bits(mask.lo, a.lo, b.lo), select_bits(mask.hi, a.hi, b.hi)};
+}
 
 // One row's numbers of central difference's step, the same in every lane: M's and K's diagonal
 // entries and the factorisation of M/Δt² (TridiagonalFactorization's 1/pivot, −lower/pivot,
@@ -76,38 +93,77 @@ struct CdmBatch {
           -splat(b.lower_ratio[i]), -splat(b.upper_ratio[i]),   splat(b.upper_ratio2[i])};
 }
 
-// The back substitution of the step's solve (the forward sweep's y in x_rows becomes x), with
-// kContact the lanes in `closes` corrected by −λ·A⁻¹·e_c as the scalar step corrects its solution.
-template <bool kContact>
-[[gnu::always_inline]] inline void back_substitute(const CdmRows& b, const RowFactors& uniform,
-                                                   Lanes* x_rows, const LaneMask& closes,
-                                                   const Lanes& lambda) {
-  const Eigen::Index n = b.n, last = n - 1;
-  const auto corrected = [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
-    if constexpr (kContact) {
-      return select(closes, x - lambda * splat(b.influence[i]), x);
-    } else {
-      return x;
-    }
-  };
-  // TridiagonalFactorization::backward_in_place: x_{n−2} = y_{n−2} − c'·x_{n−1}, then
-  // x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}. The solved values carry the recurrence;
-  // the stored ones are corrected (the scalar corrects the whole solution afterwards).
-  Lanes x1 = x_rows[last];  // x_{i+1}
-  Lanes x2{};               // x_{i+2}
-  Lanes y_next;             // y_{i+1}, as the forward sweep left it
+// The forward pass's walk down the rod, shared by the three kernels: row(i, f) for the rows
+// 0 … n − 1 in order, with kFirst and kLast template flags, each row's factors `f` read from the
+// rows' arrays (row_factors(b, i)) except on the uniform rows, whose factors `uniform` the caller
+// holds in registers, two rows an iteration there.
+template <class Rows, class Row>
+[[gnu::always_inline]] inline void forward_rows(const Rows& b, const RowFactors& uniform,
+                                                Row&& row) {
+  const Eigen::Index last = b.n - 1;
+  row.template operator()<true, false>(0, row_factors(b, 0));
+  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
+  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
+  Eigen::Index i = 1;
+  for (; i < std::min(uniform_begin, last); ++i) {
+    row.template operator()<false, false>(i, row_factors(b, i));
+  }
+#pragma GCC unroll 2
+  for (; i < uniform_end; ++i) row.template operator()<false, false>(i, uniform);
+  for (; i < last; ++i) row.template operator()<false, false>(i, row_factors(b, i));
+  row.template operator()<false, true>(last, row_factors(b, last));
+}
+
+// Row i of K·u (Tridiagonal::multiply: (l·u₋ + d·u) + u·u₊, the end rows without the missing
+// term), from the off-diagonal products q = k·u of its neighbours, each shared by two rows.
+template <bool kFirst, bool kLast>
+[[gnu::always_inline]] inline Lanes stiffness_row(const Lanes& diag, const Lanes& prev_q,
+                                                  const Lanes& u, const Lanes& next_q) {
+  if constexpr (kFirst) {
+    return diag * u + next_q;
+  } else if constexpr (kLast) {
+    return prev_q + diag * u;
+  } else {
+    return (prev_q + diag * u) + next_q;
+  }
+}
+
+// Row i of the forward sweep (TridiagonalFactorization's): y_i·(1/pivot_i) −
+// (l_i/pivot_i)·y_{i−1}, one FMA, stored at *out; `eliminated` carries y_{i−1} to the next row.
+template <bool kFirst>
+[[gnu::always_inline]] inline void sweep_row(const RowFactors& f, const Lanes& rhs,
+                                             Lanes& eliminated, Lanes* out) {
+  Lanes r = rhs * f.inverse_pivot;
+  if constexpr (!kFirst) r = fma(f.minus_lower_ratio, eliminated, r);
+  store(out, r);
+  eliminated = r;
+}
+
+// The back substitution (TridiagonalFactorization::backward_in_place) of the forward sweep's y in
+// y_rows, shared by the three kernels: x_{n−2} = y_{n−2} − c'·x_{n−1}, then
+// x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}, calling finish(i, x_i) with each solved x_i,
+// the last row's first, then up the rod. The solved values carry the recurrence; finish stores
+// what the row's step makes of them (it may overwrite y_i: each y is read before its finish).
+template <class Rows, class Finish>
+[[gnu::always_inline]] inline void back_substitute(const Rows& b, const RowFactors& uniform,
+                                                   const Lanes* y_rows, Finish&& finish) {
+  const Eigen::Index last = b.n - 1;
+  Lanes x1 = y_rows[last];  // x_{i+1}
+  finish(last, x1);
+  Lanes x2{};    // x_{i+2}
+  Lanes y_next;  // y_{i+1}
   {
     const Eigen::Index i = last - 1;
-    y_next = x_rows[i];
+    y_next = y_rows[i];
     x2 = x1;
     x1 = fma(-splat(b.upper_ratio[i]), x1, y_next);
-    store(&x_rows[i], corrected(i, x1));
+    finish(i, x1);
   }
   const auto backward = [&](Eigen::Index i, const Lanes& minus_ratio, const Lanes& ratio2)
       __attribute__((always_inline)) {
-    const Lanes y = x_rows[i];
+    const Lanes y = y_rows[i];
     const Lanes solved = fma(ratio2, x2, fma(minus_ratio, y_next, y));
-    store(&x_rows[i], corrected(i, solved));
+    finish(i, solved);
     y_next = y;
     x2 = x1;
     x1 = solved;
@@ -126,6 +182,37 @@ template <bool kContact>
   }
 }
 
+// The rows [begin, end) of one value, which the kernels hold in registers: ending before the last
+// two (whose upper_ratio2 is 0 and whose diagonal is the end's), beginning where every array of
+// `per_row` has reached the value of the row before them (a lumped mass: row 1; a consistent one:
+// where its pivots have converged). Bit for bit: the kernels' rows are checked, not assumed.
+struct UniformRows {
+  Eigen::Index begin, end;
+};
+UniformRows uniform_rows(Eigen::Index n, std::initializer_list<const double*> per_row) {
+  UniformRows rows;
+  rows.end = std::max<Eigen::Index>(n - 2, 1);
+  const Eigen::Index ref = rows.end - 1;
+  const auto same_row = [&](Eigen::Index i) {
+    return std::all_of(per_row.begin(), per_row.end(),
+                       [&](const double* values) { return values[i] == values[ref]; });
+  };
+  rows.begin = ref >= 1 ? ref : rows.end;
+  while (rows.begin > 1 && same_row(rows.begin - 1)) --rows.begin;
+  return rows;
+}
+
+// upper_ratio_i·upper_ratio_{i+1}, as TridiagonalFactorization::factor forms it (0 on the last
+// two rows).
+Eigen::VectorXd upper_ratio_products(const Eigen::VectorXd& upper_ratio) {
+  const Eigen::Index n = upper_ratio.size();
+  Eigen::VectorXd products(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    products[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
+  }
+  return products;
+}
+
 // One step of central difference in every lane (CentralDifference::step, single wall, no
 // damping): u_{t+Δt} into rows.next, returns λ_t; `velocity` gets the contact node's velocity at t
 // (the lane's variant). The arrays are not rotated here.
@@ -134,7 +221,7 @@ template <bool kContact>
 // increment s = (2·u − u₋)/Δt²), 1 mul 1 FMA 1 add (M·s: m·s_i shared by rows i − 1 and i + 1),
 // 2 mul 2 add (K·u likewise) and 1 sub (M·s − K·u), 1 mul 1 FMA (the forward sweep); the back
 // substitution 2 FMA, two rows at a time: 6 mul 4 FMA 5 add, 19 flops in 15 instructions.
-// With kContact (some lane's contact closes) the back substitution subtracts λ·A⁻¹·e_c too
+// While some lane's contact closes the back substitution subtracts λ·A⁻¹·e_c too
 // (1 mul 1 sub 1 blend), as the scalar step does after its solve.
 [[gnu::always_inline]] inline Lanes cdm_step_lanes(const CdmRows& rows,
                                                    const RowFactors& uniform_row, Lanes& velocity) {
@@ -143,7 +230,7 @@ template <bool kContact>
   // (core/batched_simulation.cpp's step_lanes).
   const CdmRows b = rows;
   const RowFactors uniform = uniform_row;
-  const Eigen::Index n = b.n, last = n - 1;
+  const Eigen::Index last = b.n - 1;
   const Lanes* const u_previous = b.previous;
   const Lanes* const u = b.current;
   Lanes* const y = b.next;
@@ -167,53 +254,47 @@ template <bool kContact>
   Lanes eliminated{};
   // Row i of M·s (Tridiagonal::multiply: d·x fused onto the lower product, then + the upper),
   // minus row i of K·u (Tridiagonal::multiply_add with −1: (l·x₋ + d·x) + u·x₊), then the
-  // forward sweep (y_i·(1/pivot_i) − (l_i/pivot_i)·y_{i−1}, one FMA).
-  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
-      __attribute__((always_inline)) {
-    if constexpr (!kLast) next = load(i + 1);
-    Lanes mass, stiffness;
-    if constexpr (kFirst) {
-      mass = fma(f.mass_diag, cur.s, next.p);
-      stiffness = f.stiffness_diag * cur.u + next.q;
-    } else if constexpr (kLast) {
-      mass = fma(f.mass_diag, cur.s, prev.p);
-      stiffness = prev.q + f.stiffness_diag * cur.u;
-    } else {
-      mass = fma(f.mass_diag, cur.s, prev.p) + next.p;
-      stiffness = (prev.q + f.stiffness_diag * cur.u) + next.q;
-    }
-    const Lanes rhs = mass - stiffness;  // y + (−1)·(K·u)_i, exactly
-    Lanes r = rhs * f.inverse_pivot;
-    if constexpr (!kFirst) r = fma(f.minus_lower_ratio, eliminated, r);
-    store(&y[i], r);
-    eliminated = r;
-    prev = cur;
-    cur = next;
-  };
-  forward.template operator()<true, false>(0, row_factors(b, 0));
-  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
-  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
-  Eigen::Index i = 1;
-  for (; i < std::min(uniform_begin, last); ++i) {
-    forward.template operator()<false, false>(i, row_factors(b, i));
-  }
-#pragma GCC unroll 2
-  for (; i < uniform_end; ++i) forward.template operator()<false, false>(i, uniform);
-  for (; i < last; ++i) forward.template operator()<false, false>(i, row_factors(b, i));
-  forward.template operator()<false, true>(last, row_factors(b, last));
+  // forward sweep.
+  forward_rows(
+      b, uniform,
+      [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
+          __attribute__((always_inline)) {
+            if constexpr (!kLast) next = load(i + 1);
+            Lanes mass;
+            if constexpr (kFirst) {
+              mass = fma(f.mass_diag, cur.s, next.p);
+            } else if constexpr (kLast) {
+              mass = fma(f.mass_diag, cur.s, prev.p);
+            } else {
+              mass = fma(f.mass_diag, cur.s, prev.p) + next.p;
+            }
+            const Lanes stiffness =
+                stiffness_row<kFirst, kLast>(f.stiffness_diag, prev.q, cur.u, next.q);
+            // y + (−1)·(K·u)_i, exactly
+            sweep_row<kFirst>(f, mass - stiffness, eliminated, &y[i]);
+            prev = cur;
+            cur = next;
+          });
 
   // The contact (the rod's contact dof is the last): the forward sweep leaves the last unknown
   // final, so the test and λ = (u₊ − gap)/(A⁻¹·e_c)_c come before the back substitution.
   const Lanes free_end = y[last];
   const LaneMask closes = greater(free_end, b.gap);
   Lanes lambda{};
+  // The back substitution in place; where some lane's contact closes, those lanes corrected by
+  // −λ·A⁻¹·e_c as the scalar step corrects its solution.
   if (any_lane(closes)) {
     lambda = select(closes, (free_end - b.gap) / splat(b.influence[last]), Lanes{});
-    back_substitute<true>(b, uniform, y, closes, lambda);
+    back_substitute(
+        b, uniform, y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+          store(&y[i], select(closes, x - lambda * splat(b.influence[i]), x));
+        });
     // u₊ − λ·A⁻¹·e_c at the node, then exactly the wall (CentralDifference::step).
     store(&y[last], select(closes, b.gap, free_end));
   } else {
-    back_substitute<false>(b, uniform, y, closes, lambda);
+    back_substitute(
+        b, uniform,
+        y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) { store(&y[i], x); });
   }
   // The reported velocity at t: central (u₊ − u₋)/(2Δt), backward (u − u₋)/Δt.
   const Lanes central = (y[last] - u_previous[last]) / splat(b.two_dt);
@@ -228,11 +309,10 @@ template <bool kContact>
 //                 m = ½·(u₊ + u);
 //   otherwise:    ½vᵀMv + ½uᵀKu with the lane's reported velocity v at t.
 // Each quadratic form summed in Tridiagonal::quadratic_form's order ((d·x + l·x₋) + u·x₊ per
-// row), the three sums side by side in one pass; the uniform rows' diagonals in registers.
+// row), the three sums side by side in one pass (forward_rows' walk).
 template <bool kWithinLimit>
 [[gnu::always_inline]] inline Lanes cdm_energy_lanes(const CdmRows& rows) {
   const CdmRows b = rows;  // a local copy: see cdm_step_lanes
-  const Eigen::Index n = b.n, last = n - 1;
   const Lanes dt = splat(b.dt), two_dt = splat(b.two_dt), half = splat(0.5);
   const Lanes mass_off = splat(b.mass_off), stiffness_off = splat(b.stiffness_off);
   const Lanes *u_previous = b.next, *u = b.previous, *u_ahead = b.current;
@@ -251,12 +331,11 @@ template <bool kWithinLimit>
   };
   Lanes mass_first{}, stiffness_first{}, stiffness_second{};
   Row prev{}, cur = vectors(0), next{};
-  const auto row = [&]<bool kFirst, bool kLast>(Eigen::Index i, const Lanes& mass_diag,
-                                                const Lanes& stiffness_diag)
+  const auto row = [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
       __attribute__((always_inline)) {
     if constexpr (!kLast) next = vectors(i + 1);
-    Lanes m = mass_diag * cur.first, k = stiffness_diag * cur.first,
-          k2 = stiffness_diag * cur.second;
+    Lanes m = f.mass_diag * cur.first, k = f.stiffness_diag * cur.first,
+          k2 = f.stiffness_diag * cur.second;
     if constexpr (!kFirst) {
       m = m + mass_off * prev.first;
       k = k + stiffness_off * prev.first;
@@ -273,22 +352,7 @@ template <bool kWithinLimit>
     prev = cur;
     cur = next;
   };
-  const auto generic_row = [&](Eigen::Index i) __attribute__((always_inline)) {
-    row.template operator()<false, false>(i, splat(b.mass_diag[i]), splat(b.stiffness_diag[i]));
-  };
-  row.template operator()<true, false>(0, splat(b.mass_diag[0]), splat(b.stiffness_diag[0]));
-  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
-  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
-  const Lanes uniform_mass = splat(b.mass_diag[b.uniform_begin]);
-  const Lanes uniform_stiffness = splat(b.stiffness_diag[b.uniform_begin]);
-  Eigen::Index i = 1;
-  for (; i < std::min(uniform_begin, last); ++i) generic_row(i);
-  for (; i < uniform_end; ++i) {
-    row.template operator()<false, false>(i, uniform_mass, uniform_stiffness);
-  }
-  for (; i < last; ++i) generic_row(i);
-  row.template operator()<false, true>(last, splat(b.mass_diag[last]),
-                                       splat(b.stiffness_diag[last]));
+  forward_rows(b, row_factors(b, b.uniform_begin), row);
   Lanes energy;
   for (int l = 0; l < kBatchLanes; ++l) {
     energy.set(l, kWithinLimit ? central_difference_energy(mass_first[l], stiffness_first[l],
@@ -443,10 +507,7 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   const Eigen::VectorXd& inverse_pivot = factorization.inverse_pivots();
   const Eigen::VectorXd& lower_ratio = factorization.lower_ratios();
   const Eigen::VectorXd& upper_ratio = factorization.upper_ratios();
-  Eigen::VectorXd upper_ratio2(n);
-  for (Eigen::Index i = 0; i < n; ++i) {  // as TridiagonalFactorization::factor forms it
-    upper_ratio2[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
-  }
+  const Eigen::VectorXd upper_ratio2 = upper_ratio_products(upper_ratio);
   const Eigen::VectorXd influence = factorization.inverse_column(system.contact_dof);
   rows.mass_diag = system.mass.diag.data();
   rows.stiffness_diag = system.stiffness.diag.data();
@@ -457,42 +518,29 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   rows.influence = influence.data();
   rows.mass_off = system.mass.lower[1];  // n >= 2: a rod has at least one element
   rows.stiffness_off = system.stiffness.lower[1];
-  // The rows of one value: ending before the last two (whose upper_ratio2 is 0 and whose
-  // diagonal is the end's), beginning where every factor has reached the value of the row
-  // before them (a lumped mass: row 1; a consistent one: where its pivots have converged).
-  rows.uniform_end = std::max<Eigen::Index>(n - 2, 1);
-  const Eigen::Index ref = rows.uniform_end - 1;
-  const auto same_row = [&](Eigen::Index i) {
-    return rows.mass_diag[i] == rows.mass_diag[ref] &&
-           rows.stiffness_diag[i] == rows.stiffness_diag[ref] &&
-           inverse_pivot[i] == inverse_pivot[ref] && lower_ratio[i] == lower_ratio[ref] &&
-           upper_ratio[i] == upper_ratio[ref] && upper_ratio2[i] == upper_ratio2[ref];
-  };
-  rows.uniform_begin = ref >= 1 ? ref : rows.uniform_end;
-  while (rows.uniform_begin > 1 && same_row(rows.uniform_begin - 1)) --rows.uniform_begin;
+  const UniformRows uniform_range =
+      uniform_rows(n, {rows.mass_diag, rows.stiffness_diag, rows.inverse_pivot, rows.lower_ratio,
+                       rows.upper_ratio, rows.upper_ratio2});
+  rows.uniform_begin = uniform_range.begin;
+  rows.uniform_end = uniform_range.end;
   run_cdm_batch(b);
   finish_lanes(count, start, traces, summaries);
 }
 
-// ---- The Noh–Bathe explicit scheme (core/noh_bathe.hpp) ----
+// ---- The explicit stage schemes: Noh–Bathe's (core/noh_bathe.hpp) and Kim's
+// (core/kim_explicit.hpp) ----
 
-// What NohBatheExplicit::step reads: the rod's rows (K, and M's factorisation), the lanes'
-// arrays and each lane's coefficients (its own p).
-struct NohBatheRows {
+// What both schemes' solves read, M·a = −K·u twice a step: K's rows, M's factorisation (the
+// RowFactors' names), M⁻¹·e_c, and the uniform rows (as CdmRows').
+struct StageSolveRows {
   Eigen::Index n;
   const double *stiffness_diag, *inverse_pivot, *lower_ratio, *upper_ratio, *upper_ratio2,
       *influence;
   double stiffness_off;
-  Eigen::Index uniform_begin, uniform_end;  // as CdmRows'
-  // The state u, v, a; u at the next point of the grid (NohBatheExplicit's u_next_); the
-  // sub-step's a_p. Between the sub-steps v holds v_p.
-  Lanes *u, *v, *a, *next, *sub_a;
-  Lanes gap;
-  // NohBatheExplicit::step's pΔt, (1−p)Δt, ½·pΔt, c₁, c₂, w0, wp, w1, per lane.
-  Lanes first, second, half_first, scale_first, scale_second, w0, wp, w1;
+  Eigen::Index uniform_begin, uniform_end;
 };
 
-[[gnu::always_inline]] inline RowFactors row_factors(const NohBatheRows& b, Eigen::Index i) {
+[[gnu::always_inline]] inline RowFactors row_factors(const StageSolveRows& b, Eigen::Index i) {
   return {Lanes{},
           splat(b.stiffness_diag[i]),
           splat(b.inverse_pivot[i]),
@@ -501,102 +549,229 @@ struct NohBatheRows {
           splat(b.upper_ratio2[i])};
 }
 
-// The forward pass of one sub-step's solve_acceleration: a = 0 − K·u_next (Tridiagonal::
-// multiply_add with −1 onto a zeroed a), then the forward sweep with M's factorisation into
-// `out`. kSecond (the second sub-step): the row's state first takes u = u_next and
-// v = v_p + w0·a + wp·a_p (NohBatheExplicit::step's order), reading the old a before `out` (= a)
-// overwrites it.
-template <bool kSecond>
-[[gnu::always_inline]] inline void noh_bathe_forward(const NohBatheRows& b,
-                                                     const RowFactors& uniform, Lanes* out) {
-  const Eigen::Index n = b.n, last = n - 1;
+// The forward pass of a stage's solve_acceleration from the displacement `u`: 0 − K·u
+// (Tridiagonal::multiply_add with −1 onto a zeroed a), then the forward sweep with M's
+// factorisation into `out`. before_row(i, u_i) runs on each row first, after the next row's u is
+// read (Noh–Bathe's second sub-step moves the row's state on there).
+template <class BeforeRow>
+[[gnu::always_inline]] inline void stage_forward(const StageSolveRows& b, const RowFactors& uniform,
+                                                 const Lanes* u, Lanes* out,
+                                                 BeforeRow&& before_row) {
   const Lanes zero{}, stiffness_off = splat(b.stiffness_off);
   struct Ahead {
     Lanes u, q;
   };
   const auto load = [&](Eigen::Index j) __attribute__((always_inline)) {
     Ahead x;
-    x.u = b.next[j];
+    x.u = u[j];
     x.q = stiffness_off * x.u;
     return x;
   };
   Ahead prev{}, cur = load(0), next{};
   Lanes eliminated{};
-  const auto forward = [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
-      __attribute__((always_inline)) {
-    if constexpr (!kLast) next = load(i + 1);
-    if constexpr (kSecond) {
-      store(&b.u[i], cur.u);
-      store(&b.v[i], (b.v[i] + b.w0 * b.a[i]) + b.wp * b.sub_a[i]);
-    }
-    Lanes stiffness;
-    if constexpr (kFirst) {
-      stiffness = f.stiffness_diag * cur.u + next.q;
-    } else if constexpr (kLast) {
-      stiffness = prev.q + f.stiffness_diag * cur.u;
-    } else {
-      stiffness = (prev.q + f.stiffness_diag * cur.u) + next.q;
-    }
-    Lanes r = (zero - stiffness) * f.inverse_pivot;
-    if constexpr (!kFirst) r = fma(f.minus_lower_ratio, eliminated, r);
-    store(&out[i], r);
-    eliminated = r;
-    prev = cur;
-    cur = next;
-  };
-  forward.template operator()<true, false>(0, row_factors(b, 0));
-  const Eigen::Index uniform_begin = std::max<Eigen::Index>(b.uniform_begin, 1);
-  const Eigen::Index uniform_end = std::min(b.uniform_end, last);
-  Eigen::Index i = 1;
-  for (; i < std::min(uniform_begin, last); ++i) {
-    forward.template operator()<false, false>(i, row_factors(b, i));
-  }
-#pragma GCC unroll 2
-  for (; i < uniform_end; ++i) forward.template operator()<false, false>(i, uniform);
-  for (; i < last; ++i) forward.template operator()<false, false>(i, row_factors(b, i));
-  forward.template operator()<false, true>(last, row_factors(b, last));
+  forward_rows(
+      b, uniform,
+      [&]<bool kFirst, bool kLast>(Eigen::Index i, const RowFactors& f)
+          __attribute__((always_inline)) {
+            if constexpr (!kLast) next = load(i + 1);
+            before_row(i, cur.u);
+            const Lanes stiffness =
+                stiffness_row<kFirst, kLast>(f.stiffness_diag, prev.q, cur.u, next.q);
+            sweep_row<kFirst>(f, zero - stiffness, eliminated, &out[i]);
+            prev = cur;
+            cur = next;
+          });
+}
+[[gnu::always_inline]] inline void stage_forward(const StageSolveRows& b, const RowFactors& uniform,
+                                                 const Lanes* u, Lanes* out) {
+  stage_forward(b, uniform, u, out,
+                [](Eigen::Index, const Lanes&) __attribute__((always_inline)){});
 }
 
-// The back substitution with M's factorisation of the forward pass's y in x_rows, calling
-// finish(i, x_i) with each solved x_i (the last row's first, then up the rod), which stores
-// what the row's sub-step makes of it.
-template <class Finish>
-[[gnu::always_inline]] inline void noh_bathe_backward(const NohBatheRows& b,
-                                                      const RowFactors& uniform, Lanes* x_rows,
-                                                      Finish&& finish) {
-  const Eigen::Index n = b.n, last = n - 1;
-  Lanes x1 = x_rows[last];
-  finish(last, x1);
-  Lanes x2{}, y_next;
-  {
-    const Eigen::Index i = last - 1;
-    y_next = x_rows[i];
-    x2 = x1;
-    x1 = fma(-splat(b.upper_ratio[i]), x1, y_next);
-    finish(i, x1);
+// ½vᵀMv + ½uᵀKu of every lane (SecondOrderSystem::energy), each form in
+// Tridiagonal::quadratic_form's order.
+[[gnu::always_inline]] inline Lanes plain_energy_lanes(const Tridiagonal& mass,
+                                                       const Tridiagonal& stiffness, const Lanes* u,
+                                                       const Lanes* v, Eigen::Index n) {
+  Lanes kinetic{}, strain{};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Lanes v_prev = i > 0 ? v[i - 1] : Lanes{}, v_next = i + 1 < n ? v[i + 1] : Lanes{};
+    const Lanes u_prev = i > 0 ? u[i - 1] : Lanes{}, u_next = i + 1 < n ? u[i + 1] : Lanes{};
+    kinetic = kinetic + v[i] * quadratic_form_row(mass, i, v_prev, v[i], v_next);
+    strain = strain + u[i] * quadratic_form_row(stiffness, i, u_prev, u[i], u_next);
   }
-  const auto backward = [&](Eigen::Index i, const Lanes& minus_ratio, const Lanes& ratio2)
-      __attribute__((always_inline)) {
-    const Lanes y = x_rows[i];
-    const Lanes solved = fma(ratio2, x2, fma(minus_ratio, y_next, y));
-    finish(i, solved);
-    y_next = y;
-    x2 = x1;
-    x1 = solved;
-  };
-  const Eigen::Index uniform_last = b.uniform_end - 1;
-  Eigen::Index i = last - 2;
-  for (; i > uniform_last; --i) {
-    const RowFactors f = row_factors(b, i);
-    backward(i, f.minus_upper_ratio, f.upper_ratio2);
-  }
-#pragma GCC unroll 2
-  for (; i >= b.uniform_begin; --i) backward(i, uniform.minus_upper_ratio, uniform.upper_ratio2);
-  for (; i >= 0; --i) {
-    const RowFactors f = row_factors(b, i);
-    backward(i, f.minus_upper_ratio, f.upper_ratio2);
-  }
+  return 0.5 * kinetic + 0.5 * strain;
 }
+
+// A batch of an explicit stage scheme: its rows (Rows: the solve's, the lanes' arrays u, v, a,
+// next, sub_a and the scheme's own, the gap and the scheme's coefficients), the energy's
+// matrices, the bookkeeping of core/batch_lanes.hpp.
+template <class Rows>
+struct StageBatch {
+  Rows rows;
+  const Tridiagonal *mass, *stiffness;
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;  // each lane's state after initialize
+  Lanes* start_next;                      // and its first force point u_p, [unknown][lane]
+  LaneLoop loop;
+};
+
+// The batch loop (core/batch_lanes.hpp: run_lanes) of an explicit stage scheme with its step
+// Scheme::step_lanes, the body of each scheme's target-cloned function.
+template <class Scheme>
+[[gnu::always_inline]] inline void run_stage_lanes(StageBatch<typename Scheme::Rows>& b) {
+  typename Scheme::Rows& rows = b.rows;
+  const RowFactors uniform = row_factors(rows.solve, rows.solve.uniform_begin);
+  const Eigen::Index n = rows.solve.n;
+  // Lane l's start (its state, its u_p; the stages' arrays zeroed), or zeros (null).
+  const auto set_lane = [&](int l, const State* start) __attribute__((always_inline)) {
+    set_lane_state(rows.u, rows.v, rows.a, n, l, start);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      rows.next[i].set(l, start ? b.start_next[i][l] : 0.0);
+      for (Lanes* stage : Scheme::stage_arrays(rows)) stage[i].set(l, 0.0);
+    }
+  };
+  run_lanes(b.lanes, b.loop,
+            lane_stepper(
+                [&](int l) __attribute__((always_inline)) {
+                  const State& start = (*b.start)[static_cast<std::size_t>(l)];
+                  set_lane(l, &start);
+                  return LaneStart{.lambda = start.lambda, .t = start.t};
+                },
+                [&](bool, const Lanes&)
+                    __attribute__((always_inline)) { return Scheme::step_lanes(rows, uniform); },
+                [&]() __attribute__((always_inline)) { return rows.v[n - 1]; },
+                [&]() __attribute__((always_inline)) {
+                  return plain_energy_lanes(*b.mass, *b.stiffness, rows.u, rows.v, n);
+                },
+                [&](int l) __attribute__((always_inline)) { set_lane(l, nullptr); }));
+}
+
+// simulate_explicit_batch for an explicit stage scheme (Scheme: NohBatheScheme, KimScheme), with
+// the workspace's storage, start states and traces. M's factorisation and M⁻¹·e_c
+// (ExplicitStageContact::initialize's) are every lane's: one rod. Each lane is started as
+// simulate() starts it (run_noh_bathe, run_kim_explicit in core/simulation.cpp): the scheme's
+// initialize with the lane's p and gap, the stable step and its warning.
+template <class Scheme>
+void simulate_stage_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
+                          const RunOptions& options, std::vector<LaneBlock>& storage,
+                          std::array<State, kBatchLanes>& starts,
+                          std::array<ContactTrace, kBatchLanes>& traces,
+                          std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
+  const Eigen::Index n = system.size();
+  const double dt = derive(scenes[0]).time_step;
+
+  storage.assign(static_cast<std::size_t>((Scheme::kArrays + 1) * n), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
+  StageBatch<typename Scheme::Rows> b{};
+  auto& rows = b.rows;
+  rows.solve.n = n;
+  rows.u = block;
+  rows.v = block + n;
+  rows.a = block + 2 * n;
+  rows.next = block + 3 * n;
+  rows.sub_a = block + 4 * n;
+  rows.gap = splat(kInf);                      // unused lanes never touch a wall
+  Scheme::set_batch(rows, block + 5 * n, dt);  // its own arrays and the unused lanes' constants
+  b.start_next = block + Scheme::kArrays * n;
+  b.mass = &system.mass;
+  b.stiffness = &system.stiffness;
+  b.start = &starts;
+  b.loop = {.area = scenes[0].area,
+            .dt = dt,
+            .energy_check_interval = options.energy_check_interval,
+            .energy_growth_limit = options.energy_growth_limit};
+
+  TridiagonalFactorization factorization;
+  const bool factored = factorization.factor(system.mass);
+  const bool uniform =
+      symmetric_uniform_off_diagonals(system.stiffness) && system.contact_dof == n - 1;
+  const Eigen::VectorXd influence =
+      factored ? factorization.inverse_column(system.contact_dof) : Eigen::VectorXd();
+  // Every lane prepared first: initialize changes a lane's start state (the contact at the
+  // start corrects a), which a later lane of the same velocity would otherwise copy
+  // (prepare_lane).
+  std::array<bool, kBatchLanes> prepared{};
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    prepared[lane] =
+        prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
+  }
+  typename Scheme::Stepper stepper;
+  bool any = false;
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    if (!prepared[lane]) continue;
+    const RodScene& scene = scenes[lane];
+    LaneRun& run = b.lanes[lane];
+    RunSummary& summary = summaries[lane];
+    State& state = starts[lane];
+    const State before = state;
+    system.gap = scene.gap;
+    const auto& params = std::get<typename Scheme::Params>(methods[lane]);
+    const auto c = Scheme::coefficients(params);
+    if (!stepper.initialize(system, c, dt, state) || !uniform) {
+      summary.status = RunStatus::failed;
+      summary.message = uniform ? std::string(Scheme::kName) + ": singular mass matrix"
+                                : "batched kernel: the stiffness is not uniform along the rod";
+      run = LaneRun{};
+      continue;
+    }
+    summary.stable_dt = stepper.stable_step();
+    summary.warning =
+        stable_step_warning(stepper, Scheme::kName, params.p, Scheme::critical_omega(params.p), dt,
+                            ContactLaw::lagrange);
+    // initialize's first force point u_p = u₀ + pΔt·v₀ + ½(pΔt)²·a₀, with the contact at the start
+    // (its λ and the correction of a are already in `state`).
+    const double p = c.p;
+    const double scale_start = 0.5 * (p * dt) * (p * dt);
+    Eigen::VectorXd next = before.u + (p * dt) * before.v + scale_start * before.a;
+    const Eigen::Index contact = system.contact_dof;
+    if (next[contact] > system.gap) {
+      const double lambda = (next[contact] - system.gap) / (scale_start * influence[contact]);
+      next -= (scale_start * lambda) * influence;
+      next[contact] = system.gap;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) b.start_next[i].set(l, next[i]);
+    Scheme::set_lane(rows, l, c, dt, scene.gap);
+    any = true;
+  }
+  if (any) {
+    const Eigen::VectorXd upper_ratio2 = upper_ratio_products(factorization.upper_ratios());
+    StageSolveRows& solve = rows.solve;
+    solve.stiffness_diag = system.stiffness.diag.data();
+    solve.inverse_pivot = factorization.inverse_pivots().data();
+    solve.lower_ratio = factorization.lower_ratios().data();
+    solve.upper_ratio = factorization.upper_ratios().data();
+    solve.upper_ratio2 = upper_ratio2.data();
+    solve.influence = influence.data();
+    solve.stiffness_off = system.stiffness.lower[1];
+    const UniformRows uniform_range =
+        uniform_rows(n, {solve.stiffness_diag, solve.inverse_pivot, solve.lower_ratio,
+                         solve.upper_ratio, solve.upper_ratio2});
+    solve.uniform_begin = uniform_range.begin;
+    solve.uniform_end = uniform_range.end;
+    Scheme::run(b);
+  }
+  finish_lanes(count, start, traces, summaries);
+}
+
+// ---- The Noh–Bathe explicit scheme (core/noh_bathe.hpp) ----
+
+// What NohBatheExplicit::step reads: the solve's rows, the lanes' arrays and each lane's
+// coefficients (its own p).
+struct NohBatheRows {
+  StageSolveRows solve;
+  // The state u, v, a; u at the next point of the grid (NohBatheExplicit's u_next_); the
+  // sub-step's a_p. Between the sub-steps v holds v_p.
+  Lanes *u, *v, *a, *next, *sub_a;
+  Lanes gap;
+  // NohBatheExplicit::step's pΔt, (1−p)Δt, ½·pΔt, c₁, c₂, w0, wp, w1, per lane.
+  Lanes first, second, half_first, scale_first, scale_second, w0, wp, w1;
+};
 
 // One step of the Noh–Bathe explicit scheme in every lane (NohBatheExplicit::step, single wall,
 // no damping; the velocity predictor it forms feeds only the damping term, so it is not formed).
@@ -610,7 +785,7 @@ template <class Finish>
 // finishes each row as it is solved (the contact test needs the last row only, which the
 // forward sweep leaves final).
 //
-// Flops per unknown and lane (no contact; count them in noh_bathe_forward and the finishes):
+// Flops per unknown and lane (no contact; count them in stage_forward and the finishes):
 // sub-step 1, the forward pass 3 mul 3 add/sub 1 FMA (K·u with the off-diagonal product shared
 // by two rows, 0 − K·u, the sweep), the back substitution 2 FMA, u_next 3 mul 3 add, v_p 1 mul
 // 2 add; sub-step 2, the forward pass 2 mul 2 add (v) and 3 mul 3 add 1 FMA, the back
@@ -629,7 +804,7 @@ template <bool kAnyContact>
   Lanes next = (b.next[i] + b.second * (v + b.half_first * a)) + b.scale_first * solved;
   Lanes sub_a = solved;
   if constexpr (kAnyContact) {
-    const Lanes influence = splat(b.influence[i]);
+    const Lanes influence = splat(b.solve.influence[i]);
     sub_a = select(closes, solved - lambda * influence, solved);
     next = select(closes, next - scaled_lambda * influence, next);
   }
@@ -648,7 +823,7 @@ template <bool kAnyContact>
   Lanes next = (b.u[i] + b.first * v) + b.scale_second * solved;
   Lanes a = solved;
   if constexpr (kAnyContact) {
-    const Lanes influence = splat(b.influence[i]);
+    const Lanes influence = splat(b.solve.influence[i]);
     a = select(closes, solved - lambda * influence, solved);
     next = select(closes, next - scaled_lambda * influence, next);
   }
@@ -661,11 +836,11 @@ template <bool kAnyContact>
                                                          const RowFactors& uniform_row) {
   const NohBatheRows b = rows;  // local copies: see cdm_step_lanes
   const RowFactors uniform = uniform_row;
-  const Eigen::Index last = b.n - 1;
-  const Lanes influence = splat(b.influence[last]);
+  const Eigen::Index last = b.solve.n - 1;
+  const Lanes influence = splat(b.solve.influence[last]);
 
   // Sub-step 1. The contact-free u_next of the last row (as the finish computes it) decides λ_p.
-  noh_bathe_forward<false>(b, uniform, b.sub_a);
+  stage_forward(b.solve, uniform, b.next, b.sub_a);
   const Lanes free_first = (b.next[last] + b.second * (b.v[last] + b.half_first * b.a[last])) +
                            b.scale_first * b.sub_a[last];
   const LaneMask closes_first = greater(free_first, b.gap);
@@ -673,189 +848,67 @@ template <bool kAnyContact>
     const Lanes lambda =
         select(closes_first, (free_first - b.gap) / (b.scale_first * influence), Lanes{});
     const Lanes scaled = b.scale_first * lambda;
-    noh_bathe_backward(
-        b, uniform,
+    back_substitute(
+        b.solve, uniform,
         b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           noh_bathe_finish_first<true>(b, closes_first, lambda, scaled, i, solved);
         });
     store(&b.next[last], select(closes_first, b.gap, b.next[last]));
   } else {
-    noh_bathe_backward(
-        b, uniform,
+    back_substitute(
+        b.solve, uniform,
         b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           noh_bathe_finish_first<false>(b, closes_first, Lanes{}, Lanes{}, i, solved);
         });
   }
 
   // Sub-step 2.
-  noh_bathe_forward<true>(b, uniform, b.a);
+  // Each row's state first takes u = u_next and v = v_p + w0·a + wp·a_p (NohBatheExplicit::step's
+  // order), reading the old a before the sweep's row (into a) overwrites it.
+  stage_forward(
+      b.solve, uniform, b.next,
+      b.a, [&](Eigen::Index i, const Lanes& u) __attribute__((always_inline)) {
+        store(&b.u[i], u);
+        store(&b.v[i], (b.v[i] + b.w0 * b.a[i]) + b.wp * b.sub_a[i]);
+      });
   const Lanes free_second = (b.u[last] + b.first * b.v[last]) + b.scale_second * b.a[last];
   const LaneMask closes_second = greater(free_second, b.gap);
   Lanes lambda{};
   if (any_lane(closes_second)) {
     lambda = select(closes_second, (free_second - b.gap) / (b.scale_second * influence), Lanes{});
     const Lanes scaled = b.scale_second * lambda;
-    noh_bathe_backward(
-        b, uniform, b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+    back_substitute(
+        b.solve, uniform,
+        b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           noh_bathe_finish_second<true>(b, closes_second, lambda, scaled, i, solved);
         });
     store(&b.next[last], select(closes_second, b.gap, b.next[last]));
   } else {
-    noh_bathe_backward(
-        b, uniform, b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
+    back_substitute(
+        b.solve, uniform,
+        b.a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           noh_bathe_finish_second<false>(b, closes_second, Lanes{}, Lanes{}, i, solved);
         });
   }
   return lambda;
 }
 
-// ½vᵀMv + ½uᵀKu of every lane (SecondOrderSystem::energy), each form in
-// Tridiagonal::quadratic_form's order.
-[[gnu::always_inline]] inline Lanes plain_energy_lanes(const Tridiagonal& mass,
-                                                       const Tridiagonal& stiffness, const Lanes* u,
-                                                       const Lanes* v, Eigen::Index n) {
-  Lanes kinetic{}, strain{};
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Lanes v_prev = i > 0 ? v[i - 1] : Lanes{}, v_next = i + 1 < n ? v[i + 1] : Lanes{};
-    const Lanes u_prev = i > 0 ? u[i - 1] : Lanes{}, u_next = i + 1 < n ? u[i + 1] : Lanes{};
-    kinetic = kinetic + v[i] * quadratic_form_row(mass, i, v_prev, v[i], v_next);
-    strain = strain + u[i] * quadratic_form_row(stiffness, i, u_prev, u[i], u_next);
+// The Noh–Bathe scheme for simulate_stage_batch.
+struct NohBatheScheme {
+  using Params = NohBatheParams;
+  using Stepper = NohBatheExplicit;
+  using Rows = NohBatheRows;
+  static constexpr const char* kName = "noh-bathe";
+  static double critical_omega(double p) { return noh_bathe_critical_omega(p); }
+  static constexpr int kArrays = 5;  // Rows' arrays
+
+  static NohBatheCoefficients coefficients(const Params& params) {
+    return noh_bathe_coefficients(params);
   }
-  return 0.5 * kinetic + 0.5 * strain;
-}
-
-struct NohBatheBatch {
-  NohBatheRows rows;
-  const Tridiagonal *mass, *stiffness;
-  std::array<LaneRun, kBatchLanes> lanes;
-  std::array<State, kBatchLanes>* start;  // each lane's state after initialize
-  Lanes* start_next;                      // and its u_next, [unknown][lane]
-  LaneLoop loop;
-};
-
-IMPACTID_SIMD_VERSIONS void run_noh_bathe_batch(NohBatheBatch& b) {
-  NohBatheRows& rows = b.rows;
-  const RowFactors uniform = row_factors(rows, rows.uniform_begin);
-  const Eigen::Index n = rows.n;
-  run_lanes(b.lanes, b.loop,
-            lane_stepper(
-                [&](int l) __attribute__((always_inline)) {
-                  const State& start = (*b.start)[static_cast<std::size_t>(l)];
-                  for (Eigen::Index i = 0; i < n; ++i) {
-                    rows.u[i].set(l, start.u[i]);
-                    rows.v[i].set(l, start.v[i]);
-                    rows.a[i].set(l, start.a[i]);
-                    rows.next[i].set(l, b.start_next[i][l]);
-                    rows.sub_a[i].set(l, 0.0);
-                  }
-                  return LaneStart{.lambda = start.lambda, .t = start.t};
-                },
-                [&](bool, const Lanes&)
-                    __attribute__((always_inline)) { return noh_bathe_step_lanes(rows, uniform); },
-                [&]() __attribute__((always_inline)) { return rows.v[n - 1]; },
-                [&]() __attribute__((always_inline)) {
-                  return plain_energy_lanes(*b.mass, *b.stiffness, rows.u, rows.v, n);
-                },
-                [&](int l) __attribute__((always_inline)) {
-                  for (Eigen::Index i = 0; i < n; ++i) {
-                    rows.u[i].set(l, 0.0);
-                    rows.v[i].set(l, 0.0);
-                    rows.a[i].set(l, 0.0);
-                    rows.next[i].set(l, 0.0);
-                    rows.sub_a[i].set(l, 0.0);
-                  }
-                }));
-}
-
-void simulate_noh_bathe_batch(std::span<const RodScene> scenes,
-                              std::span<const MethodParams> methods, const RunOptions& options,
-                              std::vector<LaneBlock>& storage,
-                              std::array<State, kBatchLanes>& starts,
-                              std::array<ContactTrace, kBatchLanes>& traces,
-                              std::span<RunSummary> summaries) {
-  const auto start = std::chrono::steady_clock::now();
-  const int count = static_cast<int>(scenes.size());
-  SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
-  const Eigen::Index n = system.size();
-  const double dt = derive(scenes[0]).time_step;
-
-  storage.assign(static_cast<std::size_t>(6 * n), LaneBlock{});
-  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
-  NohBatheBatch b{};
-  NohBatheRows& rows = b.rows;
-  rows.n = n;
-  rows.u = block;
-  rows.v = block + n;
-  rows.a = block + 2 * n;
-  rows.next = block + 3 * n;
-  rows.sub_a = block + 4 * n;
-  b.start_next = block + 5 * n;
-  rows.gap = splat(kInf);  // unused lanes never touch a wall
-  b.mass = &system.mass;
-  b.stiffness = &system.stiffness;
-  b.start = &starts;
-  b.loop = {.area = scenes[0].area,
-            .dt = dt,
-            .energy_check_interval = options.energy_check_interval,
-            .energy_growth_limit = options.energy_growth_limit};
-
-  // M's factorisation and M⁻¹·e_c (NohBatheExplicit::initialize's) are every lane's.
-  TridiagonalFactorization factorization;
-  const bool factored = factorization.factor(system.mass);
-  const bool uniform =
-      symmetric_uniform_off_diagonals(system.stiffness) && system.contact_dof == n - 1;
-  const Eigen::VectorXd influence =
-      factored ? factorization.inverse_column(system.contact_dof) : Eigen::VectorXd();
-  // Every lane prepared first: initialize changes a lane's start state (the contact at the
-  // start corrects a), which a later lane of the same velocity would otherwise copy
-  // (prepare_lane).
-  std::array<bool, kBatchLanes> prepared{};
-  for (int l = 0; l < count; ++l) {
-    const auto lane = static_cast<std::size_t>(l);
-    prepared[lane] =
-        prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
-  }
-  NohBatheExplicit stepper;
-  bool any = false;
-  for (int l = 0; l < count; ++l) {
-    const auto lane = static_cast<std::size_t>(l);
-    if (!prepared[lane]) continue;
-    const RodScene& scene = scenes[lane];
-    const auto& params = std::get<NohBatheParams>(methods[lane]);
-    LaneRun& run = b.lanes[lane];
-    RunSummary& summary = summaries[lane];
-    State& state = starts[lane];
-    const State before = state;
-    system.gap = scene.gap;
-    const NohBatheCoefficients c = noh_bathe_coefficients(params);
-    // run_noh_bathe (core/simulation.cpp): the start, the stable step and its warning.
-    if (!stepper.initialize(system, c, dt, state) || !uniform) {
-      summary.status = RunStatus::failed;
-      summary.message = uniform ? "noh-bathe: singular mass matrix"
-                                : "batched kernel: the stiffness is not uniform along the rod";
-      run = LaneRun{};
-      continue;
-    }
-    summary.stable_dt = stepper.stable_step();
-    if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
-      summary.warning = "dt = " + format_value(dt) + " s exceeds noh-bathe's stable step " +
-                        format_value(stepper.stable_step()) +
-                        " s (Omega_crit = " + format_value(noh_bathe_critical_omega(params.p)) +
-                        " at p = " + format_value(params.p) + "): lower the step";
-    }
-    // NohBatheExplicit::initialize's u_next: u_p with the contact at the start (its λ and the
-    // correction of a are already in `state`).
+  static void set_batch(Rows& /*rows*/, Lanes* /*more*/, double /*dt*/) {}
+  // NohBatheExplicit::initialize's and ::step's coefficients, by their expressions.
+  static void set_lane(Rows& rows, int l, const NohBatheCoefficients& c, double dt, double gap) {
     const double p = c.p;
-    const double scale_start = 0.5 * (p * dt) * (p * dt);
-    Eigen::VectorXd next = before.u + (p * dt) * before.v + scale_start * before.a;
-    const Eigen::Index contact = system.contact_dof;
-    if (next[contact] > system.gap) {
-      const double lambda = (next[contact] - system.gap) / (scale_start * influence[contact]);
-      next -= (scale_start * lambda) * influence;
-      next[contact] = system.gap;
-    }
-    for (Eigen::Index i = 0; i < n; ++i) b.start_next[i].set(l, next[i]);
-    // NohBatheExplicit::initialize's and ::step's coefficients, by their expressions.
     const double first = p * dt, second = (1.0 - p) * dt;
     rows.first.set(l, first);
     rows.second.set(l, second);
@@ -865,45 +918,30 @@ void simulate_noh_bathe_batch(std::span<const RodScene> scenes,
     rows.w0.set(l, second * c.q0);
     rows.wp.set(l, second * (0.5 + c.q1));
     rows.w1.set(l, second * c.q2);
-    rows.gap.set(l, scene.gap);
-    any = true;
+    rows.gap.set(l, gap);
   }
-  if (any) {
-    Eigen::VectorXd upper_ratio2(n);
-    const Eigen::VectorXd& upper_ratio = factorization.upper_ratios();
-    for (Eigen::Index i = 0; i < n; ++i) {  // as TridiagonalFactorization::factor forms it
-      upper_ratio2[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
-    }
-    rows.stiffness_diag = system.stiffness.diag.data();
-    rows.inverse_pivot = factorization.inverse_pivots().data();
-    rows.lower_ratio = factorization.lower_ratios().data();
-    rows.upper_ratio = upper_ratio.data();
-    rows.upper_ratio2 = upper_ratio2.data();
-    rows.influence = influence.data();
-    rows.stiffness_off = system.stiffness.lower[1];
-    rows.uniform_end = std::max<Eigen::Index>(n - 2, 1);
-    const Eigen::Index ref = rows.uniform_end - 1;
-    const auto same_row = [&](Eigen::Index i) {
-      return rows.stiffness_diag[i] == rows.stiffness_diag[ref] &&
-             rows.inverse_pivot[i] == rows.inverse_pivot[ref] &&
-             rows.lower_ratio[i] == rows.lower_ratio[ref] && upper_ratio[i] == upper_ratio[ref] &&
-             upper_ratio2[i] == upper_ratio2[ref];
-    };
-    rows.uniform_begin = ref >= 1 ? ref : rows.uniform_end;
-    while (rows.uniform_begin > 1 && same_row(rows.uniform_begin - 1)) --rows.uniform_begin;
-    run_noh_bathe_batch(b);
+  // The arrays a lane's start zeroes besides its state.
+  [[gnu::always_inline]] static std::array<Lanes*, 1> stage_arrays(const Rows& rows) {
+    return {rows.sub_a};
   }
-  finish_lanes(count, start, traces, summaries);
+  [[gnu::always_inline]] static Lanes step_lanes(const Rows& rows, const RowFactors& uniform) {
+    return noh_bathe_step_lanes(rows, uniform);
+  }
+  static void run(StageBatch<Rows>& b);  // the target-cloned loop, below
+};
+IMPACTID_SIMD_VERSIONS void run_noh_bathe_batch(StageBatch<NohBatheRows>& b) {
+  run_stage_lanes<NohBatheScheme>(b);
+}
+void NohBatheScheme::run(StageBatch<Rows>& b) {
+  run_noh_bathe_batch(b);
 }
 
 // ---- Kim's two-stage explicit scheme (core/kim_explicit.hpp) ----
 
-// What KimExplicit::step reads: M's factorisation and K (the solve's rows, as Noh–Bathe's: its
-// forward pass reads the displacement from `next`, set per stage), the lanes' arrays and each
-// lane's coefficients (its own p).
+// What KimExplicit::step reads: the solve's rows, the lanes' arrays and each lane's coefficients
+// (its own p).
 struct KimRows {
-  NohBatheRows solve;  // n, K, M's factorisation, M⁻¹·e_c, the uniform rows; `next` is set per
-                       // stage, the rest of its arrays and coefficients are unused
+  StageSolveRows solve;
   // The state u, v, a (a₀ through the step); u_p of the next step (KimExplicit's u_next_); the
   // first stage's a_p; the second stage's forward sweep. Between the stages u holds ũ₁ and v ṽ₁.
   Lanes *u, *v, *a, *next, *sub_a, *sweep;
@@ -935,8 +973,8 @@ template <bool kAnyContact>
   Lanes sub_a = solved;
   if constexpr (kAnyContact) {
     const Lanes influence = splat(b.solve.influence[i]);
-    sub_a = select(closes, solved - lambda * influence, solved);
-    predicted = select(closes, predicted - scaled_lambda * influence, predicted);
+    sub_a = select_bits(closes, solved - lambda * influence, solved);
+    predicted = select_bits(closes, predicted - scaled_lambda * influence, predicted);
   }
   store(&b.sub_a[i], sub_a);
   store(&b.u[i], predicted);
@@ -966,14 +1004,14 @@ template <bool kAnyContact>
   Lanes v = v_predicted + b.dv * d;
   if constexpr (kAnyContact) {
     const Lanes influence = splat(b.solve.influence[i]);
-    a = select(c.sample, a - c.sample_lambda * influence, a);
-    u = select(c.sample, u - c.sample_scaled * influence, u);
-    v = select(c.sample, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
+    a = select_bits(c.sample, a - c.sample_lambda * influence, a);
+    u = select_bits(c.sample, u - c.sample_scaled * influence, u);
+    v = select_bits(c.sample, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
     Lanes next = (u + b.first * v) + b.half_first2 * a;
-    a = select(c.next, a - c.next_lambda * influence, a);
-    next = select(c.next, next - c.next_scaled * influence, next);
-    u = select(c.next, u - c.next_scaled_sample * influence, u);
-    v = select(c.next, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
+    a = select_bits(c.next, a - c.next_lambda * influence, a);
+    next = select_bits(c.next, next - c.next_scaled * influence, next);
+    u = select_bits(c.next, u - c.next_scaled_sample * influence, u);
+    v = select_bits(c.next, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
     store(&b.next[i], next);
   } else {
     store(&b.next[i], (u + b.first * v) + b.half_first2 * a);
@@ -996,7 +1034,7 @@ template <bool kAnyContact>
 // final, and the finishes of the last row only need its own numbers), by the scalar's
 // expressions.
 //
-// Flops per unknown and lane (no contact; count them in noh_bathe_forward and the finishes):
+// Flops per unknown and lane (no contact; count them in stage_forward and the finishes):
 // stage 1, the forward pass 3 mul 3 add/sub 1 FMA, the back substitution 2 FMA, ũ₁ 3 mul 3 add,
 // ṽ₁ 2 mul 2 add; stage 2 the same forward pass and back substitution, D 3 mul 2 add, u₁ and
 // v₁ 2 mul 2 add, u_p 2 mul 2 add: 18 mul 17 add/sub 6 FMA, 47 flops in 41 instructions a step
@@ -1012,25 +1050,23 @@ template <bool kAnyContact>
   const Lanes influence = splat(b.solve.influence[last]);
 
   // Stage 1: the forward pass from u_p into sub_a; λ_p from the last row's contact-free ũ₁.
-  NohBatheRows solve = b.solve;
-  solve.next = b.next;
-  noh_bathe_forward<false>(solve, uniform, b.sub_a);
+  stage_forward(b.solve, uniform, b.next, b.sub_a);
   const Lanes free_first =
       ((b.u[last] + b.dt * b.v[last]) + b.u0 * b.a[last]) + b.scale_first * b.sub_a[last];
   const LaneMask closes_first = greater(free_first, b.gap);
   if (any_lane(closes_first)) {
     const Lanes lambda =
-        select(closes_first, (free_first - b.gap) / (b.scale_first * influence), Lanes{});
+        select_bits(closes_first, (free_first - b.gap) / (b.scale_first * influence), Lanes{});
     const Lanes scaled = b.scale_first * lambda;
-    noh_bathe_backward(
-        solve, uniform,
+    back_substitute(
+        b.solve, uniform,
         b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           kim_finish_first<true>(b, closes_first, lambda, scaled, i, solved);
         });
-    store(&b.u[last], select(closes_first, b.gap, b.u[last]));
+    store(&b.u[last], select_bits(closes_first, b.gap, b.u[last]));
   } else {
-    noh_bathe_backward(
-        solve, uniform,
+    back_substitute(
+        b.solve, uniform,
         b.sub_a, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           kim_finish_first<false>(b, closes_first, Lanes{}, Lanes{}, i, solved);
         });
@@ -1038,8 +1074,7 @@ template <bool kAnyContact>
 
   // Stage 2: the forward pass from ũ₁ into sweep; the contacts from the last row's numbers, in
   // KimExplicit::step's order and expressions.
-  solve.next = b.u;
-  noh_bathe_forward<false>(solve, uniform, b.sweep);
+  stage_forward(b.solve, uniform, b.u, b.sweep);
   const Lanes a0 = b.a[last], sub_a = b.sub_a[last], v_predicted = b.v[last];
   Lanes a = b.sweep[last];
   Lanes d = kim_divided_difference(b, a0, sub_a, a);
@@ -1048,26 +1083,26 @@ template <bool kAnyContact>
   KimSecondContact c{};
   c.sample = greater(u, b.sample_gap);
   if (any_lane(c.sample)) {
-    c.sample_lambda = select(c.sample, (u - b.gap) / (b.scale_sample * influence), Lanes{});
+    c.sample_lambda = select_bits(c.sample, (u - b.gap) / (b.scale_sample * influence), Lanes{});
     c.sample_scaled = b.scale_sample * c.sample_lambda;
-    a = select(c.sample, a - c.sample_lambda * influence, a);
-    u = select(c.sample, b.gap, u);
-    v = select(c.sample, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
+    a = select_bits(c.sample, a - c.sample_lambda * influence, a);
+    u = select_bits(c.sample, b.gap, u);
+    v = select_bits(c.sample, v_predicted + b.dv * kim_divided_difference(b, a0, sub_a, a), v);
   }
   Lanes next = (u + b.first * v) + b.half_first2 * a;
   c.next = greater(next, b.gap);
   Lanes lambda = c.sample_lambda;
   if (any_lane(c.next)) {
-    c.next_lambda = select(c.next, (next - b.gap) / (b.scale_next * influence), Lanes{});
+    c.next_lambda = select_bits(c.next, (next - b.gap) / (b.scale_next * influence), Lanes{});
     c.next_scaled = b.scale_next * c.next_lambda;
     c.next_scaled_sample = b.scale_sample * c.next_lambda;
-    next = select(c.next, b.gap, next);
-    u = select(c.next, u - c.next_scaled_sample * influence, u);
-    lambda = select(c.next, lambda + c.next_lambda, lambda);
+    next = select_bits(c.next, b.gap, next);
+    u = select_bits(c.next, u - c.next_scaled_sample * influence, u);
+    lambda = select_bits(c.next, lambda + c.next_lambda, lambda);
   }
   if (any_lane(c.sample) || any_lane(c.next)) {
-    noh_bathe_backward(
-        solve, uniform,
+    back_substitute(
+        b.solve, uniform,
         b.sweep, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           kim_finish_second<true>(b, c, i, solved);
         });
@@ -1075,8 +1110,8 @@ template <bool kAnyContact>
     store(&b.u[last], u);
     store(&b.next[last], next);
   } else {
-    noh_bathe_backward(
-        solve, uniform,
+    back_substitute(
+        b.solve, uniform,
         b.sweep, [&](Eigen::Index i, const Lanes& solved) __attribute__((always_inline)) {
           kim_finish_second<false>(b, c, i, solved);
         });
@@ -1084,136 +1119,26 @@ template <bool kAnyContact>
   return lambda;
 }
 
-struct KimBatch {
-  KimRows rows;
-  const Tridiagonal *mass, *stiffness;
-  std::array<LaneRun, kBatchLanes> lanes;
-  std::array<State, kBatchLanes>* start;  // each lane's state after initialize
-  Lanes* start_next;                      // and its u_p, [unknown][lane]
-  LaneLoop loop;
-};
+// Kim's scheme for simulate_stage_batch.
+struct KimScheme {
+  using Params = KimExplicitParams;
+  using Stepper = KimExplicit;
+  using Rows = KimRows;
+  static constexpr const char* kName = "kim-explicit";
+  static double critical_omega(double p) { return kim_explicit_critical_omega(p); }
+  static constexpr int kArrays = 6;  // Rows' arrays
 
-IMPACTID_SIMD_VERSIONS void run_kim_batch(KimBatch& b) {
-  KimRows& rows = b.rows;
-  const RowFactors uniform = row_factors(rows.solve, rows.solve.uniform_begin);
-  const Eigen::Index n = rows.solve.n;
-  const auto set_lane = [&](int l, const State* start) __attribute__((always_inline)) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      rows.u[i].set(l, start ? start->u[i] : 0.0);
-      rows.v[i].set(l, start ? start->v[i] : 0.0);
-      rows.a[i].set(l, start ? start->a[i] : 0.0);
-      rows.next[i].set(l, start ? b.start_next[i][l] : 0.0);
-      rows.sub_a[i].set(l, 0.0);
-      rows.sweep[i].set(l, 0.0);
-    }
-  };
-  run_lanes(b.lanes, b.loop,
-            lane_stepper(
-                [&](int l) __attribute__((always_inline)) {
-                  const State& start = (*b.start)[static_cast<std::size_t>(l)];
-                  set_lane(l, &start);
-                  return LaneStart{.lambda = start.lambda, .t = start.t};
-                },
-                [&](bool, const Lanes&)
-                    __attribute__((always_inline)) { return kim_step_lanes(rows, uniform); },
-                [&]() __attribute__((always_inline)) { return rows.v[n - 1]; },
-                [&]() __attribute__((always_inline)) {
-                  return plain_energy_lanes(*b.mass, *b.stiffness, rows.u, rows.v, n);
-                },
-                [&](int l) __attribute__((always_inline)) { set_lane(l, nullptr); }));
-}
-
-void simulate_kim_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
-                        const RunOptions& options, std::vector<LaneBlock>& storage,
-                        std::array<State, kBatchLanes>& starts,
-                        std::array<ContactTrace, kBatchLanes>& traces,
-                        std::span<RunSummary> summaries) {
-  const auto start = std::chrono::steady_clock::now();
-  const int count = static_cast<int>(scenes.size());
-  SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
-  const Eigen::Index n = system.size();
-  const double dt = derive(scenes[0]).time_step;
-
-  storage.assign(static_cast<std::size_t>(7 * n), LaneBlock{});
-  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
-  KimBatch b{};
-  KimRows& rows = b.rows;
-  rows.solve.n = n;
-  rows.u = block;
-  rows.v = block + n;
-  rows.a = block + 2 * n;
-  rows.next = block + 3 * n;
-  rows.sub_a = block + 4 * n;
-  rows.sweep = block + 5 * n;
-  b.start_next = block + 6 * n;
-  rows.gap = splat(kInf);  // unused lanes never touch a wall
-  rows.sample_gap = splat(kInf);
-  rows.dt = splat(dt);
-  b.mass = &system.mass;
-  b.stiffness = &system.stiffness;
-  b.start = &starts;
-  b.loop = {.area = scenes[0].area,
-            .dt = dt,
-            .energy_check_interval = options.energy_check_interval,
-            .energy_growth_limit = options.energy_growth_limit};
-
-  // M's factorisation and M⁻¹·e_c (ExplicitStageContact::initialize's) are every lane's.
-  TridiagonalFactorization factorization;
-  const bool factored = factorization.factor(system.mass);
-  const bool uniform =
-      symmetric_uniform_off_diagonals(system.stiffness) && system.contact_dof == n - 1;
-  const Eigen::VectorXd influence =
-      factored ? factorization.inverse_column(system.contact_dof) : Eigen::VectorXd();
-  // Every lane prepared first: initialize changes a lane's start state (the contact at the
-  // start corrects a), which a later lane of the same velocity would otherwise copy
-  // (prepare_lane).
-  std::array<bool, kBatchLanes> prepared{};
-  for (int l = 0; l < count; ++l) {
-    const auto lane = static_cast<std::size_t>(l);
-    prepared[lane] =
-        prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
+  static KimExplicitCoefficients coefficients(const Params& params) {
+    return kim_explicit_coefficients(params);
   }
-  KimExplicit stepper;
-  bool any = false;
-  for (int l = 0; l < count; ++l) {
-    const auto lane = static_cast<std::size_t>(l);
-    if (!prepared[lane]) continue;
-    const RodScene& scene = scenes[lane];
-    const auto& params = std::get<KimExplicitParams>(methods[lane]);
-    LaneRun& run = b.lanes[lane];
-    RunSummary& summary = summaries[lane];
-    State& state = starts[lane];
-    const State before = state;
-    system.gap = scene.gap;
-    const KimExplicitCoefficients c = kim_explicit_coefficients(params);
-    // run_kim_explicit (core/simulation.cpp): the start, the stable step and its warning.
-    if (!stepper.initialize(system, c, dt, state) || !uniform) {
-      summary.status = RunStatus::failed;
-      summary.message = uniform ? "kim-explicit: singular mass matrix"
-                                : "batched kernel: the stiffness is not uniform along the rod";
-      run = LaneRun{};
-      continue;
-    }
-    summary.stable_dt = stepper.stable_step();
-    if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
-      summary.warning = "dt = " + format_value(dt) + " s exceeds kim-explicit's stable step " +
-                        format_value(stepper.stable_step()) +
-                        " s (Omega_crit = " + format_value(kim_explicit_critical_omega(params.p)) +
-                        " at p = " + format_value(params.p) + "): lower the step";
-    }
-    // KimExplicit::initialize's u_p with the contact at the start (its λ and the correction of
-    // a are already in `state`).
+  static void set_batch(Rows& rows, Lanes* more, double dt) {
+    rows.sweep = more;
+    rows.sample_gap = splat(kInf);
+    rows.dt = splat(dt);
+  }
+  // KimExplicit::initialize's and ::step's coefficients, by their expressions.
+  static void set_lane(Rows& rows, int l, const KimExplicitCoefficients& c, double dt, double gap) {
     const double p = c.p, dt2 = dt * dt;
-    const double scale_start = 0.5 * (p * dt) * (p * dt);
-    Eigen::VectorXd next = before.u + (p * dt) * before.v + scale_start * before.a;
-    const Eigen::Index contact = system.contact_dof;
-    if (next[contact] > system.gap) {
-      const double lambda = (next[contact] - system.gap) / (scale_start * influence[contact]);
-      next -= (scale_start * lambda) * influence;
-      next[contact] = system.gap;
-    }
-    for (Eigen::Index i = 0; i < n; ++i) b.start_next[i].set(l, next[i]);
-    // KimExplicit::initialize's and ::step's coefficients, by their expressions.
     const double first = p * dt;
     const double scale_sample = c.cu * c.d1 * dt2;
     rows.first.set(l, first);
@@ -1229,37 +1154,23 @@ void simulate_kim_batch(std::span<const RodScene> scenes, std::span<const Method
     rows.scale_sample.set(l, scale_sample);
     rows.scale_next.set(l, scale_sample + p * c.cv * c.d1 * dt2 + 0.5 * p * p * dt2);
     rows.half_first2.set(l, 0.5 * first * first);
-    rows.sample_gap.set(l, scale_sample > 0.0 ? scene.gap : kInf);
-    rows.gap.set(l, scene.gap);
-    any = true;
+    rows.sample_gap.set(l, scale_sample > 0.0 ? gap : kInf);
+    rows.gap.set(l, gap);
   }
-  if (any) {
-    Eigen::VectorXd upper_ratio2(n);
-    const Eigen::VectorXd& upper_ratio = factorization.upper_ratios();
-    for (Eigen::Index i = 0; i < n; ++i) {  // as TridiagonalFactorization::factor forms it
-      upper_ratio2[i] = i + 2 < n ? upper_ratio[i] * upper_ratio[i + 1] : 0.0;
-    }
-    NohBatheRows& solve = rows.solve;
-    solve.stiffness_diag = system.stiffness.diag.data();
-    solve.inverse_pivot = factorization.inverse_pivots().data();
-    solve.lower_ratio = factorization.lower_ratios().data();
-    solve.upper_ratio = upper_ratio.data();
-    solve.upper_ratio2 = upper_ratio2.data();
-    solve.influence = influence.data();
-    solve.stiffness_off = system.stiffness.lower[1];
-    solve.uniform_end = std::max<Eigen::Index>(n - 2, 1);
-    const Eigen::Index ref = solve.uniform_end - 1;
-    const auto same_row = [&](Eigen::Index i) {
-      return solve.stiffness_diag[i] == solve.stiffness_diag[ref] &&
-             solve.inverse_pivot[i] == solve.inverse_pivot[ref] &&
-             solve.lower_ratio[i] == solve.lower_ratio[ref] && upper_ratio[i] == upper_ratio[ref] &&
-             upper_ratio2[i] == upper_ratio2[ref];
-    };
-    solve.uniform_begin = ref >= 1 ? ref : solve.uniform_end;
-    while (solve.uniform_begin > 1 && same_row(solve.uniform_begin - 1)) --solve.uniform_begin;
-    run_kim_batch(b);
+  // The arrays a lane's start zeroes besides its state.
+  [[gnu::always_inline]] static std::array<Lanes*, 2> stage_arrays(const Rows& rows) {
+    return {rows.sub_a, rows.sweep};
   }
-  finish_lanes(count, start, traces, summaries);
+  [[gnu::always_inline]] static Lanes step_lanes(const Rows& rows, const RowFactors& uniform) {
+    return kim_step_lanes(rows, uniform);
+  }
+  static void run(StageBatch<Rows>& b);  // the target-cloned loop, below
+};
+IMPACTID_SIMD_VERSIONS void run_kim_batch(StageBatch<KimRows>& b) {
+  run_stage_lanes<KimScheme>(b);
+}
+void KimScheme::run(StageBatch<Rows>& b) {
+  run_kim_batch(b);
 }
 
 }  // namespace
@@ -1300,12 +1211,12 @@ void simulate_explicit_batch(std::span<const RodScene> scenes,
                          workspace.traces, summaries);
       return;
     case ExplicitBatchKind::noh_bathe:
-      simulate_noh_bathe_batch(scenes, methods, options, workspace.storage_, workspace.start_,
-                               workspace.traces, summaries);
+      simulate_stage_batch<NohBatheScheme>(scenes, methods, options, workspace.storage_,
+                                           workspace.start_, workspace.traces, summaries);
       return;
     case ExplicitBatchKind::kim_explicit:
-      simulate_kim_batch(scenes, methods, options, workspace.storage_, workspace.start_,
-                         workspace.traces, summaries);
+      simulate_stage_batch<KimScheme>(scenes, methods, options, workspace.storage_,
+                                      workspace.start_, workspace.traces, summaries);
       return;
     case ExplicitBatchKind::none:
       break;

@@ -89,15 +89,20 @@ struct LaneMask {
 }
 
 // a·b + c rounded once, lane by lane: the scalar path's std::fma. GCC's vector extensions have
-// no fused multiply-add, but in the x86-64-v3 and v4 versions of the kernel (run_batch_any)
-// GCC turns these per-lane fused multiply-adds into one vfmadd per register; the baseline
-// version calls the C library's fma per lane (correct, much slower: machines without FMA are
-// from before 2013).
+// no fused multiply-add, but in the x86-64-v3 and v4 versions of the kernels GCC turns these
+// per-lane fused multiply-adds into one vfmadd per register; the baseline version calls the C
+// library's fma per lane (correct, much slower: machines without FMA are from before 2013).
+// Written lane by lane, not as a loop over the lanes: GCC 12 unrolls such a loop only after its
+// loop vectoriser, and in Kim's kernel (core/batched_explicit.cpp), whose function is twice
+// Noh–Bathe's, the basic-block vectoriser then left the forward sweep's fused multiply-adds
+// scalar, eight vfnmadd…sd and the lane shuffles around them per register (docs/performance.md).
 [[gnu::always_inline]] inline Register fma(const Register& a, const Register& b,
                                            const Register& c) {
-  Register r;
-  for (int l = 0; l < kRegisterLanes; ++l) r[l] = __builtin_fma(a[l], b[l], c[l]);
-  return r;
+  static_assert(kRegisterLanes == 8, "fma() names one lane of a register per term");
+  return Register{__builtin_fma(a[0], b[0], c[0]), __builtin_fma(a[1], b[1], c[1]),
+                  __builtin_fma(a[2], b[2], c[2]), __builtin_fma(a[3], b[3], c[3]),
+                  __builtin_fma(a[4], b[4], c[4]), __builtin_fma(a[5], b[5], c[5]),
+                  __builtin_fma(a[6], b[6], c[6]), __builtin_fma(a[7], b[7], c[7])};
 }
 [[gnu::always_inline]] inline Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
   return {fma(a.lo, b.lo, c.lo), fma(a.hi, b.hi, c.hi)};

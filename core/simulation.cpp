@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "core/second_order_system.hpp"
+#include "core/stable_step_warning.hpp"
 
 namespace impactid {
 
@@ -229,13 +230,6 @@ bool run_multistep(const System& system, const MethodParams& method, double dt,
   return false;
 }
 
-// The end of an explicit method's warning for a step above its stable step: what to lower.
-std::string penalty_springs(const ContactPenalties& contact) {
-  return contact.law == ContactLaw::penalty
-             ? " with the penalty springs: lower the step or the penalty stiffness"
-             : ": lower the step";
-}
-
 // The Noh–Bathe explicit scheme (core/noh_bathe.hpp): its stable step (with the penalty's springs)
 // is reported, and a step above it is flagged before the run starts (the run still goes, as
 // central difference's does: the energy bound then stops it).
@@ -249,12 +243,8 @@ void run_noh_bathe(const SecondOrderSystem& system, const NohBatheParams& params
     return;
   }
   summary.stable_dt = stepper.stable_step();
-  if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
-    summary.warning = "dt = " + format_value(dt) + " s exceeds noh-bathe's stable step " +
-                      format_value(stepper.stable_step()) +
-                      " s (Omega_crit = " + format_value(noh_bathe_critical_omega(params.p)) +
-                      " at p = " + format_value(params.p) + ")" + penalty_springs(contact);
-  }
+  summary.warning = stable_step_warning(stepper, "noh-bathe", params.p,
+                                        noh_bathe_critical_omega(params.p), dt, contact.law);
   run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
   count_contact_iterations(stepper, summary);
 }
@@ -271,12 +261,8 @@ void run_kim_explicit(const SecondOrderSystem& system, const KimExplicitParams& 
     return;
   }
   summary.stable_dt = stepper.stable_step();
-  if (!stepper.within_stability_limit() && stepper.stable_step() > 0.0) {
-    summary.warning = "dt = " + format_value(dt) + " s exceeds kim-explicit's stable step " +
-                      format_value(stepper.stable_step()) +
-                      " s (Omega_crit = " + format_value(kim_explicit_critical_omega(params.p)) +
-                      " at p = " + format_value(params.p) + ")" + penalty_springs(contact);
-  }
+  summary.warning = stable_step_warning(stepper, "kim-explicit", params.p,
+                                        kim_explicit_critical_omega(params.p), dt, contact.law);
   run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
   count_contact_iterations(stepper, summary);
 }
