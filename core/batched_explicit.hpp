@@ -55,8 +55,8 @@
 // either velocity variant, Noh–Bathe and Kim's scheme with any p, on an undamped rod with a lumped
 // or a consistent mass (damped runs go through simulate()), single wall, Lagrange contact, no
 // histories; a batch holds one method, its lanes the same rod and time step, each its own gap,
-// velocity, end time and the method's parameter (the velocity variant, p). KR-α runs through
-// simulate().
+// velocity, end time and the method's parameter (the velocity variant, p). KR-α has its own
+// kernel (core/batched_kr_alpha.hpp).
 //
 // Thread safety: one BatchWorkspace per thread; simulate_explicit_batch is reentrant.
 #pragma once

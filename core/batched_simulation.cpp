@@ -11,6 +11,7 @@
 
 #include "core/batch_lanes.hpp"
 #include "core/batched_explicit.hpp"
+#include "core/batched_kr_alpha.hpp"
 #include "core/function_versions.hpp"
 #include "core/second_order_system.hpp"
 #include "core/simd_lanes.hpp"
@@ -841,11 +842,12 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
   // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
   // single-step implicit family, the composite schemes, Wilson-θ and Houbolt, and (core/
-  // batched_explicit.hpp) the explicit methods it knows (not KR-α),
+  // batched_explicit.hpp) the explicit methods it knows, and KR-α (core/batched_kr_alpha.hpp),
   // with Lagrange multipliers (not the penalty or augmented-Lagrangian contact laws).
   return (is_single_step_implicit(method) || is_composite(method) ||
           std::holds_alternative<WilsonThetaParams>(method) ||
-          std::holds_alternative<HouboltParams>(method) || explicit_batchable(scene, method)) &&
+          std::holds_alternative<HouboltParams>(method) || explicit_batchable(scene, method) ||
+          kr_alpha_batchable(scene, method)) &&
          !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
 }
 
@@ -856,6 +858,11 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
   if (step_kind(method_a) != step_kind(method_b)) return false;
   // An explicit method's batch (core/batched_explicit.hpp) steps that method only.
   if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
+  // So does KR-α's (core/batched_kr_alpha.hpp).
+  if (std::holds_alternative<KrAlphaParams>(method_a) !=
+      std::holds_alternative<KrAlphaParams>(method_b)) {
+    return false;
+  }
   // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
   // are per lane.
   const bool same_rod = a.length == b.length && a.elements == b.elements &&
@@ -875,6 +882,10 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
                     std::span<RunSummary> summaries) {
   if (explicit_batch_kind(methods[0]) != ExplicitBatchKind::none) {
     simulate_explicit_batch(scenes, methods, options, ws, summaries);
+    return;
+  }
+  if (std::holds_alternative<KrAlphaParams>(methods[0])) {
+    simulate_kr_alpha_batch(scenes, methods, options, ws.storage_, ws.start_, ws.traces, summaries);
     return;
   }
   const auto start = std::chrono::steady_clock::now();

@@ -67,8 +67,9 @@
 // Houbolt: a batch steps one), and may differ in the method and its parameters (a composite's γ,
 // Wilson's θ too), the gap, the velocity and the end time. Scenes of bodies have their own kernel
 // (core/batched_chain.hpp), and so have central difference, Noh–Bathe and Kim's scheme (core/
-// batched_explicit.hpp: simulate_batch hands their batches over); everything else (KR-α;
-// penalty and augmented-Lagrangian contact) runs through simulate().
+// batched_explicit.hpp) and KR-α (core/batched_kr_alpha.hpp): simulate_batch hands their batches
+// over; everything else (penalty and augmented-Lagrangian contact, damped explicit runs) runs
+// through simulate().
 //
 // Thread safety: one BatchWorkspace per thread; simulate_batch is reentrant.
 #pragma once
@@ -90,15 +91,15 @@ namespace impactid {
 inline constexpr int kBatchLanes = 16;
 
 /// Whether a run can go through simulate_batch at all: a single-step implicit method, a
-/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2), Wilson-θ, Houbolt or an explicit method of
-/// core/batched_explicit.hpp (explicit_batchable), Lagrange contact, a scene the kernel knows
-/// (single wall: far_gap unset), no histories.
+/// composite scheme (Bathe, ρ∞-Bathe, TR-BDF2), Wilson-θ, Houbolt, an explicit method of
+/// core/batched_explicit.hpp (explicit_batchable) or KR-α (kr_alpha_batchable), Lagrange contact, a
+/// scene the kernel knows (single wall: far_gap unset), no histories.
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options);
 
 /// Whether two batchable runs can share a batch: the same rod and time step, the same run
 /// options, and both single-step methods, both composite schemes, both Wilson-θ, both Houbolt or
-/// both the same explicit method. They may differ in method and its parameters (a composite's
-/// sub-step ratio γ, Wilson's θ too), gap, velocity and end time.
+/// both the same explicit method or both KR-α. They may differ in method and its parameters (a
+/// composite's sub-step ratio γ, Wilson's θ too), gap, velocity and end time.
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
                 const RodScene& b, const MethodParams& method_b, const RunOptions& options_b);
 

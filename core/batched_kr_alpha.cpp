@@ -1,0 +1,620 @@
+#include "core/batched_kr_alpha.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <variant>
+
+#include "core/batch_lanes.hpp"
+#include "core/function_versions.hpp"
+#include "core/second_order_system.hpp"
+#include "core/simd_lanes.hpp"
+#include "core/tridiagonal.hpp"
+
+namespace impactid {
+namespace {
+
+using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One factorisation's numbers of a row in every lane: TridiagonalFactorization's 1/pivot,
+// −lower/pivot, −upper/pivot (negated as the sweeps negate them) and the product of two upper
+// ratios.
+struct Factors {
+  Lanes inverse_pivot, minus_lower_ratio, minus_upper_ratio, upper_ratio2;
+};
+// The same, [unknown][lane].
+struct FactorRows {
+  Lanes *inverse_pivot, *minus_lower_ratio, *minus_upper_ratio, *upper_ratio2;
+};
+// A row's factors of the three solves.
+struct RowFactors {
+  Factors mass, d, e;
+};
+
+// A tridiagonal matrix of the uniform rod in every lane: its first, interior and last diagonal
+// entries and its off-diagonal (lower = upper, checked).
+struct LaneDiagonals {
+  Lanes first, interior, last, off;
+};
+
+// What KrAlphaExplicit::step reads, for every lane. Small, so that the step takes a local copy of
+// it (see kr_alpha_step_lanes).
+struct KrRows {
+  Eigen::Index n;
+  FactorRows mass, d, e;
+  // Rows [uniform_begin, uniform_end) have every factor of row uniform_begin in every lane, bit
+  // for bit (checked): held in registers there. Within [1, n − 2).
+  Eigen::Index uniform_begin, uniform_end;
+  LaneDiagonals stiffness, mass_matrix, d_matrix;
+  // The state: u (the sample's), u_next (u₂, fixed by the last equilibrium), v̂ already advanced by
+  // Δt·w (the next step's first update, done at the end of this one), a; r and y scratch, w the
+  // M·a and α1·a of the step (scratch too: see the header).
+  Lanes *u, *u_next, *v_hat, *a, *r, *y, *w;
+  // The step's response of a and of α1·a to a unit force on the contact dof (KrAlphaExplicit's
+  // step_response_.a_main, .w_main).
+  Lanes *a_response, *w_response;
+  Lanes dt, minus_af, minus_rest, scale, lead, contact_denominator, gap;
+};
+
+[[gnu::always_inline]] inline Factors factors(const FactorRows& f, Eigen::Index i) {
+  return {f.inverse_pivot[i], f.minus_lower_ratio[i], f.minus_upper_ratio[i], f.upper_ratio2[i]};
+}
+[[gnu::always_inline]] inline RowFactors row_factors(const KrRows& b, Eigen::Index i) {
+  return {factors(b.mass, i), factors(b.d, i), factors(b.e, i)};
+}
+// Row j's diagonal entry of a matrix of the rod.
+[[gnu::always_inline]] inline Lanes diagonal(const LaneDiagonals& m, Eigen::Index j,
+                                             Eigen::Index last) {
+  return j == 0 ? m.first : j == last ? m.last : m.interior;
+}
+
+// Calls row.template operator()<kGeneric>(i, f) for every row, upwards (kUp) or downwards, with
+// the row's factors of one solve: from its arrays outside [uniform_begin, uniform_end) (kGeneric:
+// the row may be an end row or the one before the last), `uniform` inside it (an interior row).
+// One factorisation at a time, a copy in registers: with all three the step's fused
+// multiply-adds were split into per-lane scalar ones (GCC's vectoriser gave up on them).
+template <bool kUp, class Row>
+[[gnu::always_inline]] inline void each_row(const KrRows& b, const FactorRows& rows,
+                                            const Factors& uniform_factors, Row&& row) {
+  const Eigen::Index n = b.n;
+  const Factors uniform = uniform_factors;
+  if constexpr (kUp) {
+    Eigen::Index i = 0;
+    for (; i < b.uniform_begin; ++i) row.template operator()<true>(i, factors(rows, i));
+#pragma GCC unroll 2
+    for (; i < b.uniform_end; ++i) row.template operator()<false>(i, uniform);
+    for (; i < n; ++i) row.template operator()<true>(i, factors(rows, i));
+  } else {
+    Eigen::Index i = n - 1;
+    for (; i >= b.uniform_end; --i) row.template operator()<true>(i, factors(rows, i));
+#pragma GCC unroll 2
+    for (; i >= b.uniform_begin; --i) row.template operator()<false>(i, uniform);
+    for (; i >= 0; --i) row.template operator()<true>(i, factors(rows, i));
+  }
+}
+
+// A back substitution (TridiagonalFactorization::backward_in_place: x_{n−1} = y_{n−1},
+// x_{n−2} = y_{n−2} − c'·x_{n−1}, then x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}) fused
+// with a product of the solution's rows as `combine` makes them (t_i = combine(i, x_i)) with a
+// symmetric tridiagonal matrix: row j of it (Tridiagonal::multiply: d·t_j fused onto the lower
+// neighbour's product, then + the upper's; each off-diagonal product shared by two rows) is
+// written into `out` as soon as t_{j−1} is known. 2 FMA for the solve, 1 mul 1 FMA 1 add for the
+// product.
+template <class Combine>
+[[gnu::always_inline]] inline void solve_down_multiply(const KrRows& b, const FactorRows& rows,
+                                                       const Factors& uniform, const Lanes* y_rows,
+                                                       const LaneDiagonals& diagonals, Lanes* out,
+                                                       Combine&& combine) {
+  const Eigen::Index last = b.n - 1;
+  const LaneDiagonals matrix = diagonals;
+  Lanes x1{}, x2{}, y_next{};    // x_{i+1}, x_{i+2}, y_{i+1}
+  Lanes t1{}, t2{}, p1{}, p2{};  // t_{i+1}, t_{i+2} and their products with the off-diagonal
+  each_row<false>(
+      b, rows,
+      uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
+        const Lanes yi = y_rows[i];
+        Lanes x;
+        if (kGeneric && i == last) {
+          x = yi;
+        } else if (kGeneric && i == last - 1) {
+          x = fma(s.minus_upper_ratio, x1, yi);
+        } else {
+          x = fma(s.upper_ratio2, x2, fma(s.minus_upper_ratio, y_next, yi));
+        }
+        y_next = yi;
+        x2 = x1;
+        x1 = x;
+        const Lanes t = combine(i, x);
+        const Lanes p = matrix.off * t;
+        if (!(kGeneric && i == last)) {  // row j = i + 1
+          const Eigen::Index j = i + 1;
+          const Lanes d = kGeneric ? diagonal(matrix, j, last) : matrix.interior;
+          Lanes row = fma(d, t1, p);
+          if (!(kGeneric && j == last)) row = row + p2;
+          store(&out[j], row);
+        }
+        t2 = t1;
+        t1 = t;
+        p2 = p1;
+        p1 = p;
+      });
+  store(&out[0], b.n > 1 ? fma(matrix.first, t1, p2) : matrix.first * t1);
+}
+
+// A forward sweep in place (TridiagonalFactorization::forward_in_place: y_0·(1/pivot_0), then
+// y_i·(1/pivot_i) − (l_i/pivot_i)·y_{i−1}, one FMA): 1 mul 1 FMA.
+[[gnu::always_inline]] inline void sweep_up(const KrRows& b, const FactorRows& factor_rows,
+                                            const Factors& uniform, Lanes* rows) {
+  Lanes eliminated{};
+  each_row<true>(
+      b, factor_rows,
+      uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
+        Lanes r = rows[i] * s.inverse_pivot;
+        if (!(kGeneric && i == 0)) r = fma(s.minus_lower_ratio, eliminated, r);
+        store(&rows[i], r);
+        eliminated = r;
+      });
+}
+
+// One step of KR-α in every lane (KrAlphaExplicit::step, single wall, no damping): the passes of
+// the header. Returns λ of the equilibrium at t + Δt; `velocity` gets the contact dof's reported
+// velocity v̂ + γΔt·w. Leaves u₁ in rows.u_next and u₂ in rows.u: the caller swaps them.
+[[gnu::always_inline]] inline Lanes kr_alpha_step_lanes(const KrRows& rows,
+                                                        const RowFactors& uniform_row,
+                                                        Lanes& velocity) {
+  // Local copies, so that the compiler keeps them in registers: a store through a Lanes pointer
+  // (may_alias) could otherwise change them, and every use would reload them
+  // (core/batched_simulation.cpp's step_lanes).
+  const KrRows b = rows;
+  const RowFactors uniform = uniform_row;
+  const Eigen::Index last = b.n - 1;
+
+  // A: r = 0 + (−α_f)·K·u, then + (−(1 − α_f))·K·u₁ (Tridiagonal::multiply_add's rows: (l·x₋ +
+  // d·x) + u·x₊, each off-diagonal product shared by two rows), M's forward sweep: 7 mul 6 add
+  // 1 FMA. (K·u is the last step's K·u₁; keeping it in an array instead measured no faster.)
+  {
+    struct Ahead {
+      Lanes u, q, u1, q1;
+    };
+    const Lanes off = b.stiffness.off;
+    const auto load = [&](Eigen::Index j) __attribute__((always_inline)) {
+      Ahead x;
+      x.u = b.u[j];
+      x.q = off * x.u;
+      x.u1 = b.u_next[j];
+      x.q1 = off * x.u1;
+      return x;
+    };
+    Ahead prev{}, cur = load(0), next{};
+    Lanes eliminated{};
+    const Lanes k_first = b.stiffness.first, k_interior = b.stiffness.interior;
+    const Lanes k_last = b.stiffness.last, minus_af = b.minus_af, minus_rest = b.minus_rest;
+    each_row<true>(
+        b, b.mass, uniform.mass,
+        [&]<bool kGeneric>(Eigen::Index i, const Factors& f) __attribute__((always_inline)) {
+          const bool first = kGeneric && i == 0, at_last = kGeneric && i == last;
+          if (!at_last) next = load(i + 1);
+          const Lanes k = !kGeneric   ? k_interior
+                          : i == 0    ? k_first
+                          : i == last ? k_last
+                                      : k_interior;
+          Lanes now, ahead;
+          if (first) {
+            now = k * cur.u + next.q;
+            ahead = k * cur.u1 + next.q1;
+          } else if (at_last) {
+            now = prev.q + k * cur.u;
+            ahead = prev.q1 + k * cur.u1;
+          } else {
+            now = (prev.q + k * cur.u) + next.q;
+            ahead = (prev.q1 + k * cur.u1) + next.q1;
+          }
+          Lanes r = Lanes{} + minus_af * now;  // r.setZero(), then +=: 0 + x is x but for −0
+          r = r + minus_rest * ahead;
+          r = r * f.inverse_pivot;
+          if (!first) r = fma(f.minus_lower_ratio, eliminated, r);
+          store(&b.r[i], r);
+          eliminated = r;
+          prev = cur;
+          cur = next;
+        });
+  }
+  // B: M's back substitution, r − a, D·(r − a) into y: 1 mul 2 add/sub 3 FMA.
+  solve_down_multiply(
+      b, b.mass, uniform.mass, b.r, b.d_matrix,
+      b.y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+        return x - b.a[i];
+      });
+  // C: E's forward sweep: 1 mul 1 FMA.
+  sweep_up(b, b.e, uniform.e, b.y);
+  // D: E's back substitution, a += x, M·a into w: 1 mul 2 add 3 FMA.
+  solve_down_multiply(
+      b, b.e, uniform.e, b.y, b.mass_matrix,
+      b.w, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+        const Lanes a = b.a[i] + x;
+        store(&b.a[i], a);
+        return a;
+      });
+  // E: D's forward sweep: 1 mul 1 FMA.
+  sweep_up(b, b.d, uniform.d, b.w);
+
+  // The contact (the rod's contact dof is the last, which the forward sweep leaves final): the
+  // contact-free u₂ there and λ, by KrAlphaExplicit::enforce's expressions.
+  const Lanes* const u1 = b.u_next;
+  Lanes* const u2 = b.u;  // u, no longer needed: u₂ is written over it
+  const Lanes free_end = (u1[last] + b.dt * b.v_hat[last]) + b.scale * b.w[last];
+  const LaneMask closes = greater(free_end, b.gap);
+  const bool any = any_lane(closes);
+  Lanes lambda{}, scaled{};
+  if (any) {
+    lambda = select(closes, (free_end - b.gap) / b.contact_denominator, Lanes{});
+    scaled = b.scale * lambda;
+  }
+  // F: D's back substitution (w = α1·a), u₂ = (u₁ + Δt·v̂) + s·w, the contact's corrections,
+  // v̂ += Δt·w: 4 mul 3 add 2 FMA.
+  const Lanes dt = b.dt, scale = b.scale;
+  const auto finish = [&]<bool kContact, bool kGeneric>(Eigen::Index i, const Lanes& x)
+      __attribute__((always_inline)) {
+    const Lanes v_hat = b.v_hat[i];
+    Lanes next = (u1[i] + dt * v_hat) + scale * x;
+    Lanes w = x;
+    if constexpr (kContact) {
+      const Lanes response = b.w_response[i];
+      w = select(closes, x - lambda * response, x);
+      next = select(closes, next - scaled * response, next);
+      const Lanes a = b.a[i];
+      store(&b.a[i], select(closes, a - lambda * b.a_response[i], a));
+    }
+    if (kGeneric && i == last) {
+      next = select(closes, b.gap, next);  // exactly the wall, not a few ulps off
+      velocity = v_hat + b.lead * w;
+    }
+    store(&u2[i], next);
+    store(&b.v_hat[i], v_hat + dt * w);
+  };
+  Lanes x1{}, x2{}, y_next{};
+  const auto solve = [&]<bool kContact>() __attribute__((always_inline)) {
+    each_row<false>(
+        b, b.d, uniform.d,
+        [&]<bool kGeneric>(Eigen::Index i, const Factors& f) __attribute__((always_inline)) {
+          const Lanes yi = b.w[i];
+          Lanes x;
+          if (kGeneric && i == last) {
+            x = yi;
+          } else if (kGeneric && i == last - 1) {
+            x = fma(f.minus_upper_ratio, x1, yi);
+          } else {
+            x = fma(f.upper_ratio2, x2, fma(f.minus_upper_ratio, y_next, yi));
+          }
+          y_next = yi;
+          x2 = x1;
+          x1 = x;
+          finish.template operator()<kContact, kGeneric>(i, x);
+        });
+  };
+  if (any) {
+    solve.template operator()<true>();
+  } else {
+    solve.template operator()<false>();
+  }
+  return lambda;
+}
+
+// KrAlphaExplicit::energy of every lane after a step (u the sample's, u_next the next
+// displacement): ½·wᵀM·w + ½·mᵀK·m, w = (u_next − u)/Δt, m = ½·(u + u_next), each form in
+// Tridiagonal::quadratic_form's order.
+[[gnu::always_inline]] inline Lanes kr_alpha_energy_lanes(const Tridiagonal& mass,
+                                                          const Tridiagonal& stiffness,
+                                                          const KrRows& b) {
+  const Eigen::Index n = b.n;
+  const Lanes half = splat(0.5);
+  const auto rate = [&](Eigen::Index i) __attribute__((always_inline)) {
+    return (b.u_next[i] - b.u[i]) / b.dt;
+  };
+  const auto mean = [&](Eigen::Index i) __attribute__((always_inline)) {
+    return half * (b.u[i] + b.u_next[i]);
+  };
+  Lanes kinetic{}, strain{};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Lanes w = rate(i), m = mean(i);
+    const Lanes w_prev = i > 0 ? rate(i - 1) : Lanes{}, w_next = i + 1 < n ? rate(i + 1) : Lanes{};
+    const Lanes m_prev = i > 0 ? mean(i - 1) : Lanes{}, m_next = i + 1 < n ? mean(i + 1) : Lanes{};
+    kinetic = kinetic + w * quadratic_form_row(mass, i, w_prev, w, w_next);
+    strain = strain + m * quadratic_form_row(stiffness, i, m_prev, m, m_next);
+  }
+  return half * kinetic + half * strain;
+}
+
+// Each lane's start as KrAlphaExplicit::initialize leaves it: u₂ and v̂ (already advanced by Δt·w,
+// see KrRows); u, a and λ are in the lane's State.
+struct KrStart {
+  Eigen::VectorXd u_next, v_hat;
+};
+
+struct KrBatch {
+  KrRows rows;
+  const Tridiagonal *mass, *stiffness;
+  std::array<LaneRun, kBatchLanes> lanes;
+  std::array<State, kBatchLanes>* start;
+  std::array<KrStart, kBatchLanes> kr_start;
+  LaneLoop loop;
+};
+
+// The batch loop (core/batch_lanes.hpp: run_lanes) with KR-α's step, for the machine at hand (GCC
+// target_clones: everything the loop calls is inlined into each version; its own function, as
+// each kernel kind has: core/function_versions.hpp).
+IMPACTID_SIMD_VERSIONS void run_kr_alpha_batch(KrBatch& b) {
+  KrRows& rows = b.rows;
+  const RowFactors uniform = row_factors(rows, rows.uniform_begin);
+  const Eigen::Index n = rows.n;
+  Lanes velocity{};
+  const auto set_lane = [&](int l, const State* start, const KrStart* kr)
+      __attribute__((always_inline)) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      rows.u[i].set(l, start ? start->u[i] : 0.0);
+      rows.a[i].set(l, start ? start->a[i] : 0.0);
+      rows.u_next[i].set(l, kr ? kr->u_next[i] : 0.0);
+      rows.v_hat[i].set(l, kr ? kr->v_hat[i] : 0.0);
+    }
+  };
+  run_lanes(b.lanes, b.loop,
+            lane_stepper(
+                [&](int l) __attribute__((always_inline)) {
+                  const auto lane = static_cast<std::size_t>(l);
+                  const State& start = (*b.start)[lane];
+                  set_lane(l, &start, &b.kr_start[lane]);
+                  return LaneStart{.lambda = start.lambda, .t = start.t};
+                },
+                [&](bool, const Lanes&) __attribute__((always_inline)) {
+                  const Lanes lambda = kr_alpha_step_lanes(rows, uniform, velocity);
+                  std::swap(rows.u, rows.u_next);
+                  return lambda;
+                },
+                [&]() __attribute__((always_inline)) { return velocity; },
+                [&]() __attribute__((always_inline)) {
+                  return kr_alpha_energy_lanes(*b.mass, *b.stiffness, rows);
+                },
+                [&](int l) __attribute__((always_inline)) { set_lane(l, nullptr, nullptr); }));
+}
+
+// Whether a tridiagonal matrix's off-diagonals are one value, lower = upper, and its interior
+// diagonal one value (the rod's).
+bool uniform_symmetric(const Tridiagonal& a) {
+  const Eigen::Index n = a.size();
+  for (Eigen::Index i = 1; i < n; ++i) {
+    if (a.lower[i] != a.lower[1] || a.upper[i - 1] != a.lower[1]) return false;
+  }
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    if (a.diag[i] != a.diag[1]) return false;
+  }
+  return true;
+}
+
+// Lane l of a LaneDiagonals from a uniform symmetric matrix.
+void set_diagonals(LaneDiagonals& d, int l, const Tridiagonal& a) {
+  const Eigen::Index n = a.size();
+  d.first.set(l, a.diag[0]);
+  d.interior.set(l, n > 2 ? a.diag[1] : 0.0);
+  d.last.set(l, a.diag[n - 1]);
+  d.off.set(l, n > 1 ? a.lower[1] : 0.0);
+}
+
+// Lane l of a factorisation's rows.
+void set_factors(FactorRows& rows, int l, const TridiagonalFactorization& f) {
+  const Eigen::VectorXd& upper = f.upper_ratios();
+  const Eigen::Index n = f.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    rows.inverse_pivot[i].set(l, f.inverse_pivots()[i]);
+    rows.minus_lower_ratio[i].set(l, -f.lower_ratios()[i]);
+    rows.minus_upper_ratio[i].set(l, -upper[i]);
+    // As TridiagonalFactorization::factor forms it.
+    rows.upper_ratio2[i].set(l, i + 2 < n ? upper[i] * upper[i + 1] : 0.0);
+  }
+}
+
+}  // namespace
+
+bool kr_alpha_batchable(const RodScene& scene, const MethodParams& method) {
+  // Damping adds a product with C to each half of the right-hand side: damped runs go through
+  // simulate().
+  return std::holds_alternative<KrAlphaParams>(method) && scene.rayleigh_mass == 0.0 &&
+         scene.rayleigh_stiffness == 0.0;
+}
+
+void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
+                             std::span<const MethodParams> methods, const RunOptions& options,
+                             std::vector<LaneBlock>& storage,
+                             std::array<State, kBatchLanes>& starts,
+                             std::array<ContactTrace, kBatchLanes>& traces,
+                             std::span<RunSummary> summaries) {
+  const auto start = std::chrono::steady_clock::now();
+  const int count = static_cast<int>(scenes.size());
+  SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
+  const Eigen::Index n = system.size();
+  const double dt = derive(scenes[0]).time_step;
+
+  constexpr int kArrays = 21;
+  storage.assign(static_cast<std::size_t>(kArrays * n), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
+  const auto take = [&] {
+    Lanes* p = block;
+    block += n;
+    return p;
+  };
+  KrBatch b{};
+  KrRows& rows = b.rows;
+  rows.n = n;
+  for (FactorRows* f : {&rows.mass, &rows.d, &rows.e}) {
+    f->inverse_pivot = take();
+    f->minus_lower_ratio = take();
+    f->minus_upper_ratio = take();
+    f->upper_ratio2 = take();
+  }
+  rows.u = take(), rows.u_next = take(), rows.v_hat = take(), rows.a = take();
+  rows.r = take(), rows.y = take(), rows.w = take();
+  rows.a_response = take(), rows.w_response = take();
+  rows.gap = splat(kInf);  // unused lanes never touch a wall
+  rows.dt = splat(dt);
+  b.mass = &system.mass;
+  b.stiffness = &system.stiffness;
+  b.start = &starts;
+  b.loop = {.area = scenes[0].area,
+            .dt = dt,
+            .energy_check_interval = options.energy_check_interval,
+            .energy_growth_limit = options.energy_growth_limit};
+
+  // Every lane prepared first: the start changes a lane's start state (the contact at the start
+  // corrects a), which a later lane of the same velocity would otherwise copy (prepare_lane).
+  std::array<bool, kBatchLanes> prepared{};
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    prepared[lane] =
+        prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
+  }
+  // M's factorisation is every lane's; the kernel's rows are checked, not assumed (never otherwise
+  // on a RodScene).
+  TridiagonalFactorization mass;
+  const bool mass_factored = mass.factor(system.mass);
+  const bool uniform = uniform_symmetric(system.mass) && uniform_symmetric(system.stiffness) &&
+                       system.contact_dof == n - 1 && n >= 2;
+  bool any = false;
+  for (int l = 0; l < count; ++l) {
+    const auto lane = static_cast<std::size_t>(l);
+    if (!prepared[lane]) continue;
+    LaneRun& run = b.lanes[lane];
+    RunSummary& summary = summaries[lane];
+    const auto fail = [&](const std::string& message) {
+      summary.status = RunStatus::failed;
+      summary.message = message;
+      run = LaneRun{};
+    };
+    if (!uniform) {
+      fail("batched kernel: the mass or the stiffness is not uniform along the rod");
+      continue;
+    }
+    if (!mass_factored) {
+      fail("kr-alpha: singular mass matrix");
+      continue;
+    }
+    // KrAlphaExplicit::initialize, by its expressions: the matrices D and E and their
+    // factorisations.
+    const KrAlphaCoefficients c = kr_alpha_coefficients(std::get<KrAlphaParams>(methods[lane]));
+    system.gap = scenes[lane].gap;
+    const double c_weight = c.gamma * dt, k_weight = c.beta * dt * dt;
+    const Tridiagonal d_matrix = system.mass.combined(1.0, system.damping, c_weight)
+                                     .combined(1.0, system.stiffness, k_weight);
+    const Tridiagonal e_matrix =
+        system.mass.combined(1.0 - c.alpha_m, system.damping, (1.0 - c.alpha_f) * c_weight)
+            .combined(1.0, system.stiffness, (1.0 - c.alpha_f) * k_weight);
+    TridiagonalFactorization d, e;
+    if (!d.factor(d_matrix) || !e.factor(e_matrix)) {
+      fail("kr-alpha: singular matrix M + gamma*dt*C + beta*dt^2*K");
+      continue;
+    }
+    if (!uniform_symmetric(d_matrix)) {
+      fail("batched kernel: the mass or the stiffness is not uniform along the rod");
+      continue;
+    }
+    // The responses to a unit force on the contact dof (KrAlphaExplicit::respond): the start's
+    // w = D⁻¹·f, the step's a = E⁻¹·D·M⁻¹·f and w = D⁻¹·M·a.
+    const Eigen::Index contact = system.contact_dof;
+    Eigen::VectorXd force = Eigen::VectorXd::Zero(n);
+    force[contact] = 1.0;
+    Eigen::VectorXd start_a = force;
+    mass.solve_in_place(start_a);
+    Eigen::VectorXd start_w = force;
+    d.solve_in_place(start_w);
+    Eigen::VectorXd step_a = force;
+    mass.solve_in_place(step_a);
+    Eigen::VectorXd y(n);
+    d_matrix.multiply(step_a, y);
+    e.solve_in_place(y);
+    step_a = y;
+    Eigen::VectorXd step_w(n);
+    system.mass.multiply(step_a, step_w);
+    d.solve_in_place(step_w);
+
+    // The start: α1·a₀, u₂ = u₀ + Δt·v₀ + Δt²/2·α1·a₀ with the contact at the start
+    // (KrAlphaExplicit::enforce, single wall), v̂₀ = v₀ − γΔt·α1·a₀.
+    State& state = starts[lane];
+    Eigen::VectorXd w(n);
+    system.mass.multiply(state.a, w);
+    d.solve_in_place(w);
+    const double start_scale = 0.5 * dt * dt;
+    KrStart& kr = b.kr_start[lane];
+    kr.u_next = state.u + dt * state.v + start_scale * w;
+    state.lambda = 0.0;
+    if (system.has_contact() && kr.u_next[contact] > system.gap) {
+      const double s = start_scale;
+      const double lambda = (kr.u_next[contact] - system.gap) / (s * start_w[contact]);
+      state.a -= lambda * start_a;
+      w -= lambda * start_w;
+      kr.u_next -= (s * lambda) * start_w;
+      kr.u_next[contact] = system.gap;
+      state.lambda = lambda;
+    }
+    const Eigen::VectorXd v_hat = state.v - (c.gamma * dt) * w;
+    // Advanced by the first step's v̂ += Δt·w (KrRows).
+    kr.v_hat = v_hat + dt * w;
+
+    // The lane's constants, by KrAlphaExplicit::step's expressions.
+    const double scale = dt * dt * (0.5 + c.gamma);
+    rows.minus_af.set(l, -c.alpha_f);
+    rows.minus_rest.set(l, -(1.0 - c.alpha_f));
+    rows.scale.set(l, scale);
+    rows.lead.set(l, c.gamma * dt);
+    rows.contact_denominator.set(l, scale * step_w[contact]);
+    rows.gap.set(l, system.has_contact() ? system.gap : kInf);
+    set_factors(rows.mass, l, mass);
+    set_factors(rows.d, l, d);
+    set_factors(rows.e, l, e);
+    set_diagonals(rows.stiffness, l, system.stiffness);
+    set_diagonals(rows.mass_matrix, l, system.mass);
+    set_diagonals(rows.d_matrix, l, d_matrix);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      rows.a_response[i].set(l, step_a[i]);
+      rows.w_response[i].set(l, step_w[i]);
+    }
+    any = true;
+  }
+  if (any) {
+    // The rows of one value in every lane: within [1, n − 2) (the ends and the row before the last
+    // are handled apart), beginning where every factor has reached the value of the row before
+    // them.
+    rows.uniform_begin = rows.uniform_end = 1;
+    if (n >= 4) {
+      rows.uniform_end = n - 2;
+      const Eigen::Index ref = n - 3;
+      const auto same = [&](const Lanes* x, Eigen::Index i) {  // bit for bit: −0 is not 0
+        for (int l = 0; l < kBatchLanes; ++l) {
+          if (std::bit_cast<std::uint64_t>(x[i][l]) != std::bit_cast<std::uint64_t>(x[ref][l])) {
+            return false;
+          }
+        }
+        return true;
+      };
+      const auto same_row = [&](Eigen::Index i) {
+        for (const FactorRows* f : {&rows.mass, &rows.d, &rows.e}) {
+          if (!same(f->inverse_pivot, i) || !same(f->minus_lower_ratio, i) ||
+              !same(f->minus_upper_ratio, i) || !same(f->upper_ratio2, i)) {
+            return false;
+          }
+        }
+        return true;
+      };
+      rows.uniform_begin = ref;
+      while (rows.uniform_begin > 1 && same_row(rows.uniform_begin - 1)) --rows.uniform_begin;
+    }
+    run_kr_alpha_batch(b);
+  }
+  finish_lanes(count, start, traces, summaries);
+}
+
+}  // namespace impactid
