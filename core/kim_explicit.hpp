@@ -2,7 +2,13 @@
 // for structural dynamics and various dynamic problems", Int. J. Numer. Methods Eng. 120 (2019)
 // 1–28, doi:10.1002/nme.6098; formulas, range of p and stability limit at KimExplicitParams,
 // core/method.hpp) on the tridiagonal systems (the rod, scenes of bodies, a model of tridiagonal
-// matrices), with the three contact laws of core/contact_treatment.hpp. This is not the seed
+// matrices: KimExplicit) and on a user's model of sparse matrices (core/sparse_system.hpp:
+// SparseKimExplicit), with the three contact laws of core/contact_treatment.hpp. Both are one
+// template over the stage contact (core/explicit_stage_contact.hpp, core/
+// sparse_explicit_stage_contact.hpp), so they step by the same formulas and contact conventions;
+// on a sparse model the constraints are always a list, M is factored once per run by
+// core/sparse_factorization.hpp (entry by entry when lumped), and a stage's force acts through
+// one more solve with M instead of stored columns. This is not the seed
 // paper's ref. 17 (Kim, Engineering Structures 195 (2019) 358–372, parameter ρ_b): that scheme's
 // formulas were not available to us; this one is the same author's scheme of the same year, as
 // Kratos implements it.
@@ -51,11 +57,9 @@
 // the springs' compliances (core/explicit_stage_contact.hpp), counted in the run summary.
 // Neither snaps a node onto its wall.
 //
-// Not offered (the run is refused with a message, core/simulation.cpp): a model of sparse
-// matrices (it would need a sparse factorisation of M).
-//
 // Per step: two solves with the factorised M (diagonal for a lumped mass), two products with K
-// (and with C when damped), O(n) vector work, no allocation once sized (initialize sizes all).
+// (and with C when damped), O(n) vector work (on a sparse model, O(nnz) products, and one more
+// solve per stage problem whose contact pushes), no allocation once sized (initialize sizes all).
 //
 // Thread safety: one object per thread.
 #pragma once
@@ -64,23 +68,28 @@
 #include "core/explicit_stage_contact.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
+#include "core/sparse_explicit_stage_contact.hpp"
+#include "core/sparse_system.hpp"
 #include "core/state.hpp"
 
 namespace impactid {
 
-class KimExplicit {
+/// The scheme on a `System` (SecondOrderSystem or SparseSystem) whose stages' contact is a
+/// `StageContact` (ExplicitStageContact or SparseExplicitStageContact); the aliases below.
+template <class StageContact, class System>
+class KimScheme {
  public:
   /// Factors M and fixes the first stage's displacement u_p = u₀ + pΔt·v₀ + (pΔt)²/2·a₀ from
   /// `start` (a₀ consistent), with the contact at the start (the header): start.a and its
   /// multipliers (lambda, far_lambda or multipliers) then include that force. False if M is
-  /// singular.
+  /// singular (on a sparse model not positive definite: stage_contact().failure() says where).
   /// `contact` says how the constraints are enforced (the header; default Lagrange).
-  bool initialize(const SecondOrderSystem& system, const KimExplicitCoefficients& coefficients,
-                  double dt, State& start, const ContactPenalties& contact = {});
+  bool initialize(const System& system, const KimExplicitCoefficients& coefficients, double dt,
+                  State& start, const ContactPenalties& contact = {});
 
   /// Advances state from t to t + Δt: u₁, v₁, the acceleration a₁ of the second stage (at ũ₁) and
   /// its multipliers λ₁. Returns true if a constraint pushes at t + Δt.
-  bool step(const SecondOrderSystem& system, State& state);
+  bool step(const System& system, State& state);
 
   /// The first stage of the last step: u_p, the predicted v₀ + pΔt·a₀, a_p, λ_p, t + pΔt.
   const State& substep_state() const { return sub_; }
@@ -93,6 +102,7 @@ class KimExplicit {
   /// Augmented-Lagrangian iterations since initialize(), and the stage problems that hit the cap.
   long contact_iterations() const { return contact_.contact_iterations(); }
   long unconverged_contact_steps() const { return contact_.unconverged_contact_steps(); }
+  const StageContact& stage_contact() const { return contact_; }
 
  private:
   static void clear_multipliers(State& at);
@@ -107,12 +117,15 @@ class KimExplicit {
   double dt_ = 0.0;
   // M, the stable step and the contact laws; the problems of the start, of stage 1, of the
   // sample and of the next force point, scales (pΔt)²/2, s₁, s_u and s_n.
-  ExplicitStageContact contact_;
+  StageContact contact_;
   StageProblem start_, first_, sample_, next_;
   State sub_;                                  // the first stage: at t + pΔt
   Eigen::VectorXd a0_;                         // a₀ of the step
   Eigen::VectorXd u_predicted_, v_predicted_;  // ũ₁, ṽ₁
   Eigen::VectorXd u_next_;                     // u_p of the next step, fixed by the last stage
 };
+
+using KimExplicit = KimScheme<ExplicitStageContact, SecondOrderSystem>;
+using SparseKimExplicit = KimScheme<SparseExplicitStageContact, SparseSystem>;
 
 }  // namespace impactid

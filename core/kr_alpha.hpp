@@ -50,8 +50,11 @@
 // increment's problem above with the springs' compliances, (s·G·W + diag(1/k))·λ = g_next +
 // diag(1/k)·λ_j, to the tolerance or the cap, counted in the run summary; the node is not snapped.
 //
-// Not offered (the run is refused with a message, core/simulation.cpp): a model of sparse matrices
-// (it would need sparse factorisations of M, D and E), and penalty contact. An explicit penalty
+// A model of sparse matrices runs on core/sparse_kr_alpha.hpp: the same formulas and contact
+// conventions, with M, D and E factored by core/sparse_factorization.hpp.
+//
+// Not offered (the run is refused with a message, core/simulation.cpp): penalty contact. An
+// explicit penalty
 // (the spring of the sample's penetration in its equilibrium, as the other explicit methods',
 // core/explicit_stage_contact.hpp) acts outside the model-based matrices α1, α3 that make the
 // method unconditionally stable: its stable step is then set by the springs through α's

@@ -2,9 +2,11 @@
 
 namespace impactid {
 
-bool NohBatheExplicit::initialize(const SecondOrderSystem& system,
-                                  const NohBatheCoefficients& coefficients, double dt, State& start,
-                                  const ContactPenalties& contact) {
+template <class StageContact, class System>
+bool NohBatheScheme<StageContact, System>::initialize(const System& system,
+                                                      const NohBatheCoefficients& coefficients,
+                                                      double dt, State& start,
+                                                      const ContactPenalties& contact) {
   c_ = coefficients;
   dt_ = dt;
   const double p = c_.p;
@@ -21,7 +23,8 @@ bool NohBatheExplicit::initialize(const SecondOrderSystem& system,
   return true;
 }
 
-bool NohBatheExplicit::step(const SecondOrderSystem& system, State& state) {
+template <class StageContact, class System>
+bool NohBatheScheme<StageContact, System>::step(const System& system, State& state) {
   const Eigen::Index n = system.size();
   const double p = c_.p, dt = dt_;
   const double first = p * dt, second = (1.0 - p) * dt;
@@ -61,5 +64,8 @@ bool NohBatheExplicit::step(const SecondOrderSystem& system, State& state) {
   state.t += dt;
   return pushing;
 }
+
+template class NohBatheScheme<ExplicitStageContact, SecondOrderSystem>;
+template class NohBatheScheme<SparseExplicitStageContact, SparseSystem>;
 
 }  // namespace impactid

@@ -2,7 +2,13 @@
 // analysis of wave propagations", Computers & Structures 129:178–193,
 // doi:10.1016/j.compstruc.2013.06.007; formulas, range of p and stability limit at NohBatheParams,
 // core/method.hpp) on the tridiagonal systems (the rod, scenes of bodies, a model of tridiagonal
-// matrices), with the three contact laws of core/contact_treatment.hpp.
+// matrices: NohBatheExplicit) and on a user's model of sparse matrices (core/sparse_system.hpp:
+// SparseNohBatheExplicit), with the three contact laws of core/contact_treatment.hpp. Both are one
+// template over the stage contact (core/explicit_stage_contact.hpp, core/
+// sparse_explicit_stage_contact.hpp), so they step by the same formulas and contact conventions;
+// on a sparse model the constraints are always a list, M is factored once per run by
+// core/sparse_factorization.hpp (entry by entry when lumped), and a stage's force acts through
+// one more solve with M instead of stored columns.
 //
 // Contact (Lagrange multipliers, the default): a forward increment at each sub-step, as central
 // difference's (Carpenter, Taylor & Katona 1991, core/central_difference.hpp). The acceleration a
@@ -43,11 +49,9 @@
 // (core/explicit_stage_contact.hpp), counted in the run summary. Neither snaps a node onto its
 // wall.
 //
-// Not offered (the run is refused with a message, core/simulation.cpp): a model of sparse
-// matrices (it would need a sparse factorisation of M).
-//
 // Per step: two solves with the factorised M (diagonal for a lumped mass), two products with K
-// (and with C when damped), O(n) vector work, no allocation once sized (initialize sizes all).
+// (and with C when damped), O(n) vector work (on a sparse model, O(nnz) products, and one more
+// solve per sub-step whose contact pushes), no allocation once sized (initialize sizes all).
 //
 // Thread safety: one object per thread.
 #pragma once
@@ -56,23 +60,28 @@
 #include "core/explicit_stage_contact.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
+#include "core/sparse_explicit_stage_contact.hpp"
+#include "core/sparse_system.hpp"
 #include "core/state.hpp"
 
 namespace impactid {
 
-class NohBatheExplicit {
+/// The scheme on a `System` (SecondOrderSystem or SparseSystem) whose stages' contact is a
+/// `StageContact` (ExplicitStageContact or SparseExplicitStageContact); the aliases below.
+template <class StageContact, class System>
+class NohBatheScheme {
  public:
   /// Factors M and fixes the first sub-step's displacement u_p = u₀ + pΔt·v₀ + (pΔt)²/2·a₀ from
   /// `start` (a₀ consistent), with the contact at the start (the header): start.a and its
   /// multipliers (lambda, far_lambda or multipliers) then include that force. False if M is
-  /// singular.
+  /// singular (on a sparse model not positive definite: stage_contact().failure() says where).
   /// `contact` says how the constraints are enforced (the header; default Lagrange).
-  bool initialize(const SecondOrderSystem& system, const NohBatheCoefficients& coefficients,
-                  double dt, State& start, const ContactPenalties& contact = {});
+  bool initialize(const System& system, const NohBatheCoefficients& coefficients, double dt,
+                  State& start, const ContactPenalties& contact = {});
 
   /// Advances state from t to t + Δt (u, v, a and the multipliers of the equilibrium at t + Δt).
   /// Returns true if a constraint pushes at t + Δt.
-  bool step(const SecondOrderSystem& system, State& state);
+  bool step(const System& system, State& state);
 
   /// The state at t + pΔt of the last step (u_p, v_p, a_p, its multipliers, t + pΔt).
   const State& substep_state() const { return sub_; }
@@ -85,17 +94,21 @@ class NohBatheExplicit {
   /// Augmented-Lagrangian iterations since initialize(), and the sub-steps that hit the cap.
   long contact_iterations() const { return contact_.contact_iterations(); }
   long unconverged_contact_steps() const { return contact_.unconverged_contact_steps(); }
+  const StageContact& stage_contact() const { return contact_; }
 
  private:
   NohBatheCoefficients c_{};
   double dt_ = 0.0;
   // M, the stable step and the contact laws; the problems of the start and of each sub-step,
   // scales (pΔt)²/2, c₁ and c₂.
-  ExplicitStageContact contact_;
+  StageContact contact_;
   StageProblem start_, first_, second_;
   State sub_;               // the state at t + pΔt
   Eigen::VectorXd u_next_;  // the displacement of the next sub-step point, fixed by the last
   Eigen::VectorXd scratch_;
 };
+
+using NohBatheExplicit = NohBatheScheme<ExplicitStageContact, SecondOrderSystem>;
+using SparseNohBatheExplicit = NohBatheScheme<SparseExplicitStageContact, SparseSystem>;
 
 }  // namespace impactid

@@ -230,16 +230,27 @@ bool run_multistep(const System& system, const MethodParams& method, double dt,
   return false;
 }
 
-// The Noh–Bathe explicit scheme (core/noh_bathe.hpp): its stable step (with the penalty's springs)
-// is reported, and a step above it is flagged before the run starts (the run still goes, as
-// central difference's does: the energy bound then stops it).
-template <class Run>
-void run_noh_bathe(const SecondOrderSystem& system, const NohBatheParams& params, double dt,
-                   const ContactPenalties& contact, NohBatheExplicit& stepper, State& state,
+// Why an explicit stage scheme could not start: on a tridiagonal system only a singular M; on a
+// sparse model its stage contact names the pivot.
+template <class Stepper>
+std::string mass_failure(const Stepper& stepper) {
+  if constexpr (requires { stepper.stage_contact().failure(); }) {
+    return stepper.stage_contact().failure();
+  } else {
+    return "singular mass matrix";
+  }
+}
+
+// The Noh–Bathe explicit scheme (core/noh_bathe.hpp) on either kind of system: its stable step
+// (with the penalty's springs) is reported, and a step above it is flagged before the run starts
+// (the run still goes, as central difference's does: the energy bound then stops it).
+template <class System, class Stepper, class Run>
+void run_noh_bathe(const System& system, const NohBatheParams& params, double dt,
+                   const ContactPenalties& contact, Stepper& stepper, State& state,
                    RunSummary& summary, Run&& run) {
   if (!stepper.initialize(system, noh_bathe_coefficients(params), dt, state, contact)) {
     summary.status = RunStatus::failed;
-    summary.message = "noh-bathe: singular mass matrix";
+    summary.message = "noh-bathe: " + mass_failure(stepper);
     return;
   }
   summary.stable_dt = stepper.stable_step();
@@ -251,13 +262,13 @@ void run_noh_bathe(const SecondOrderSystem& system, const NohBatheParams& params
 
 // Kim's two-stage explicit scheme (core/kim_explicit.hpp): as Noh–Bathe's, its stable step reported
 // and a step above it flagged before the run starts.
-template <class Run>
-void run_kim_explicit(const SecondOrderSystem& system, const KimExplicitParams& params, double dt,
-                      const ContactPenalties& contact, KimExplicit& stepper, State& state,
+template <class System, class Stepper, class Run>
+void run_kim_explicit(const System& system, const KimExplicitParams& params, double dt,
+                      const ContactPenalties& contact, Stepper& stepper, State& state,
                       RunSummary& summary, Run&& run) {
   if (!stepper.initialize(system, kim_explicit_coefficients(params), dt, state, contact)) {
     summary.status = RunStatus::failed;
-    summary.message = "kim-explicit: singular mass matrix";
+    summary.message = "kim-explicit: " + mass_failure(stepper);
     return;
   }
   summary.stable_dt = stepper.stable_step();
@@ -270,9 +281,9 @@ void run_kim_explicit(const SecondOrderSystem& system, const KimExplicitParams& 
 // The KR-α explicit method (core/kr_alpha.hpp): Lagrange multipliers or the augmented Lagrangian
 // (not the penalty: the header says why); unconditionally stable, so there is no stable step to
 // report.
-template <class Run>
-void run_kr_alpha(const SecondOrderSystem& system, const KrAlphaParams& params, double dt,
-                  const ContactPenalties& contact, KrAlphaExplicit& stepper, State& state,
+template <class System, class Stepper, class Run>
+void run_kr_alpha(const System& system, const KrAlphaParams& params, double dt,
+                  const ContactPenalties& contact, Stepper& stepper, State& state,
                   RunSummary& summary, Run&& run) {
   if (contact.law == ContactLaw::penalty) {
     summary.status = RunStatus::failed;
@@ -369,25 +380,16 @@ void run_sparse_method(const SparseSystem& system, const MethodParams& method, d
                     run)) {
     return;
   }
-  if (std::holds_alternative<NohBatheParams>(method)) {
-    summary.status = RunStatus::failed;
-    summary.message =
-        "noh-bathe: a model of sparse matrices is not available (the scheme runs on tridiagonal "
-        "systems: the rod, scenes of bodies, models of tridiagonal matrices)";
+  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&method)) {
+    run_noh_bathe(system, *noh_bathe, dt, contact, ws.sparse_noh_bathe, state, summary, run);
     return;
   }
-  if (std::holds_alternative<KimExplicitParams>(method)) {
-    summary.status = RunStatus::failed;
-    summary.message =
-        "kim-explicit: a model of sparse matrices is not available (the scheme runs on "
-        "tridiagonal systems: the rod, scenes of bodies, models of tridiagonal matrices)";
+  if (const auto* kim = std::get_if<KimExplicitParams>(&method)) {
+    run_kim_explicit(system, *kim, dt, contact, ws.sparse_kim_explicit, state, summary, run);
     return;
   }
-  if (std::holds_alternative<KrAlphaParams>(method)) {
-    summary.status = RunStatus::failed;
-    summary.message =
-        "kr-alpha: a model of sparse matrices is not available (the method runs on tridiagonal "
-        "systems: the rod, scenes of bodies, models of tridiagonal matrices)";
+  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&method)) {
+    run_kr_alpha(system, *kr_alpha, dt, contact, ws.sparse_kr_alpha, state, summary, run);
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {

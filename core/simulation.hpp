@@ -25,6 +25,7 @@
 #include "core/scene_assembly.hpp"
 #include "core/scene_reference.hpp"
 #include "core/sparse_integrators.hpp"
+#include "core/sparse_kr_alpha.hpp"
 #include "core/state.hpp"
 #include "core/wilson_theta.hpp"
 
@@ -54,8 +55,8 @@ struct RunOptions {
   /// than computed; the results differ from stepped ones by round-off only.
   bool skip_free_flight = true;
   /// How every contact is enforced (core/contact_treatment.hpp): Lagrange multipliers by
-  /// default; penalty and augmented Lagrangian for scenes of tridiagonal systems (the rod, scenes
-  /// of bodies, a model of tridiagonal matrices), not yet for a model of sparse matrices.
+  /// default; penalty and augmented Lagrangian on every scene, for the methods that take them
+  /// (KR-α refuses the penalty).
   ContactTreatment contact;
 };
 
@@ -73,9 +74,12 @@ struct SimulationWorkspace {
   Houbolt<SparseImplicitIntegrator, SparseSystem> sparse_houbolt;
   WilsonTheta<ImplicitIntegrator, SecondOrderSystem> wilson_theta;
   WilsonTheta<SparseImplicitIntegrator, SparseSystem> sparse_wilson_theta;
-  NohBatheExplicit noh_bathe;  ///< tridiagonal systems only
-  KimExplicit kim_explicit;    ///< tridiagonal systems only
-  KrAlphaExplicit kr_alpha;    ///< tridiagonal systems only
+  NohBatheExplicit noh_bathe;
+  SparseNohBatheExplicit sparse_noh_bathe;
+  KimExplicit kim_explicit;
+  SparseKimExplicit sparse_kim_explicit;
+  KrAlphaExplicit kr_alpha;
+  SparseKrAlphaExplicit sparse_kr_alpha;
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace (study/

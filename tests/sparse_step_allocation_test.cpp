@@ -17,6 +17,7 @@
 #include "core/noh_bathe.hpp"
 #include "core/scene_assembly.hpp"
 #include "core/sparse_integrators.hpp"
+#include "core/sparse_kr_alpha.hpp"
 #include "core/wilson_theta.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -149,9 +150,9 @@ TEST(SparseStep, HouboltAndWilsonThetaAllocateNothingOnTheBlock) {
   }
 }
 
-// The Noh–Bathe explicit step allocates nothing either (tridiagonal systems: it refuses sparse
-// ones), through the impact: the paper's rod, the rod between two walls and a scene of bodies
-// (the constraint list's complementarity problem).
+// The Noh–Bathe explicit step allocates nothing either (on the tridiagonal systems here; on the
+// block below), through the impact: the paper's rod, the rod between two walls and a scene of
+// bodies (the constraint list's complementarity problem).
 TEST(SparseStep, NohBatheAllocatesNothing) {
   RodScene two_walls;
   two_walls.far_gap = 0.005;
@@ -229,8 +230,9 @@ TEST(SparseStep, KimExplicitAllocatesNothing) {
   }
 }
 
-// The KR-α explicit step allocates nothing either (tridiagonal systems: it refuses sparse ones):
-// its three solves and the contact on the same three scenes, and a consistent mass with damping.
+// The KR-α explicit step allocates nothing either (on the tridiagonal systems here; on the block
+// below): its three solves and the contact on the same three scenes, and a consistent mass with
+// damping.
 TEST(SparseStep, KrAlphaAllocatesNothing) {
   RodScene two_walls;
   two_walls.far_gap = 0.005;
@@ -265,6 +267,67 @@ TEST(SparseStep, KrAlphaAllocatesNothing) {
       counting = false;
       EXPECT_EQ(allocations.load(), 0) << to_string(law);
       EXPECT_GT(largest, 0.0) << to_string(law);  // the run did reach a wall
+    }
+  }
+}
+
+// The explicit schemes with stages or model-based matrices on the block (a sparse model: M's
+// factorisation, the 41 contacts' complementarity problem, the solves a contact force takes),
+// through the impact, under each law they take, with the lumped mass: Noh–Bathe, Kim's scheme at
+// both ends of its range, KR-α.
+TEST(SparseStep, SparseExplicitSchemesAllocateNothingOnTheBlock) {
+  const Simulation sim = std::get<Simulation>(build(
+      load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
+  const AssembledScene scene = assemble(*sim.model);
+  ASSERT_TRUE(scene.sparse);
+  const SparseSystem& system = *scene.sparse;
+  for (const ContactLaw law :
+       {ContactLaw::lagrange, ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
+    const ContactPenalties contact = resolve_contact({.law = law}, system);
+    for (int method = 0; method < 4; ++method) {
+      if (method == 3 && law == ContactLaw::penalty) continue;  // KR-α refuses it
+      State s;
+      s.u = Eigen::VectorXd::Zero(system.size());
+      s.v = scene.initial_velocity;
+      s.a = Eigen::VectorXd::Zero(system.size());
+      s.multipliers = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(system.constraints.size()));
+      SparseNohBatheExplicit noh_bathe;
+      SparseKimExplicit kim;
+      SparseKrAlphaExplicit kr_alpha;
+      switch (method) {
+        case 0:
+          ASSERT_TRUE(
+              noh_bathe.initialize(system, noh_bathe_coefficients({}), scene.dt, s, contact));
+          break;
+        case 1:
+        case 2:
+          ASSERT_TRUE(kim.initialize(
+              system, kim_explicit_coefficients({.p = method == 1 ? 0.5 : 1.0 / 3.0}), scene.dt, s,
+              contact));
+          break;
+        default:
+          ASSERT_TRUE(kr_alpha.initialize(system, kr_alpha_coefficients({}), scene.dt, s, contact))
+              << kr_alpha.failure();
+      }
+      const auto step = [&] {
+        if (method == 0) {
+          noh_bathe.step(system, s);
+        } else if (method < 3) {
+          kim.step(system, s);
+        } else {
+          kr_alpha.step(system, s);
+        }
+      };
+      allocations = 0;
+      counting = true;
+      double largest = 0.0;
+      for (long i = 0; i < scene.step_count; ++i) {
+        step();
+        largest = std::max(largest, s.multipliers.maxCoeff());
+      }
+      counting = false;
+      EXPECT_EQ(allocations.load(), 0) << method << " " << to_string(law);
+      EXPECT_GT(largest, 0.0) << method << " " << to_string(law);  // the run did reach the plane
     }
   }
 }
