@@ -647,7 +647,7 @@ template <class Scheme>
                 [&](int l) __attribute__((always_inline)) { set_lane(l, nullptr); }));
 }
 
-// simulate_explicit_batch for an explicit stage scheme (Scheme: NohBatheScheme, KimScheme), with
+// simulate_explicit_batch for an explicit stage scheme (Scheme: NohBatheLanes, KimLanes), with
 // the workspace's storage, start states and traces. M's factorisation and M⁻¹·e_c
 // (ExplicitStageContact::initialize's) are every lane's: one rod. Each lane is started as
 // simulate() starts it (run_noh_bathe, run_kim_explicit in core/simulation.cpp): the scheme's
@@ -894,7 +894,7 @@ template <bool kAnyContact>
 }
 
 // The Noh–Bathe scheme for simulate_stage_batch.
-struct NohBatheScheme {
+struct NohBatheLanes {
   using Params = NohBatheParams;
   using Stepper = NohBatheExplicit;
   using Rows = NohBatheRows;
@@ -930,9 +930,9 @@ struct NohBatheScheme {
   static void run(StageBatch<Rows>& b);  // the target-cloned loop, below
 };
 IMPACTID_SIMD_VERSIONS void run_noh_bathe_batch(StageBatch<NohBatheRows>& b) {
-  run_stage_lanes<NohBatheScheme>(b);
+  run_stage_lanes<NohBatheLanes>(b);
 }
-void NohBatheScheme::run(StageBatch<Rows>& b) {
+void NohBatheLanes::run(StageBatch<Rows>& b) {
   run_noh_bathe_batch(b);
 }
 
@@ -1120,7 +1120,7 @@ template <bool kAnyContact>
 }
 
 // Kim's scheme for simulate_stage_batch.
-struct KimScheme {
+struct KimLanes {
   using Params = KimExplicitParams;
   using Stepper = KimExplicit;
   using Rows = KimRows;
@@ -1167,9 +1167,9 @@ struct KimScheme {
   static void run(StageBatch<Rows>& b);  // the target-cloned loop, below
 };
 IMPACTID_SIMD_VERSIONS void run_kim_batch(StageBatch<KimRows>& b) {
-  run_stage_lanes<KimScheme>(b);
+  run_stage_lanes<KimLanes>(b);
 }
-void KimScheme::run(StageBatch<Rows>& b) {
+void KimLanes::run(StageBatch<Rows>& b) {
   run_kim_batch(b);
 }
 
@@ -1211,12 +1211,12 @@ void simulate_explicit_batch(std::span<const RodScene> scenes,
                          workspace.traces, summaries);
       return;
     case ExplicitBatchKind::noh_bathe:
-      simulate_stage_batch<NohBatheScheme>(scenes, methods, options, workspace.storage_,
-                                           workspace.start_, workspace.traces, summaries);
+      simulate_stage_batch<NohBatheLanes>(scenes, methods, options, workspace.storage_,
+                                          workspace.start_, workspace.traces, summaries);
       return;
     case ExplicitBatchKind::kim_explicit:
-      simulate_stage_batch<KimScheme>(scenes, methods, options, workspace.storage_,
-                                      workspace.start_, workspace.traces, summaries);
+      simulate_stage_batch<KimLanes>(scenes, methods, options, workspace.storage_, workspace.start_,
+                                     workspace.traces, summaries);
       return;
     case ExplicitBatchKind::none:
       break;
