@@ -54,12 +54,13 @@
 // conventions, with M, D and E factored by core/sparse_factorization.hpp.
 //
 // Not offered (the run is refused with a message, core/simulation.cpp): penalty contact. An
-// explicit penalty
-// (the spring of the sample's penetration in its equilibrium, as the other explicit methods',
-// core/explicit_stage_contact.hpp) acts outside the model-based matrices α1, α3 that make the
-// method unconditionally stable: its stable step is then set by the springs through α's
-// amplification, which core/stable_step.hpp's Gershgorin bound does not give, so a run above it
-// could not be flagged.
+// explicit penalty (the spring of the sample's penetration in its equilibrium, as the other
+// explicit methods', core/explicit_stage_contact.hpp) acts outside the model-based matrices α1,
+// α3 that make the method unconditionally stable: its stable step is then set by the springs
+// through α's amplification, which core/stable_step.hpp's Gershgorin bound does not give, so a
+// run above it could not be flagged. Putting the springs into α1, α3 does not mend it: held
+// closed, they freeze the contact node's response while open (it drifts, the energy grows); made
+// to follow the contact state, the method goes unstable (docs/methods.md, measured).
 //
 // Thread safety: one object per thread.
 #pragma once
