@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
-#include "core/implicit_integrator.hpp"  // solve_listed_augmented
 #include "core/stable_step.hpp"
 #include "core/two_wall_contact.hpp"
 
@@ -17,7 +17,6 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   dt_ = dt;
   t_ = initial.t;
   contact_ = contact;
-  iterations_ = unconverged_ = 0;
   const double bound = highest_frequency_squared_bound(system, contact);
   within_limit_ = within_explicit_limit(dt, bound);
   stable_step_ = std::isfinite(bound) ? 2.0 / std::sqrt(bound) : 0.0;
@@ -39,27 +38,14 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   u_previous_ = initial.u - dt * initial.v + (0.5 * dt * dt) * initial.a;
   u_next_.resize(n);
   scratch_.resize(n);
+  Eigen::MatrixXd delassus;
   set_up_constraints(system, factorization_, 1.0, constraint_influence_, constraint_rows_,
-                     delassus_);
-  violation_.resize(static_cast<Eigen::Index>(system.constraints.size()));
-  forces_.resize(violation_.size());
-  if (contact_.law == ContactLaw::augmented_lagrangian) {
-    const Eigen::Index m = violation_.size();
-    compliance_.resize(m);
-    for (Eigen::Index j = 0; j < m; ++j) {
-      compliance_[j] = 1.0 / contact_.listed[static_cast<std::size_t>(j)];
-    }
-    penalized_ = delassus_;
-    penalized_.diagonal() += compliance_;
-    shift_.resize(m);
-    shifted_.resize(m);
-  }
+                     delassus);
+  const auto m = static_cast<Eigen::Index>(system.constraints.size());
+  list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);
+  list_ = list_law_.problem(std::move(delassus));
+  forces_.resize(m);
   return true;
-}
-
-void CentralDifference::count(const ContactIterations& iterations) {
-  iterations_ += iterations.iterations;
-  if (!iterations.converged) ++unconverged_;
 }
 
 bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
@@ -85,26 +71,7 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
   if (system.has_constraint_list()) {
     const auto m = static_cast<int>(system.constraints.size());
     // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
-    const Eigen::VectorXd& u_checked = contact_.law == ContactLaw::penalty ? u_ : u_next_;
-    for (int j = 0; j < m; ++j) {
-      const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
-      double g = -con.gap;
-      if (con.plus >= 0) g += u_checked[con.plus];
-      if (con.minus >= 0) g -= u_checked[con.minus];
-      violation_[j] = g;
-    }
-    if (contact_.lagrange()) {
-      solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
-    } else if (contact_.law == ContactLaw::penalty) {
-      for (int j = 0; j < m; ++j) {
-        forces_[j] = contact_.listed[static_cast<std::size_t>(j)] * std::max(0.0, violation_[j]);
-      }
-    } else if (violation_.maxCoeff() > 0.0) {
-      count(solve_listed_augmented(delassus_, penalized_, compliance_, violation_, contact_,
-                                   forces_, shift_, shifted_));
-    } else {
-      forces_.setZero();
-    }
+    list_law_.forward_increment(system.constraints, list_, u_next_, u_, forces_);
     apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, u_next_);
     if (contact_.lagrange()) snap_walls(system.constraints, forces_, u_next_);
     at_t.multipliers = forces_;  // the same size: no allocation
@@ -125,7 +92,7 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
           u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
           contact_influence_[contact], far_influence_[far], far_influence_[contact],
           contact_influence_[far], 1.0 / contact_.main, 1.0 / contact_.far, contact_, iterations);
-      count(iterations);
+      list_law_.count(iterations);
     }
     if (forces.main > 0.0) u_next_ -= forces.main * contact_influence_;
     if (forces.far > 0.0) u_next_ += forces.far * far_influence_;
@@ -149,7 +116,7 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
       ContactIterations iterations;
       lambda = single_contact_force(u_next_[contact] - system.gap, contact_influence_[contact],
                                     1.0 / contact_.main, contact_, iterations);
-      count(iterations);
+      list_law_.count(iterations);
       u_next_ -= lambda * contact_influence_;
     }
   }

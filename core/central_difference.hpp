@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/constraint_list_law.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
@@ -81,8 +82,8 @@ class CentralDifference {
   /// springs; 0 when none can be certified (a mass that is not diagonal).
   double stable_step() const { return stable_step_; }
   /// As ImplicitIntegrator's: augmented-Lagrangian iterations, and steps that hit the cap.
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
   CdmVelocity velocity_ = CdmVelocity::central;
@@ -96,15 +97,11 @@ class CentralDifference {
   // The constraint list's columns, their non-zero rows, G·A⁻¹·Gᵀ and per-step scratch.
   Eigen::MatrixXd constraint_influence_;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
-  Eigen::MatrixXd delassus_;
-  Eigen::VectorXd violation_, forces_;
-  // The contact law (as ImplicitIntegrator's, with weight 1).
+  ConstraintListProblem list_;  // G·A⁻¹·Gᵀ (with the springs' compliances: penalty laws)
+  Eigen::VectorXd forces_;
   ContactPenalties contact_;
-  Eigen::VectorXd compliance_, shift_, shifted_;
-  Eigen::MatrixXd penalized_;
+  ConstraintListLaw list_law_;  // the list's law; counts every solve's Uzawa iterations
   double stable_step_ = 0.0;
-  long iterations_ = 0, unconverged_ = 0;
-  void count(const ContactIterations& iterations);
 };
 
 }  // namespace impactid

@@ -6,29 +6,27 @@
 
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
-#include "core/implicit_integrator.hpp"  // solve_listed_augmented
 #include "core/stable_step.hpp"
 #include "core/two_wall_contact.hpp"
 
 namespace impactid {
 
+StageStableStep stage_stable_step(double bound, double critical_omega, double dt) {
+  if (!std::isfinite(bound)) return {};
+  return {bound > 0.0 ? critical_omega / std::sqrt(bound) : std::numeric_limits<double>::infinity(),
+          dt * dt * bound <= critical_omega * critical_omega * (1.0 + 1e-12)};
+}
+
 bool ExplicitStageContact::initialize(const SecondOrderSystem& system,
                                       const ContactPenalties& contact, double critical_omega,
                                       double dt) {
   contact_ = contact;
-  iterations_ = unconverged_ = 0;
   main_ = far_ = 0.0;
-  // Ω_crit over the Gershgorin bound on ω_max, with the penalty's springs (+inf, nothing
-  // certified, for a mass that is not diagonal).
-  const double bound = highest_frequency_squared_bound(system, contact);
-  if (!std::isfinite(bound)) {
-    stable_step_ = 0.0;
-    within_limit_ = false;
-  } else {
-    stable_step_ =
-        bound > 0.0 ? critical_omega / std::sqrt(bound) : std::numeric_limits<double>::infinity();
-    within_limit_ = dt * dt * bound <= critical_omega * critical_omega * (1.0 + 1e-12);
-  }
+  // Ω_crit over the Gershgorin bound on ω_max, with the penalty's springs.
+  const StageStableStep stable =
+      stage_stable_step(highest_frequency_squared_bound(system, contact), critical_omega, dt);
+  stable_step_ = stable.step;
+  within_limit_ = stable.within;
 
   if (!mass_.factor(system.mass)) return false;
   contact_influence_ = mass_.inverse_column(system.contact_dof);
@@ -39,29 +37,14 @@ bool ExplicitStageContact::initialize(const SecondOrderSystem& system,
   }
   set_up_constraints(system, mass_, 1.0, constraint_influence_, constraint_rows_, delassus_);
   const auto m = static_cast<Eigen::Index>(system.constraints.size());
-  violation_.resize(m);
+  list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);
   forces_.setZero(m);
   scaled_forces_.resize(m);
-  if (contact_.law == ContactLaw::augmented_lagrangian) {
-    compliance_.resize(m);
-    for (Eigen::Index j = 0; j < m; ++j) {
-      compliance_[j] = 1.0 / contact_.listed[static_cast<std::size_t>(j)];
-    }
-    shift_.resize(m);
-    shifted_.resize(m);
-  }
   return true;
 }
 
 StageProblem ExplicitStageContact::problem(double scale) const {
-  StageProblem out;
-  out.scale = scale;
-  out.delassus = scale * delassus_;
-  if (contact_.law == ContactLaw::augmented_lagrangian) {
-    out.penalized = out.delassus;
-    out.penalized.diagonal() += compliance_;
-  }
-  return out;
+  return {scale, list_law_.problem(scale * delassus_)};
 }
 
 void ExplicitStageContact::solve_acceleration(const SecondOrderSystem& system,
@@ -74,11 +57,6 @@ void ExplicitStageContact::solve_acceleration(const SecondOrderSystem& system,
   mass_.solve_in_place(a);
 }
 
-void ExplicitStageContact::count(const ContactIterations& iterations) {
-  iterations_ += iterations.iterations;
-  if (!iterations.converged) ++unconverged_;
-}
-
 bool ExplicitStageContact::enforce(const SecondOrderSystem& system, const StageProblem& problem,
                                    Eigen::VectorXd& a, Eigen::VectorXd& next,
                                    const Eigen::VectorXd& at_u) {
@@ -87,30 +65,9 @@ bool ExplicitStageContact::enforce(const SecondOrderSystem& system, const StageP
   main_ = 0.0;
   far_ = 0.0;
   if (system.has_constraint_list()) {
-    const auto m = static_cast<int>(system.constraints.size());
-    // The penalty's violations are those of the stage's own displacement (its force is
-    // explicit); the others' those of the next.
-    const Eigen::VectorXd& checked = penalty ? at_u : next;
-    for (int j = 0; j < m; ++j) {
-      const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
-      double g = -con.gap;
-      if (con.plus >= 0) g += checked[con.plus];
-      if (con.minus >= 0) g -= checked[con.minus];
-      violation_[j] = g;
+    if (!list_law_.forward_increment(system.constraints, problem.list, next, at_u, forces_)) {
+      return false;
     }
-    if (contact_.lagrange()) {
-      solve_contact_lcp(problem.delassus.data(), violation_.data(), m, forces_.data());
-    } else if (penalty) {
-      for (int j = 0; j < m; ++j) {
-        forces_[j] = contact_.listed[static_cast<std::size_t>(j)] * std::max(0.0, violation_[j]);
-      }
-    } else if (violation_.maxCoeff() > 0.0) {
-      count(solve_listed_augmented(problem.delassus, problem.penalized, compliance_, violation_,
-                                   contact_, forces_, shift_, shifted_));
-    } else {
-      forces_.setZero();
-    }
-    if (!(forces_.size() > 0 && forces_.maxCoeff() > 0.0)) return false;
     apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, a);
     apply_last(system, scale, next);
     if (contact_.lagrange()) snap_walls(system.constraints, forces_, next);
@@ -135,7 +92,7 @@ bool ExplicitStageContact::enforce(const SecondOrderSystem& system, const StageP
                                   scale * contact_influence_[contact], scale * far_influence_[far],
                                   scale * far_influence_[contact], scale * contact_influence_[far],
                                   1.0 / contact_.main, 1.0 / contact_.far, contact_, iterations);
-      count(iterations);
+      list_law_.count(iterations);
     }
     main_ = forces.main;
     far_ = forces.far;
@@ -160,7 +117,7 @@ bool ExplicitStageContact::enforce(const SecondOrderSystem& system, const StageP
       ContactIterations iterations;
       main_ = single_contact_force(next[contact] - system.gap, scale * contact_influence_[contact],
                                    1.0 / contact_.main, contact_, iterations);
-      count(iterations);
+      list_law_.count(iterations);
     }
   }
   apply_last(system, 1.0, a);

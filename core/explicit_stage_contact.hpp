@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/constraint_list_law.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
@@ -37,13 +38,21 @@
 
 namespace impactid {
 
-/// One stage's forward-increment problem: its scale s and s·G·M⁻¹·Gᵀ, with the springs'
-/// compliances on the diagonal for the augmented Lagrangian.
+/// One stage's forward-increment problem: its scale s and the constraint list's s·G·M⁻¹·Gᵀ, with
+/// the springs' compliances on the diagonal for the penalty laws (core/constraint_list_law.hpp).
 struct StageProblem {
   double scale = 0.0;
-  Eigen::MatrixXd delassus;   // s·G·M⁻¹·Gᵀ of the constraint list (m × m)
-  Eigen::MatrixXd penalized;  // the same + diag(1/k); augmented-lagrangian only
+  ConstraintListProblem list;
 };
+
+/// The stable step of an explicit stage scheme: Ω_crit/ω_bound [s] with core/stable_step.hpp's
+/// bound ω_bound² on ω_max² (+inf for a mass that is not diagonal: then 0, nothing certified;
+/// 0: +inf, no frequency), and whether Δt is within it (up to a relative 1e-12).
+struct StageStableStep {
+  double step = 0.0;
+  bool within = false;
+};
+StageStableStep stage_stable_step(double bound, double critical_omega, double dt);
 
 class ExplicitStageContact {
  public:
@@ -80,12 +89,10 @@ class ExplicitStageContact {
   bool within_stability_limit() const { return within_limit_; }
   const ContactPenalties& law() const { return contact_; }
   /// Augmented-Lagrangian iterations since initialize(), and the stage problems that hit the cap.
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
-  void count(const ContactIterations& iterations);
-
   TridiagonalFactorization mass_;
   ContactPenalties contact_;
   double stable_step_ = 0.0;
@@ -96,10 +103,9 @@ class ExplicitStageContact {
   Eigen::MatrixXd constraint_influence_;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
   Eigen::MatrixXd delassus_;
-  Eigen::VectorXd violation_, forces_, scaled_forces_;
-  Eigen::VectorXd compliance_, shift_, shifted_;  // augmented-lagrangian (m)
+  Eigen::VectorXd forces_, scaled_forces_;
+  ConstraintListLaw list_law_;     // the list's law; counts every solve's Uzawa iterations
   double main_ = 0.0, far_ = 0.0;  // the last forces of the one- and two-wall contact
-  long iterations_ = 0, unconverged_ = 0;
 };
 
 }  // namespace impactid

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
@@ -16,7 +17,6 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   c_ = coefficients;
   dt_ = dt;
   contact_ = contact;
-  iterations_ = unconverged_ = 0;
   const double k_weight = (1.0 - c_.alpha_f) * c_.b1 * dt * dt;
   const double c_weight = (1.0 - c_.alpha_f) * c_.g1 * dt;
   Tridiagonal effective = system.mass.combined(1.0 - c_.alpha_m, system.stiffness, k_weight);
@@ -35,32 +35,21 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   u_predicted_.resize(n);
   v_predicted_.resize(n);
   rhs_.resize(n);
+  Eigen::MatrixXd delassus;
   set_up_constraints(system, factorization_, c_.b1 * dt * dt, constraint_influence_,
-                     constraint_rows_, delassus_);
+                     constraint_rows_, delassus);
   const auto m = static_cast<Eigen::Index>(system.constraints.size());
-  violation_.resize(m);
+  list_law_.initialize(contact_, m, PenaltyForm::solved_with_step, c_.contact_weight);
+  list_ = list_law_.problem(std::move(delassus));
   forces_.resize(m);
   if (!contact_.lagrange()) {
     // The compliance of the weighted force w·λ: a spring k acting through the weight w.
     const double w = c_.contact_weight;
     main_compliance_ = 1.0 / (w * contact_.main);
     far_compliance_ = 1.0 / (w * contact_.far);
-    compliance_.resize(m);
-    for (Eigen::Index j = 0; j < m; ++j) {
-      compliance_[j] = 1.0 / (w * contact_.listed[static_cast<std::size_t>(j)]);
-    }
-    penalized_ = delassus_;
-    penalized_.diagonal() += compliance_;
-    shift_.resize(m);
-    shifted_.resize(m);
   }
   gap_offsets_.setZero(std::max<Eigen::Index>(m, 2));
   return true;
-}
-
-void ImplicitIntegrator::count(const ContactIterations& iterations) {
-  iterations_ += iterations.iterations;
-  if (!iterations.converged) ++unconverged_;
 }
 
 IMPACTID_FMA_VERSIONS
@@ -150,7 +139,7 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   update(s);
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
   if (lambda > 0.0 && contact_.lagrange()) s.u[contact] = gap;
-  count(iterations);
+  list_law_.count(iterations);
   s.lambda = lambda;
   s.t += dt;
   return lambda > 0.0;
@@ -179,7 +168,7 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
     ContactIterations iterations;
     forces = two_wall_contact_forces(p_main, p_far, d_main, d_far, c_main_far, c_far_main,
                                      main_compliance_, far_compliance_, contact_, iterations);
-    count(iterations);
+    list_law_.count(iterations);
   }
   if (forces.far == 0.0 && contact == n - 1) {
     // The far wall idle: step()'s operations exactly, so that a far wall never reached changes
@@ -206,14 +195,15 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
   const double dt = dt_, k = c_.b1 * dt * dt;
   const auto m = static_cast<int>(system.constraints.size());
   // Violations of the contact-free prediction, with u_free formed as the single wall forms it.
+  Eigen::VectorXd& violation = list_law_.violation();
   for (int j = 0; j < m; ++j) {
     const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
     double g = -(con.gap + gap_offsets_[j]);
     if (con.plus >= 0) g += std::fma(k, rhs_[con.plus], u_predicted_[con.plus]);
     if (con.minus >= 0) g -= std::fma(k, rhs_[con.minus], u_predicted_[con.minus]);
-    violation_[j] = g;
+    violation[j] = g;
   }
-  solve_listed_contacts();
+  list_law_.solve(list_, forces_);
   apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, rhs_);
   update(s);
   bool active = false;
@@ -225,43 +215,6 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
   if (contact_.lagrange()) snap_walls(system.constraints, forces_, s.u, gap_offsets_);
   s.t += dt;
   return active;
-}
-
-void ImplicitIntegrator::solve_listed_contacts() {
-  const auto m = static_cast<int>(violation_.size());
-  if (contact_.lagrange()) {
-    solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data());
-  } else if (contact_.law == ContactLaw::penalty || !(violation_.maxCoeff() > 0.0)) {
-    solve_contact_lcp(penalized_.data(), violation_.data(), m, forces_.data());
-  } else {
-    count(solve_listed_augmented(delassus_, penalized_, compliance_, violation_, contact_, forces_,
-                                 shift_, shifted_));
-  }
-}
-
-ContactIterations solve_listed_augmented(const Eigen::MatrixXd& delassus,
-                                         const Eigen::MatrixXd& penalized,
-                                         const Eigen::VectorXd& compliance,
-                                         const Eigen::VectorXd& violation,
-                                         const ContactPenalties& contact, Eigen::VectorXd& forces,
-                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted,
-                                         ContactLcpWorkspace* workspace) {
-  const auto m = static_cast<int>(violation.size());
-  return augmented_lagrangian(
-      m, compliance.data(), violation.maxCoeff(), contact, forces.data(), shift.data(),
-      [&](const double* sh, double* out) {
-        for (int j = 0; j < m; ++j) shifted[j] = violation[j] + sh[j];
-        if (workspace) {
-          solve_contact_lcp(penalized.data(), shifted.data(), m, out, *workspace);
-        } else {
-          solve_contact_lcp(penalized.data(), shifted.data(), m, out);
-        }
-      },
-      [&](const double* out, int j) {
-        double g = violation[j];
-        for (int i = 0; i < m; ++i) g -= delassus(j, i) * out[i];
-        return g;
-      });
 }
 
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state) {

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/constraint_list_law.hpp"
 #include "core/contact_lcp.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/method.hpp"
@@ -51,8 +52,8 @@ class ImplicitIntegrator {
 
   /// Augmented-Lagrangian iterations since initialize(), and the steps whose iterations reached
   /// the cap before the tolerance (both 0 for the other laws).
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
   /// Advances state from t to t + Δt. The state's acceleration must be consistent with its
   /// displacement and velocity (see consistent_acceleration). Returns true if the contact is
@@ -79,7 +80,7 @@ class ImplicitIntegrator {
   const std::vector<std::pair<Eigen::Index, Eigen::Index>>& constraint_rows() const {
     return constraint_rows_;
   }
-  const Eigen::MatrixXd& delassus() const { return delassus_; }
+  const Eigen::MatrixXd& delassus() const { return list_.delassus; }
 
  private:
   /// Predictors and the contact-free right-hand side, forward-swept (left in rhs_: its last
@@ -89,9 +90,6 @@ class ImplicitIntegrator {
   bool step_constraints(const SecondOrderSystem& system, State& state);
   /// a = rhs_, u = u* + b1·Δt²·a, v = v* + g1·Δt·a (fused multiply-adds), every dof.
   void update(State& state) const;
-  void count(const ContactIterations& iterations);
-  /// forces_ from violation_ under the contact law (a list of constraints).
-  void solve_listed_contacts();
 
   ImplicitCoefficients c_{};
   double dt_ = 0.0;
@@ -104,29 +102,15 @@ class ImplicitIntegrator {
   // non-zero, b1·Δt²·G·A⁻¹·Gᵀ (m × m), and per-step scratch (m).
   Eigen::MatrixXd constraint_influence_;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
-  Eigen::MatrixXd delassus_;
-  Eigen::VectorXd violation_, forces_;
-  // The contact law, each listed constraint's compliance 1/(w·k), the Delassus matrix with the
-  // compliances on its diagonal (penalty, augmented Lagrangian), and scratch (m).
+  ConstraintListProblem list_;
+  Eigen::VectorXd forces_;
+  // The contact law: the walls' compliances 1/(w·k), and the list's law (its compliances, and
+  // the counter of every solve's Uzawa iterations).
   ContactPenalties contact_;
   double main_compliance_ = 0.0, far_compliance_ = 0.0;
-  Eigen::VectorXd compliance_, shift_, shifted_;
-  Eigen::MatrixXd penalized_;
-  long iterations_ = 0, unconverged_ = 0;
+  ConstraintListLaw list_law_;
   Eigen::VectorXd gap_offsets_;  // gap_offsets()
 };
-
-/// The augmented-Lagrangian iterations of a list of m constraints (core/contact_treatment.hpp):
-/// Delassus matrix D, D + diag(compliance), the contact-free violations; writes the forces, and
-/// uses shift and shifted (m) as scratch. Central difference's forward increment uses it too, and
-/// the sparse integrator with its `workspace` (any m; without one, m <= kMaxConstraints).
-ContactIterations solve_listed_augmented(const Eigen::MatrixXd& delassus,
-                                         const Eigen::MatrixXd& penalized,
-                                         const Eigen::VectorXd& compliance,
-                                         const Eigen::VectorXd& violation,
-                                         const ContactPenalties& contact, Eigen::VectorXd& forces,
-                                         Eigen::VectorXd& shift, Eigen::VectorXd& shifted,
-                                         ContactLcpWorkspace* workspace = nullptr);
 
 /// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with
 /// the equation of motion.

@@ -34,11 +34,15 @@
 // chosen so that the next displacement u_{n+2} lies on the wall where the contact-free one would
 // penetrate: the complementarity problem g_next − s·G·W·λ <= 0, λ >= 0, complementary, with
 // s = Δt²(½ + γ) and W = D⁻¹·M·E⁻¹·D·M⁻¹·Gᵀ the response of α1·a₁ to the force (one wall: one
-// division; two walls: core/two_wall_contact.hpp; a list: core/contact_lcp.hpp). With damping
-// proportional to M and K (the rod's Rayleigh damping; a scene's, body by body) W = E⁻¹·Gᵀ and
-// the Delassus matrix s·G·W is symmetric positive definite; a list whose W is not symmetric
-// (a model's damping of another form) is refused at initialize(). The next displacement is
-// computed once, there, snapped onto its wall, and used as such by the next step. So:
+// division; two walls: core/two_wall_contact.hpp; a list: core/contact_lcp.hpp). W = E⁻¹·Gᵀ for
+// every symmetric M, C and K, whatever the damping (Rayleigh's, a scene's body by body, or a
+// model's dashpot): D = M + B and E = (1 − α_m)·M + (1 − α_f)·B share B = γΔt·C + βΔt²·K, so
+// M⁻¹·D and M⁻¹·E are functions of the one matrix M⁻¹·B and commute, and
+// D⁻¹·M·E⁻¹·D·M⁻¹ = (M⁻¹·E)⁻¹·M⁻¹ = E⁻¹ (at the start W₀ = D⁻¹·Gᵀ). So the Delassus matrix s·G·W
+// is symmetric positive definite (tests/kr_alpha_test.cpp checks the identity with a dashpot);
+// the chain of solves that forms it leaves round-off, which symmetrize_contact_operator()
+// averages away. The next displacement is computed once, there, snapped onto its wall, and used
+// as such by the next step. So:
 //   - the constraints hold at every sample t_{n+1} (enforced by λ_n);
 //   - the multiplier reported with the sample t_{n+1} is that of its own equilibrium, λ_{n+1} >= 0,
 //     complementary to the gap at t_{n+2} (as central difference's λ_t is to the gap at t + Δt).
@@ -50,8 +54,9 @@
 // increment's problem above with the springs' compliances, (s·G·W + diag(1/k))·λ = g_next +
 // diag(1/k)·λ_j, to the tolerance or the cap, counted in the run summary; the node is not snapped.
 //
-// A model of sparse matrices runs on core/sparse_kr_alpha.hpp: the same formulas and contact
-// conventions, with M, D and E factored by core/sparse_factorization.hpp.
+// A model of sparse matrices runs on core/sparse_kr_alpha.hpp: the same formulas (one template,
+// core/kr_alpha_recurrence.hpp) and contact conventions, with M, D and E factored by
+// core/sparse_factorization.hpp.
 //
 // Not offered (the run is refused with a message, core/simulation.cpp): penalty contact. An
 // explicit penalty (the spring of the sample's penetration in its equilibrium, as the other
@@ -69,7 +74,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/constraint_list_law.hpp"
 #include "core/contact_treatment.hpp"
+#include "core/kr_alpha_recurrence.hpp"
 #include "core/method.hpp"
 #include "core/second_order_system.hpp"
 #include "core/state.hpp"
@@ -82,8 +89,7 @@ class KrAlphaExplicit {
   /// Factors M, D and E and fixes the first displacement u₁ = u₀ + Δt·v₀ + Δt²·α2·a₀ from
   /// `start` (a₀ consistent), with the contact at the start (the header): start.a and its
   /// multipliers (lambda, far_lambda or multipliers) then include that force. False, with
-  /// failure() saying why, if a matrix is singular or a constraint list's contact operator is
-  /// not symmetric.
+  /// failure() saying why, if a matrix is singular.
   /// `contact`: Lagrange's multipliers (default) or the augmented Lagrangian (the header).
   bool initialize(const SecondOrderSystem& system, const KrAlphaCoefficients& coefficients,
                   double dt, State& start, const ContactPenalties& contact = {});
@@ -109,48 +115,47 @@ class KrAlphaExplicit {
   /// Why initialize() failed; empty after a success.
   const std::string& failure() const { return failure_; }
   /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
   // The response of the state to unit contact forces: of the acceleration (`a`) and of α1·a
   // (`w`; the next displacement moves by s·w). One set for the start, one for the steps.
   struct ContactResponse {
+    double scale = 0.0;              // s: the next displacement moves by s·w
     Eigen::VectorXd a_main, w_main;  // to the main wall's force
     Eigen::VectorXd a_far, w_far;    // to the far wall's; empty without a far wall
     Eigen::MatrixXd a_list, w_list;  // to each listed constraint's (columns)
     std::vector<std::pair<Eigen::Index, Eigen::Index>> rows_a, rows_w;  // their non-zero rows
-    Eigen::MatrixXd delassus;                                           // s·G·W
-    Eigen::MatrixXd penalized;  // s·G·W + diag(1/k): augmented Lagrangian only
+    ConstraintListProblem list;  // s·G·W (and + diag(1/k) for the augmented Lagrangian)
   };
   // The response to the force vector f on each contact: the start's a = M⁻¹·f, w = D⁻¹·f, or a
   // step's a = E⁻¹·D·M⁻¹·f, w = D⁻¹·M·a. Allocates: set-up only.
   void respond(const SecondOrderSystem& system, bool start, const Eigen::VectorXd& force,
                Eigen::VectorXd& a, Eigen::VectorXd& w) const;
-  bool set_up(const SecondOrderSystem& system, bool start, ContactResponse& response);
+  void set_up(const SecondOrderSystem& system, bool start, ContactResponse& response);
   // The contact of the equilibrium whose acceleration is `a`: `next` holds the contact-free
-  // displacement of the next sample; corrects a, w_ and next and writes the multipliers into
-  // `at`. Returns true if a constraint pushes.
+  // displacement of the next sample; corrects a, recurrence_.w and next and writes the
+  // multipliers into `at`. Returns true if a constraint pushes.
   bool enforce(const SecondOrderSystem& system, const ContactResponse& response, Eigen::VectorXd& a,
                Eigen::VectorXd& next, State& at);
-  void count(const ContactIterations& iterations);
 
-  KrAlphaCoefficients c_{};
-  double dt_ = 0.0;
-  double scale_ = 0.0;  // s = Δt²(½ + γ): the displacement's factor on w = α1·a
-  Tridiagonal d_matrix_;
-  TridiagonalFactorization mass_, d_, e_;
+  using Recurrence = KrAlphaRecurrence<Tridiagonal, TridiagonalFactorization>;
+  Recurrence recurrence_;  // the update formulas, M, D, E and the state between samples
   ContactResponse start_response_, step_response_;
-  Eigen::VectorXd violation_, forces_, scaled_forces_;
-  Eigen::VectorXd w_;       // α1·a of the current sample (Δt·w is the next velocity increment)
-  Eigen::VectorXd v_hat_;   // the method's velocity v̂, which lags the sample's by γΔt
-  Eigen::VectorXd u_next_;  // the displacement of the next sample, fixed by the last equilibrium
-  Eigen::VectorXd r_, y_;   // scratch
-  // The augmented Lagrangian's springs' compliances 1/k and scratch (m).
+  Eigen::VectorXd forces_, scaled_forces_;
   ContactPenalties contact_;
-  Eigen::VectorXd compliance_, shift_, shifted_;
-  long iterations_ = 0, unconverged_ = 0;
+  ConstraintListLaw list_law_;  // the list's law; counts every solve's Uzawa iterations
   std::string failure_;
 };
+
+/// KR-α's contact operator s·G·W of a constraint list (either system), made exactly symmetric
+/// for the contact solver's Cholesky: g = (g + gᵀ)/2. It is symmetric in exact arithmetic for
+/// every damping (the header), so what the average removes is the round-off of the chain of
+/// solves that formed it; an assertion checks that it is no more (a relative asymmetry of at most
+/// 1e-6: round-off grows as the condition of D and E times ε, 1e-10 at a condition of 1e6; an
+/// unsymmetric M, C or K reaching a stepper, which the scenes and the model reader never build,
+/// shows as O(1)).
+void symmetrize_contact_operator(Eigen::MatrixXd& g);
 
 }  // namespace impactid

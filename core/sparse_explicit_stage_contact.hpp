@@ -27,6 +27,7 @@
 
 #include <string>
 
+#include "core/constraint_list_law.hpp"
 #include "core/contact_lcp.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/explicit_stage_contact.hpp"  // StageProblem
@@ -71,22 +72,19 @@ class SparseExplicitStageContact {
   bool within_stability_limit() const { return within_limit_; }
   const ContactPenalties& law() const { return contact_; }
   /// Augmented-Lagrangian iterations since initialize(), and the stage problems that hit the cap.
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
-  void count(const ContactIterations& iterations);
-
   SparseFactorization mass_;
   ContactPenalties contact_;
   double stable_step_ = 0.0;
   bool within_limit_ = false;
   Eigen::MatrixXd delassus_;         // G·M⁻¹·Gᵀ
   Eigen::VectorXd last_correction_;  // M⁻¹·Gᵀ·(the last forces)
-  Eigen::VectorXd violation_, forces_;
-  Eigen::VectorXd compliance_, shift_, shifted_;  // augmented-lagrangian (m)
+  Eigen::VectorXd forces_;
+  ConstraintListLaw list_law_;
   ContactLcpWorkspace lcp_;
-  long iterations_ = 0, unconverged_ = 0;
   std::string failure_;
 };
 

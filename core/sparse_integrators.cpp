@@ -7,7 +7,6 @@
 #include "core/central_difference.hpp"
 #include "core/constraint_set.hpp"
 #include "core/contact_lcp.hpp"
-#include "core/implicit_integrator.hpp"
 #include "core/sparse_constraints.hpp"
 #include "core/stable_step.hpp"
 
@@ -15,16 +14,18 @@ namespace impactid {
 
 namespace {
 
-// The contact forces of a step from the free prediction `free` (u at t + Δt without new forces,
-// read through `position`): violations, the forces by `solve(violation, forces)`, and the
-// correction A⁻¹·Gᵀ·μ subtracted from `x` by one solve. Returns whether a force acts. `gap`
-// gives constraint j's gap (shifted or not).
-template <class Position, class Gap, class Solve>
+// The contact forces of a step from the free prediction (u at t + Δt without new forces, read
+// through `position`): violations, the forces by the law, and the correction A⁻¹·Gᵀ·μ
+// subtracted from `x` by one solve. Returns whether a force acts. `gap` gives constraint j's gap
+// (shifted or not).
+template <class Position, class Gap>
 bool contact_forces(const std::vector<Constraint>& constraints, const SparseFactorization& a,
-                    Position&& position, Gap&& gap, Solve&& solve, Eigen::VectorXd& violation,
+                    Position&& position, Gap&& gap, ConstraintListLaw& law,
+                    const ConstraintListProblem& problem, ContactLcpWorkspace& lcp,
                     Eigen::VectorXd& forces, Eigen::VectorXd& correction, Eigen::VectorXd& x) {
   const auto m = static_cast<int>(constraints.size());
   if (m == 0) return false;
+  Eigen::VectorXd& violation = law.violation();
   for (int j = 0; j < m; ++j) {
     const Constraint& c = constraints[static_cast<std::size_t>(j)];
     double g = -gap(j);
@@ -32,7 +33,7 @@ bool contact_forces(const std::vector<Constraint>& constraints, const SparseFact
     if (c.minus >= 0) g -= position(c.minus);
     violation[j] = g;
   }
-  solve();
+  law.solve(problem, forces, &lcp);
   bool active = false;
   for (int j = 0; j < m; ++j) active = active || forces[j] > 0.0;
   if (!active) return false;
@@ -52,7 +53,6 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
   dt_ = dt;
   failure_.clear();
   contact_ = contact;
-  iterations_ = unconverged_ = 0;
   const double k_weight = (1.0 - c_.alpha_f) * c_.b1 * dt * dt;
   const double c_weight = (1.0 - c_.alpha_f) * c_.g1 * dt;
   SparseMatrix effective = (1.0 - c_.alpha_m) * system.mass + k_weight * system.stiffness;
@@ -66,38 +66,13 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
        {&u_predicted_, &v_predicted_, &u_alpha_, &v_alpha_, &rhs_, &correction_}) {
     v->resize(n);
   }
-  delassus_ = delassus_matrix(system.constraints, factorization_, c_.b1 * dt * dt);
   const auto m = static_cast<int>(system.constraints.size());
-  violation_.resize(m);
+  list_law_.initialize(contact_, m, PenaltyForm::solved_with_step, c_.contact_weight);
+  list_ = list_law_.problem(delassus_matrix(system.constraints, factorization_, c_.b1 * dt * dt));
   forces_.setZero(m);
   gap_offsets_.setZero(m);
   lcp_.resize(m);
-  if (!contact_.lagrange()) {
-    // The compliance of the weighted force w·λ: a spring k acting through the weight w.
-    compliance_.resize(m);
-    for (int j = 0; j < m; ++j) {
-      compliance_[j] = 1.0 / (c_.contact_weight * contact_.listed[static_cast<std::size_t>(j)]);
-    }
-    penalized_ = delassus_;
-    penalized_.diagonal() += compliance_;
-    shift_.resize(m);
-    shifted_.resize(m);
-  }
   return true;
-}
-
-void SparseImplicitIntegrator::solve_contacts() {
-  const auto m = static_cast<int>(violation_.size());
-  if (contact_.lagrange()) {
-    solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data(), lcp_);
-  } else if (contact_.law == ContactLaw::penalty || !(violation_.maxCoeff() > 0.0)) {
-    solve_contact_lcp(penalized_.data(), violation_.data(), m, forces_.data(), lcp_);
-  } else {
-    const ContactIterations it = solve_listed_augmented(
-        delassus_, penalized_, compliance_, violation_, contact_, forces_, shift_, shifted_, &lcp_);
-    iterations_ += it.iterations;
-    if (!it.converged) ++unconverged_;
-  }
 }
 
 bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
@@ -127,7 +102,7 @@ bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
       system.constraints, factorization_,
       [&](Eigen::Index i) { return std::fma(k, rhs_[i], u_predicted_[i]); },
       [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap + gap_offsets_[j]; },
-      [&] { solve_contacts(); }, violation_, forces_, correction_, rhs_);
+      list_law_, list_, lcp_, forces_, correction_, rhs_);
   const double g1_dt = c_.g1 * dt;
   for (Eigen::Index i = 0; i < n; ++i) {
     s.a[i] = rhs_[i];
@@ -150,7 +125,6 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
   t_ = initial.t;
   failure_.clear();
   contact_ = contact;
-  iterations_ = unconverged_ = 0;
   if (!is_diagonal(system.mass)) {
     failure_ =
         "central difference needs a diagonal (lumped) mass matrix; this model's M has entries off "
@@ -173,21 +147,11 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
   u_next_.resize(n);
   scratch_.resize(n);
   correction_.resize(n);
-  delassus_ = delassus_matrix(system.constraints, factorization_, 1.0);
   const auto m = static_cast<int>(system.constraints.size());
-  violation_.resize(m);
+  list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);
+  list_ = list_law_.problem(delassus_matrix(system.constraints, factorization_, 1.0));
   forces_.setZero(m);
   lcp_.resize(m);
-  if (contact_.law == ContactLaw::augmented_lagrangian) {
-    compliance_.resize(m);
-    for (int j = 0; j < m; ++j) {
-      compliance_[j] = 1.0 / contact_.listed[static_cast<std::size_t>(j)];
-    }
-    penalized_ = delassus_;
-    penalized_.diagonal() += compliance_;
-    shift_.resize(m);
-    shifted_.resize(m);
-  }
   return true;
 }
 
@@ -210,27 +174,8 @@ bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
   const Eigen::VectorXd& checked = contact_.law == ContactLaw::penalty ? u_ : u_next_;
   const bool active = contact_forces(
       system.constraints, factorization_, [&](Eigen::Index i) { return checked[i]; },
-      [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; },
-      [&] {
-        const auto m = static_cast<int>(violation_.size());
-        if (contact_.lagrange()) {
-          solve_contact_lcp(delassus_.data(), violation_.data(), m, forces_.data(), lcp_);
-        } else if (contact_.law == ContactLaw::penalty) {
-          for (int j = 0; j < m; ++j) {
-            forces_[j] =
-                contact_.listed[static_cast<std::size_t>(j)] * std::max(0.0, violation_[j]);
-          }
-        } else if (violation_.maxCoeff() > 0.0) {
-          const ContactIterations it =
-              solve_listed_augmented(delassus_, penalized_, compliance_, violation_, contact_,
-                                     forces_, shift_, shifted_, &lcp_);
-          iterations_ += it.iterations;
-          if (!it.converged) ++unconverged_;
-        } else {
-          forces_.setZero();
-        }
-      },
-      violation_, forces_, correction_, u_next_);
+      [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; }, list_law_, list_,
+      lcp_, forces_, correction_, u_next_);
   if (active && contact_.lagrange()) snap_walls(system.constraints, forces_, u_next_);
 
   at_t.u = u_;

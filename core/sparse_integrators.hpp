@@ -37,6 +37,7 @@
 
 #include <string>
 
+#include "core/constraint_list_law.hpp"
 #include "core/contact_lcp.hpp"
 #include "core/contact_treatment.hpp"
 #include "core/method.hpp"
@@ -62,25 +63,20 @@ class SparseImplicitIntegrator {
   const std::string& failure() const { return failure_; }
   const SparseFactorization& factorization() const { return factorization_; }
   /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
-  // The step's weighted forces from the violations, by the contact law.
-  void solve_contacts();
-
   ImplicitCoefficients c_{};
   double dt_ = 0.0;
   ContactPenalties contact_;
   SparseFactorization factorization_;
   Eigen::VectorXd u_predicted_, v_predicted_, u_alpha_, v_alpha_, rhs_, correction_;
-  Eigen::MatrixXd delassus_;
-  Eigen::MatrixXd penalized_;                     // D + diag(compliance_): penalty laws only
-  Eigen::VectorXd compliance_, shift_, shifted_;  // penalty laws only
-  Eigen::VectorXd violation_, forces_;
+  ConstraintListProblem list_;  // b1·Δt²·G·A⁻¹·Gᵀ (+ diag(1/(w·k)): penalty laws)
+  ConstraintListLaw list_law_;
+  Eigen::VectorXd forces_;
   Eigen::VectorXd gap_offsets_;  // gap_offsets()
   ContactLcpWorkspace lcp_;
-  long iterations_ = 0, unconverged_ = 0;
   std::string failure_;
 };
 
@@ -104,8 +100,8 @@ class SparseCentralDifference {
   bool within_stability_limit() const { return within_limit_; }
   double stable_step() const { return stable_step_; }
   /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
   CdmVelocity velocity_ = CdmVelocity::central;
@@ -115,14 +111,11 @@ class SparseCentralDifference {
   double stable_step_ = 0.0;
   SparseFactorization factorization_;
   Eigen::VectorXd u_previous_, u_, u_next_, scratch_, correction_;
-  Eigen::MatrixXd delassus_;
-  Eigen::VectorXd violation_, forces_;
+  ConstraintListProblem list_;  // G·A⁻¹·Gᵀ (+ diag(1/k): penalty laws)
+  Eigen::VectorXd forces_;
   ContactLcpWorkspace lcp_;
-  // The contact law (weight 1, as CentralDifference's).
   ContactPenalties contact_;
-  Eigen::MatrixXd penalized_;                     // D + diag(compliance_): augmented Lagrangian
-  Eigen::VectorXd compliance_, shift_, shifted_;  // augmented Lagrangian
-  long iterations_ = 0, unconverged_ = 0;
+  ConstraintListLaw list_law_;  // weight 1, as CentralDifference's
   std::string failure_;
 };
 

@@ -1,8 +1,9 @@
 // The KR-α explicit method (Kolay & Ricles 2014, doi:10.1002/eqe.2401; core/kr_alpha.hpp) on a
-// user's model of sparse matrices (core/sparse_system.hpp): the same update formulas (the
-// model-based matrices applied through factorised M, D = M + γΔt·C + βΔt²·K and
-// E = (1−α_m)·M + (1−α_f)·(γΔt·C + βΔt²·K), never formed; the velocity v̂ lagging the sample's by
-// γΔt; the half-step energy), and the same contact conventions as core/kr_alpha.hpp states them:
+// user's model of sparse matrices (core/sparse_system.hpp): the same update formulas, one template
+// for both (core/kr_alpha_recurrence.hpp: the model-based matrices applied through factorised M,
+// D = M + γΔt·C + βΔt²·K and E = (1−α_m)·M + (1−α_f)·(γΔt·C + βΔt²·K), never formed; the
+// velocity v̂ lagging the sample's by γΔt; the half-step energy), and the same contact
+// conventions as core/kr_alpha.hpp states them:
 //   - Lagrange multipliers, as a forward increment: the multipliers λ_{n+1} >= 0 of the equilibrium
 //     at t_{n+1}, taken whole, put the next displacement u_{n+2} on the walls where the
 //     contact-free one would penetrate; so the constraints hold at every sample, and the multiplier
@@ -17,8 +18,8 @@
 // problem g_next − s·G·W·λ <= 0 (s = Δt²(½ + γ); W = D⁻¹·M·E⁻¹·D·M⁻¹·Gᵀ, the response of α1·a to
 // the forces; at the start s = Δt²/2, W₀ = D⁻¹·Gᵀ) is formed once per run, one chain of solves per
 // constraint, and solved by Murty's pivoting with storage sized once (core/contact_lcp.hpp: any
-// number of constraints). As on a tridiagonal system, W is symmetric when the damping is
-// proportional to M and K; a model whose s·G·W is not symmetric is refused at initialize(). The
+// number of constraints). As on a tridiagonal system, W = E⁻¹·Gᵀ in exact arithmetic whatever the
+// damping, so s·G·W is symmetric (core/kr_alpha.hpp says why); its round-off is averaged away. The
 // responses W are not kept (dense for a 2D or 3D model, core/sparse_integrators.hpp says why): when
 // a force acts it moves the state by a chain of three solves and two products with Gᵀ·λ as the
 // right-hand side.
@@ -31,8 +32,10 @@
 
 #include <string>
 
+#include "core/constraint_list_law.hpp"
 #include "core/contact_lcp.hpp"
 #include "core/contact_treatment.hpp"
+#include "core/kr_alpha_recurrence.hpp"
 #include "core/method.hpp"
 #include "core/sparse_factorization.hpp"
 #include "core/sparse_system.hpp"
@@ -45,8 +48,7 @@ class SparseKrAlphaExplicit {
   /// As KrAlphaExplicit::initialize: factors M, D and E and fixes the first displacement from
   /// `start` (a₀ consistent) with the contact at the start; start.a and start.multipliers then
   /// include that force. False, with failure() saying why, if a matrix is not positive definite
-  /// (naming the DOF of the failed pivot), the contact operator is not symmetric, or `contact`
-  /// is the penalty.
+  /// (naming the DOF of the failed pivot) or `contact` is the penalty.
   bool initialize(const SparseSystem& system, const KrAlphaCoefficients& coefficients, double dt,
                   State& start, const ContactPenalties& contact = {});
 
@@ -62,46 +64,36 @@ class SparseKrAlphaExplicit {
   /// Why initialize() failed; empty after a success.
   const std::string& failure() const { return failure_; }
   /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
-  long contact_iterations() const { return iterations_; }
-  long unconverged_contact_steps() const { return unconverged_; }
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
   // One equilibrium's contact problem: the start's or the steps'.
   struct ContactProblem {
     bool start = false;
-    double scale = 0.0;         // s: the next displacement moves by s·(α1·a)
-    Eigen::MatrixXd delassus;   // s·G·W
-    Eigen::MatrixXd penalized;  // s·G·W + diag(1/k): augmented Lagrangian only
+    double scale = 0.0;          // s: the next displacement moves by s·(α1·a)
+    ConstraintListProblem list;  // s·G·W (and + diag(1/k) for the augmented Lagrangian)
   };
   // `a` holds a force vector f on entry and its acceleration's response on return, `w` the
   // response of α1·a: the start's a = M⁻¹·f, w = D⁻¹·f; a step's a = E⁻¹·D·M⁻¹·f,
   // w = D⁻¹·M·a. No allocation once sized.
   void respond(const SparseSystem& system, bool start, Eigen::VectorXd& a,
                Eigen::VectorXd& w) const;
-  bool set_up(const SparseSystem& system, ContactProblem& problem);
+  void set_up(const SparseSystem& system, ContactProblem& problem);
   // The contact of the equilibrium whose acceleration is `a`: `next` holds the contact-free
-  // displacement of the next sample; corrects a, w_ and next and writes the multipliers into
-  // `at`. Returns true if a constraint pushes.
+  // displacement of the next sample; corrects a, recurrence_.w and next and writes the
+  // multipliers into `at`. Returns true if a constraint pushes.
   bool enforce(const SparseSystem& system, const ContactProblem& problem, Eigen::VectorXd& a,
                Eigen::VectorXd& next, State& at);
-  void count(const ContactIterations& iterations);
 
-  KrAlphaCoefficients c_{};
-  double dt_ = 0.0;
-  SparseMatrix d_matrix_;
-  SparseFactorization mass_, d_, e_;
+  using Recurrence = KrAlphaRecurrence<SparseMatrix, SparseFactorization>;
+  Recurrence recurrence_;  // KrAlphaExplicit's update formulas, on the sparse matrices
   ContactProblem start_problem_, step_problem_;
-  Eigen::VectorXd violation_, forces_;
+  Eigen::VectorXd forces_;
   Eigen::VectorXd response_a_, response_w_;  // a force's responses (respond())
-  Eigen::VectorXd w_;       // α1·a of the current sample (Δt·w is the next velocity increment)
-  Eigen::VectorXd v_hat_;   // the method's velocity v̂, which lags the sample's by γΔt
-  Eigen::VectorXd u_next_;  // the displacement of the next sample, fixed by the last equilibrium
-  Eigen::VectorXd r_, y_;   // scratch
   ContactLcpWorkspace lcp_;
-  // The augmented Lagrangian's springs' compliances 1/k and scratch (m).
   ContactPenalties contact_;
-  Eigen::VectorXd compliance_, shift_, shifted_;
-  long iterations_ = 0, unconverged_ = 0;
+  ConstraintListLaw list_law_;
   std::string failure_;
 };
 

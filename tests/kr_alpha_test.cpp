@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@
 #include "core/scene_assembly.hpp"
 #include "core/scene_reference.hpp"
 #include "core/simulation.hpp"
+#include "core/sparse_system.hpp"
 #include "explicit_stepper_checks.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"
@@ -458,6 +460,85 @@ TEST(KrAlpha, RefusesThePenaltyAndRunsOnAModelOfSparseMatrices) {
   EXPECT_EQ(summary.status, RunStatus::ok) << summary.message;
   EXPECT_LE(summary.max_penetration, 1e-12);
   EXPECT_TRUE(testing::every_contact_pushes_and_never_pulls(ws.trace));
+}
+
+// The contact operator of a constraint list, s·G·W with W = D⁻¹·M·E⁻¹·D·M⁻¹·Gᵀ, is symmetric
+// for every damping, not only C = a0·M + a1·K: D and E are combinations of M and the one matrix
+// γΔt·C + βΔt²·K, so W = E⁻¹·Gᵀ (core/kr_alpha.hpp). The identity on dense matrices with a
+// consistent mass and a dashpot at one end (C not in the span of M and K), at three ρ∞; then
+// KR-α through simulate() on a model with that dashpot and two walls on the same body (their
+// constraints coupled: G·E⁻¹·Gᵀ has off-diagonal entries), on the tridiagonal path and, with a
+// spring beyond the band, on the sparse path: it runs, λ >= 0, the walls hold. So no list can
+// have an unsymmetric operator (the steppers assert it, symmetrize_contact_operator()), and
+// nothing is refused for its damping.
+TEST(KrAlpha, ContactOperatorIsSymmetricForEveryDamping) {
+  Eigen::Matrix4d mass{{2, 1, 0, 0}, {1, 4, 1, 0}, {0, 1, 4, 1}, {0, 0, 1, 2}};
+  mass /= 6.0;  // consistent: M = (h/6)·tridiag(1, 4, 1), h = 1
+  const Eigen::Matrix4d stiffness =
+      100.0 * Eigen::Matrix4d{{1, -1, 0, 0}, {-1, 2, -1, 0}, {0, -1, 2, -1}, {0, 0, -1, 1}};
+  Eigen::Matrix4d damping = Eigen::Matrix4d::Zero();
+  damping(0, 0) = 1.0;  // a dashpot from the first node to the ground
+  // Not Rayleigh: a0·M + a1·K with C's zero entries (3, 3) and (2, 3) has a0 = a1 = 0.
+  const double dt = 0.05;
+  for (const double rho_inf : {0.0, 0.5, 0.8}) {
+    const KrAlphaCoefficients c = kr_alpha_coefficients({.rho_inf = rho_inf});
+    const Eigen::Matrix4d b = c.gamma * dt * damping + c.beta * dt * dt * stiffness;
+    const Eigen::Matrix4d d = mass + b;
+    const Eigen::Matrix4d e = (1.0 - c.alpha_m) * mass + (1.0 - c.alpha_f) * b;
+    const Eigen::Matrix4d w =
+        d.inverse() * mass * e.inverse() * d * mass.inverse();  // W = D⁻¹·M·E⁻¹·D·M⁻¹
+    EXPECT_LT((w - e.inverse()).cwiseAbs().maxCoeff(), 1e-12 * e.inverse().cwiseAbs().maxCoeff())
+        << rho_inf;
+    // Without the identity W would be unsymmetric: D⁻¹·E⁻¹ (a product of the two in the other
+    // order) is, by far more than round-off.
+    const Eigen::Matrix4d unordered = d.inverse() * e.inverse();
+    EXPECT_GT((unordered - unordered.transpose()).cwiseAbs().maxCoeff(),
+              1e-6 * unordered.cwiseAbs().maxCoeff())
+        << rho_inf;
+  }
+
+  const auto to_sparse_matrix = [](const Eigen::MatrixXd& dense) {
+    SparseMatrix a = dense.sparseView();
+    a.makeCompressed();
+    return a;
+  };
+  auto chain = std::make_shared<Model>();
+  chain->mass = to_sparse_matrix(mass);
+  chain->stiffness = to_sparse_matrix(stiffness);
+  chain->damping = to_sparse_matrix(damping);
+  chain->initial_displacement = Eigen::Vector4d::Zero();
+  chain->initial_velocity = Eigen::Vector4d::Constant(1.0);
+  // An upper wall at the last node, a lower one at the first: u3 <= 0.05 and u0 >= −0.05.
+  chain->contacts = {{"upper", 3, -1, 0.05, 1.0, 3}, {"lower", -1, 0, 0.05, 1.0, 0}};
+  auto beyond_band = std::make_shared<Model>(*chain);
+  Eigen::Matrix4d coupled = stiffness;
+  coupled(0, 3) = coupled(3, 0) = -10.0;  // a spring from the first node to the last
+  coupled(0, 0) += 10.0;
+  coupled(3, 3) += 10.0;
+  beyond_band->stiffness = to_sparse_matrix(coupled);
+  for (const auto& model : {chain, beyond_band}) {
+    const AssembledScene scene = assemble(ModelScene{model, 1e-3, 1.0});
+    const bool sparse = model == beyond_band;
+    SCOPED_TRACE(sparse ? "sparse" : "tridiagonal");
+    ASSERT_EQ(scene.sparse != nullptr, sparse);
+    ASSERT_EQ(sparse ? scene.sparse->constraints.size() : scene.system.constraints.size(), 2u);
+    for (const double rho_inf : {0.0, 0.8}) {
+      for (const ContactLaw law : {ContactLaw::lagrange, ContactLaw::augmented_lagrangian}) {
+        SimulationWorkspace ws;
+        RunOptions options;
+        // k·d ≈ 3 with this Δt (d = s·(E⁻¹)_cc ≈ 3e-6): Uzawa converges in a few iterations.
+        options.contact = {.law = law, .penalty_stiffness = 1e6};
+        const RunSummary run = simulate(scene, KrAlphaParams{.rho_inf = rho_inf}, options, ws);
+        ASSERT_EQ(run.status, RunStatus::ok) << run.message;
+        EXPECT_EQ(run.unconverged_contact_steps, 0);
+        EXPECT_LE(run.max_penetration, law == ContactLaw::lagrange ? 1e-12 : 1e-6 * 0.05);
+        EXPECT_TRUE(testing::every_contact_pushes_and_never_pulls(ws.trace));
+        for (const std::vector<double>& pressure : ws.trace.contact_pressure) {
+          EXPECT_GT(*std::max_element(pressure.begin(), pressure.end()), 0.0);
+        }
+      }
+    }
+  }
 }
 
 // The registry: rho_inf by name and value, [0, 1]; reported back with the derived scalars;

@@ -45,7 +45,9 @@ constexpr ParameterInfo kSceneParameters[] = {
      "", ""},
     {"penalty_factor", G::scene, K::real, "",
      "k as a multiple of the contact dof's stiffness K_cc (E*A/h for the rod) when "
-     "penalty_stiffness is not given (default 1), > 0",
+     "penalty_stiffness is not given (default 1), > 0; for augmented-lagrangian it sets only the "
+     "iterations' speed, which falls with courant^2: raise it where steps end at the cap (10 for "
+     "rho-bathe, tr-bdf2, noh-bathe, kim-explicit at courant 0.5; docs/methods.md)",
      "", ""},
     {"augmented_tolerance", G::scene, K::real, "",
      "augmented-lagrangian: iterate until the penetration is at most this fraction of the step's "
