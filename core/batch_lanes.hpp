@@ -17,10 +17,13 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <chrono>
 #include <cstddef>
+#include <initializer_list>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include "core/rod_scene.hpp"
 #include "core/run_record.hpp"
@@ -66,6 +69,43 @@ struct LaneLoop {
   double dt;
   int energy_check_interval;
   double energy_growth_limit;
+};
+
+// The batch's loop settings for lanes of one rod and time step (scene: the batch's first).
+inline LaneLoop loop_settings(const RodScene& scene, const RunOptions& options) {
+  return {.area = scene.area,
+          .dt = derive(scene).time_step,
+          .energy_check_interval = options.energy_check_interval,
+          .energy_growth_limit = options.energy_growth_limit};
+}
+
+// A kernel's [unknown][lane] arrays, `count` arrays of n rows each, zeroed, in a workspace's
+// storage (kept between batches, so that a thread allocates once): each kernel takes its arrays
+// one after the other. Taking more than `count` is a bug (asserted).
+class LaneStorage {
+ public:
+  LaneStorage(std::vector<LaneBlock>& storage, int count, Eigen::Index n) : n_(n), left_(count) {
+    storage.assign(static_cast<std::size_t>(count * n), LaneBlock{});
+    next_ = reinterpret_cast<Lanes*>(storage.data());
+  }
+
+  // The next array of n rows.
+  Lanes* take() {
+    assert(left_ > 0);
+    --left_;
+    Lanes* array = next_;
+    next_ += n_;
+    return array;
+  }
+  // The next arrays, one for each pointer, in order.
+  void take(std::initializer_list<Lanes**> arrays) {
+    for (Lanes** array : arrays) *array = take();
+  }
+
+ private:
+  Lanes* next_;
+  Eigen::Index n_;
+  int left_;
 };
 
 // Where a lane starts stepping: its λ and t there (simulate()'s state after the free flight).

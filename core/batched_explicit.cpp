@@ -429,20 +429,16 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   const int count = static_cast<int>(scenes.size());
   const SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, the gap aside
   const Eigen::Index n = system.size();
-  const double dt = derive(scenes[0]).time_step;
+  CdmBatch b{};
+  b.loop = loop_settings(scenes[0], options);
+  const double dt = b.loop.dt;
   const ContactPenalties contact = resolve_contact(options.contact, system);
 
-  storage.assign(static_cast<std::size_t>(6 * n), LaneBlock{});
-  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
-  CdmBatch b{};
+  LaneStorage arrays(storage, 6, n);
   CdmRows& rows = b.rows;
   rows.n = n;
-  rows.previous = block;
-  rows.current = block + n;
-  rows.next = block + 2 * n;
-  b.start_previous = block + 3 * n;
-  b.start_current = block + 4 * n;
-  b.start_next = block + 5 * n;
+  arrays.take({&rows.previous, &rows.current, &rows.next, &b.start_previous, &b.start_current,
+               &b.start_next});
   rows.gap = splat(kInf);  // unused lanes never touch a wall
   rows.dt = dt;
   rows.inv_dt2 = 1.0 / (dt * dt);
@@ -450,10 +446,6 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   b.mass = &system.mass;
   b.stiffness = &system.stiffness;
   b.start = &starts;
-  b.loop = {.area = scenes[0].area,
-            .dt = dt,
-            .energy_check_interval = options.energy_check_interval,
-            .energy_growth_limit = options.energy_growth_limit};
 
   // The left-hand matrix M/Δt² (CentralDifference::initialize's, without damping:
   // explicit_batchable), so its factorisation and A⁻¹·e_c, are every lane's: one rod, one step.
@@ -662,28 +654,20 @@ void simulate_stage_batch(std::span<const RodScene> scenes, std::span<const Meth
   const int count = static_cast<int>(scenes.size());
   SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
   const Eigen::Index n = system.size();
-  const double dt = derive(scenes[0]).time_step;
-
-  storage.assign(static_cast<std::size_t>((Scheme::kArrays + 1) * n), LaneBlock{});
-  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
   StageBatch<typename Scheme::Rows> b{};
+  b.loop = loop_settings(scenes[0], options);
+  const double dt = b.loop.dt;
+
+  LaneStorage arrays(storage, Scheme::kArrays + 1, n);
   auto& rows = b.rows;
   rows.solve.n = n;
-  rows.u = block;
-  rows.v = block + n;
-  rows.a = block + 2 * n;
-  rows.next = block + 3 * n;
-  rows.sub_a = block + 4 * n;
-  rows.gap = splat(kInf);                      // unused lanes never touch a wall
-  Scheme::set_batch(rows, block + 5 * n, dt);  // its own arrays and the unused lanes' constants
-  b.start_next = block + Scheme::kArrays * n;
+  arrays.take({&rows.u, &rows.v, &rows.a, &rows.next, &rows.sub_a});
+  rows.gap = splat(kInf);               // unused lanes never touch a wall
+  Scheme::set_batch(rows, arrays, dt);  // its own arrays and the unused lanes' constants
+  b.start_next = arrays.take();
   b.mass = &system.mass;
   b.stiffness = &system.stiffness;
   b.start = &starts;
-  b.loop = {.area = scenes[0].area,
-            .dt = dt,
-            .energy_check_interval = options.energy_check_interval,
-            .energy_growth_limit = options.energy_growth_limit};
 
   TridiagonalFactorization factorization;
   const bool factored = factorization.factor(system.mass);
@@ -905,7 +889,7 @@ struct NohBatheLanes {
   static NohBatheCoefficients coefficients(const Params& params) {
     return noh_bathe_coefficients(params);
   }
-  static void set_batch(Rows& /*rows*/, Lanes* /*more*/, double /*dt*/) {}
+  static void set_batch(Rows& /*rows*/, LaneStorage& /*arrays*/, double /*dt*/) {}
   // NohBatheExplicit::initialize's and ::step's coefficients, by their expressions.
   static void set_lane(Rows& rows, int l, const NohBatheCoefficients& c, double dt, double gap) {
     const double p = c.p;
@@ -1131,8 +1115,8 @@ struct KimLanes {
   static KimExplicitCoefficients coefficients(const Params& params) {
     return kim_explicit_coefficients(params);
   }
-  static void set_batch(Rows& rows, Lanes* more, double dt) {
-    rows.sweep = more;
+  static void set_batch(Rows& rows, LaneStorage& arrays, double dt) {
+    rows.sweep = arrays.take();
     rows.sample_gap = splat(kInf);
     rows.dt = splat(dt);
   }

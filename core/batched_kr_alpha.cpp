@@ -61,6 +61,14 @@ struct KrRows {
   // step_response_.a_main, .w_main).
   Lanes *a_response, *w_response;
   Lanes dt, minus_af, minus_rest, scale, lead, contact_denominator, gap;
+  // M is diagonal (lumped): its factorisation's ratios are zeros and every 1/m_i > ½ (checked).
+  // Then M's sweeps change nothing: with r_i·(1/m_i) finite and never −0 (r never is, and a product
+  // with a factor above ½ does not underflow to zero), each fused multiply-add of the sweeps adds
+  // ±0 to it and returns it. The step then does A, B and C in one pass (lumped_mass_pass). Also
+  // checked, in every lane: D's diagonal, E's 1/pivots and its lower ratios (rows 1 on) are not
+  // zero, so that a non-finite r_i·(1/m_i) makes row i of D·(M⁻¹·r − a) and of E's forward sweep
+  // non-finite, and every row of the sweep after it: the sweep's last row is the step's probe.
+  bool lumped_mass;
 };
 
 [[gnu::always_inline]] inline Factors factors(const FactorRows& f, Eigen::Index i) {
@@ -101,21 +109,15 @@ template <bool kUp, class Row>
 }
 
 // A back substitution (TridiagonalFactorization::backward_in_place: x_{n−1} = y_{n−1},
-// x_{n−2} = y_{n−2} − c'·x_{n−1}, then x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}) fused
-// with a product of the solution's rows as `combine` makes them (t_i = combine(i, x_i)) with a
-// symmetric tridiagonal matrix: row j of it (Tridiagonal::multiply: d·t_j fused onto the lower
-// neighbour's product, then + the upper's; each off-diagonal product shared by two rows) is
-// written into `out` as soon as t_{j−1} is known. 2 FMA for the solve, 1 mul 1 FMA 1 add for the
-// product.
-template <class Combine>
-[[gnu::always_inline]] inline void solve_down_multiply(const KrRows& b, const FactorRows& rows,
-                                                       const Factors& uniform, const Lanes* y_rows,
-                                                       const LaneDiagonals& diagonals, Lanes* out,
-                                                       Combine&& combine) {
+// x_{n−2} = y_{n−2} − c'·x_{n−1}, then x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}) that
+// hands each row's solution to `visit` as soon as it is known, downwards:
+// visit.template operator()<kGeneric>(i, x_i) (kGeneric as each_row's). 2 FMA.
+template <class Visit>
+[[gnu::always_inline]] inline void solve_down(const KrRows& b, const FactorRows& rows,
+                                              const Factors& uniform, const Lanes* y_rows,
+                                              Visit&& visit) {
   const Eigen::Index last = b.n - 1;
-  const LaneDiagonals matrix = diagonals;
-  Lanes x1{}, x2{}, y_next{};    // x_{i+1}, x_{i+2}, y_{i+1}
-  Lanes t1{}, t2{}, p1{}, p2{};  // t_{i+1}, t_{i+2} and their products with the off-diagonal
+  Lanes x1{}, x2{}, y_next{};  // x_{i+1}, x_{i+2}, y_{i+1}
   each_row<false>(
       b, rows,
       uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
@@ -131,6 +133,26 @@ template <class Combine>
         y_next = yi;
         x2 = x1;
         x1 = x;
+        visit.template operator()<kGeneric>(i, x);
+      });
+}
+
+// solve_down fused with a product of the solution's rows as `combine` makes them
+// (t_i = combine(i, x_i)) with a symmetric tridiagonal matrix: row j of it (Tridiagonal::multiply:
+// d·t_j fused onto the lower neighbour's product, then + the upper's; each off-diagonal product
+// shared by two rows) is written into `out` as soon as t_{j−1} is known. 2 FMA for the solve,
+// 1 mul 1 FMA 1 add for the product.
+template <class Combine>
+[[gnu::always_inline]] inline void solve_down_multiply(const KrRows& b, const FactorRows& rows,
+                                                       const Factors& uniform, const Lanes* y_rows,
+                                                       const LaneDiagonals& diagonals, Lanes* out,
+                                                       Combine&& combine) {
+  const Eigen::Index last = b.n - 1;
+  const LaneDiagonals matrix = diagonals;
+  Lanes t1{}, t2{}, p1{}, p2{};  // t_{i+1}, t_{i+2} and their products with the off-diagonal
+  solve_down(
+      b, rows, uniform,
+      y_rows, [&]<bool kGeneric>(Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
         const Lanes t = combine(i, x);
         const Lanes p = matrix.off * t;
         if (!(kGeneric && i == last)) {  // row j = i + 1
@@ -148,19 +170,168 @@ template <class Combine>
   store(&out[0], b.n > 1 ? fma(matrix.first, t1, p2) : matrix.first * t1);
 }
 
-// A forward sweep in place (TridiagonalFactorization::forward_in_place: y_0·(1/pivot_0), then
-// y_i·(1/pivot_i) − (l_i/pivot_i)·y_{i−1}, one FMA): 1 mul 1 FMA.
+// A forward sweep (TridiagonalFactorization::forward_in_place: y_0·(1/pivot_0), then
+// y_i·(1/pivot_i) − (l_i/pivot_i)·y_{i−1}, one FMA) of rows handed over upwards, one at a time,
+// into `out`: 1 mul 1 FMA.
+struct SweepUp {
+  Lanes eliminated{};
+
+  template <bool kGeneric>
+  [[gnu::always_inline]] void row(Eigen::Index i, const Factors& s, const Lanes& value,
+                                  Lanes* out) {
+    Lanes y = value * s.inverse_pivot;
+    if (!(kGeneric && i == 0)) y = fma(s.minus_lower_ratio, eliminated, y);
+    store(&out[i], y);
+    eliminated = y;
+  }
+};
+
+// A forward sweep in place: 1 mul 1 FMA.
 [[gnu::always_inline]] inline void sweep_up(const KrRows& b, const FactorRows& factor_rows,
                                             const Factors& uniform, Lanes* rows) {
-  Lanes eliminated{};
+  SweepUp sweep;
   each_row<true>(
       b, factor_rows,
       uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
-        Lanes r = rows[i] * s.inverse_pivot;
-        if (!(kGeneric && i == 0)) r = fma(s.minus_lower_ratio, eliminated, r);
-        store(&rows[i], r);
-        eliminated = r;
+        sweep.row<kGeneric>(i, s, rows[i], rows);
       });
+}
+
+// The forward sweep of (matrix·x) into `out`, the product's rows (Tridiagonal::multiply, as
+// solve_down_multiply) formed as the sweep reaches them: 2 mul 2 FMA 1 add.
+[[gnu::always_inline]] inline void multiply_sweep_up(const KrRows& b, const FactorRows& factor_rows,
+                                                     const Factors& uniform, const Lanes* x_rows,
+                                                     const LaneDiagonals& diagonals, Lanes* out) {
+  const Eigen::Index last = b.n - 1;
+  const LaneDiagonals matrix = diagonals;
+  Lanes x = x_rows[0], p = matrix.off * x, p_prev{};  // x_i, its product with the off-diagonal
+  SweepUp sweep;
+  each_row<true>(
+      b, factor_rows,
+      uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
+        Lanes x_next{}, p_next{};
+        if (!(kGeneric && i == last)) {
+          x_next = x_rows[i + 1];
+          p_next = matrix.off * x_next;
+        }
+        const Lanes d = kGeneric ? diagonal(matrix, i, last) : matrix.interior;
+        Lanes row;
+        if (kGeneric && i == 0) {
+          row = fma(d, x, p_next);
+        } else if (kGeneric && i == last) {
+          row = fma(d, x, p_prev);
+        } else {
+          row = fma(d, x, p_prev) + p_next;
+        }
+        sweep.row<kGeneric>(i, s, row, out);
+        p_prev = p;
+        x = x_next;
+        p = p_next;
+      });
+}
+
+// The rows of the right-hand side r = 0 + (−α_f)·K·u, then + (−(1 − α_f))·K·u₁
+// (Tridiagonal::multiply_add's rows: (l·x₋ + d·x) + u·x₊, each off-diagonal product shared by two
+// rows), asked for upwards, row 0 first: 6 mul 6 add. (K·u is the last step's K·u₁; keeping it in
+// an array instead measured no faster.) Never −0: r starts as +0 + x.
+class RightHandSide {
+ public:
+  [[gnu::always_inline]] explicit RightHandSide(const KrRows& b)
+      : u_(b.u),
+        u1_(b.u_next),
+        last_(b.n - 1),
+        off_(b.stiffness.off),
+        k_first_(b.stiffness.first),
+        k_interior_(b.stiffness.interior),
+        k_last_(b.stiffness.last),
+        minus_af_(b.minus_af),
+        minus_rest_(b.minus_rest),
+        cur_(load(0)) {}
+
+  template <bool kGeneric>
+  [[gnu::always_inline]] Lanes row(Eigen::Index i) {
+    const bool first = kGeneric && i == 0, at_last = kGeneric && i == last_;
+    if (!at_last) next_ = load(i + 1);
+    const Lanes k = !kGeneric    ? k_interior_
+                    : i == 0     ? k_first_
+                    : i == last_ ? k_last_
+                                 : k_interior_;
+    Lanes now, ahead;
+    if (first) {
+      now = k * cur_.u + next_.q;
+      ahead = k * cur_.u1 + next_.q1;
+    } else if (at_last) {
+      now = prev_.q + k * cur_.u;
+      ahead = prev_.q1 + k * cur_.u1;
+    } else {
+      now = (prev_.q + k * cur_.u) + next_.q;
+      ahead = (prev_.q1 + k * cur_.u1) + next_.q1;
+    }
+    Lanes r = Lanes{} + minus_af_ * now;  // r.setZero(), then +=: 0 + x is x but for −0
+    r = r + minus_rest_ * ahead;
+    prev_ = cur_;
+    cur_ = next_;
+    return r;
+  }
+
+ private:
+  struct Ahead {
+    Lanes u, q, u1, q1;
+  };
+  [[gnu::always_inline]] Ahead load(Eigen::Index j) const {
+    Ahead x;
+    x.u = u_[j];
+    x.q = off_ * x.u;
+    x.u1 = u1_[j];
+    x.q1 = off_ * x.u1;
+    return x;
+  }
+
+  const Lanes *u_, *u1_;
+  Eigen::Index last_;
+  Lanes off_, k_first_, k_interior_, k_last_, minus_af_, minus_rest_;
+  Ahead prev_{}, cur_, next_{};
+};
+
+// A, B and C of the step in one pass upwards, for a lumped M (KrRows::lumped_mass): M⁻¹·r is
+// r_i·(1/m_i), y = D·(M⁻¹·r − a) row by row as its upper neighbour is known, E's forward sweep on
+// it. In a lane where some r_i·(1/m_i) is not finite, neither is the sweep's last row
+// (KrRows::lumped_mass): the caller then does A, B and C instead. 9 mul 8 add/sub 2 FMA.
+[[gnu::always_inline]] inline void lumped_mass_pass(const KrRows& b, const RowFactors& uniform) {
+  const Eigen::Index n = b.n, last = n - 1;
+  RightHandSide rhs(b);
+  const LaneDiagonals dm = b.d_matrix;
+  const Lanes inverse_mass = uniform.mass.inverse_pivot;
+  const Factors e = uniform.e;
+  SweepUp sweep;
+  Lanes t1{}, p1{}, p2{};  // t_{i−1}, p_{i−1}, p_{i−2}: p = D's off-diagonal · t
+  const auto row = [&]<bool kGeneric>(Eigen::Index i) __attribute__((always_inline)) {
+    const Lanes q =
+        rhs.template row<kGeneric>(i) * (kGeneric ? b.mass.inverse_pivot[i] : inverse_mass);
+    const Lanes t = q - b.a[i];
+    const Lanes p = dm.off * t;
+    if (!(kGeneric && i == 0)) {  // row j = i − 1 of D·t, then of E's sweep
+      const Eigen::Index j = i - 1;
+      if (kGeneric && j == 0) {
+        sweep.row<true>(0, factors(b.e, 0), fma(dm.first, t1, p), b.y);
+      } else if (kGeneric) {
+        sweep.row<true>(j, factors(b.e, j), fma(diagonal(dm, j, last), t1, p2) + p, b.y);
+      } else {
+        sweep.row<false>(j, e, fma(dm.interior, t1, p2) + p, b.y);
+      }
+    }
+    t1 = t;
+    p2 = p1;
+    p1 = p;
+  };
+  // Generic rows where row i or i − 1 is outside [uniform_begin, uniform_end).
+  Eigen::Index i = 0;
+  const Eigen::Index split = std::min(b.uniform_begin + 1, b.uniform_end);
+  for (; i < split; ++i) row.template operator()<true>(i);
+#pragma GCC unroll 2
+  for (; i < b.uniform_end; ++i) row.template operator()<false>(i);
+  for (; i < n; ++i) row.template operator()<true>(i);
+  sweep.row<true>(last, factors(b.e, last), fma(dm.last, t1, p2), b.y);
 }
 
 // One step of KR-α in every lane (KrAlphaExplicit::step, single wall, no damping): the passes of
@@ -176,74 +347,38 @@ template <class Combine>
   const RowFactors uniform = uniform_row;
   const Eigen::Index last = b.n - 1;
 
-  // A: r = 0 + (−α_f)·K·u, then + (−(1 − α_f))·K·u₁ (Tridiagonal::multiply_add's rows: (l·x₋ +
-  // d·x) + u·x₊, each off-diagonal product shared by two rows), M's forward sweep: 7 mul 6 add
-  // 1 FMA. (K·u is the last step's K·u₁; keeping it in an array instead measured no faster.)
-  {
-    struct Ahead {
-      Lanes u, q, u1, q1;
-    };
-    const Lanes off = b.stiffness.off;
-    const auto load = [&](Eigen::Index j) __attribute__((always_inline)) {
-      Ahead x;
-      x.u = b.u[j];
-      x.q = off * x.u;
-      x.u1 = b.u_next[j];
-      x.q1 = off * x.u1;
-      return x;
-    };
-    Ahead prev{}, cur = load(0), next{};
-    Lanes eliminated{};
-    const Lanes k_first = b.stiffness.first, k_interior = b.stiffness.interior;
-    const Lanes k_last = b.stiffness.last, minus_af = b.minus_af, minus_rest = b.minus_rest;
+  // ABC (lumped M): A, B and C in one pass, unless some r_i/m_i is not finite.
+  bool fused = false;
+  if (b.lumped_mass) {
+    lumped_mass_pass(b, uniform);
+    fused = all_finite(b.y[last], Lanes{});
+  }
+  if (!fused) {
+    // A: r, M's forward sweep: 7 mul 6 add 1 FMA.
+    RightHandSide rhs(b);
+    SweepUp sweep;
     each_row<true>(
         b, b.mass, uniform.mass,
         [&]<bool kGeneric>(Eigen::Index i, const Factors& f) __attribute__((always_inline)) {
-          const bool first = kGeneric && i == 0, at_last = kGeneric && i == last;
-          if (!at_last) next = load(i + 1);
-          const Lanes k = !kGeneric   ? k_interior
-                          : i == 0    ? k_first
-                          : i == last ? k_last
-                                      : k_interior;
-          Lanes now, ahead;
-          if (first) {
-            now = k * cur.u + next.q;
-            ahead = k * cur.u1 + next.q1;
-          } else if (at_last) {
-            now = prev.q + k * cur.u;
-            ahead = prev.q1 + k * cur.u1;
-          } else {
-            now = (prev.q + k * cur.u) + next.q;
-            ahead = (prev.q1 + k * cur.u1) + next.q1;
-          }
-          Lanes r = Lanes{} + minus_af * now;  // r.setZero(), then +=: 0 + x is x but for −0
-          r = r + minus_rest * ahead;
-          r = r * f.inverse_pivot;
-          if (!first) r = fma(f.minus_lower_ratio, eliminated, r);
-          store(&b.r[i], r);
-          eliminated = r;
-          prev = cur;
-          cur = next;
+          sweep.row<kGeneric>(i, f, rhs.template row<kGeneric>(i), b.r);
         });
+    // B: M's back substitution, r − a, D·(r − a) into y: 1 mul 2 add/sub 3 FMA.
+    solve_down_multiply(
+        b, b.mass, uniform.mass, b.r, b.d_matrix,
+        b.y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+          return x - b.a[i];
+        });
+    // C: E's forward sweep: 1 mul 1 FMA.
+    sweep_up(b, b.e, uniform.e, b.y);
   }
-  // B: M's back substitution, r − a, D·(r − a) into y: 1 mul 2 add/sub 3 FMA.
-  solve_down_multiply(
-      b, b.mass, uniform.mass, b.r, b.d_matrix,
-      b.y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
-        return x - b.a[i];
+  // D: E's back substitution, a += x: 2 FMA 1 add.
+  solve_down(
+      b, b.e, uniform.e,
+      b.y, [&]<bool>(Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+        store(&b.a[i], b.a[i] + x);
       });
-  // C: E's forward sweep: 1 mul 1 FMA.
-  sweep_up(b, b.e, uniform.e, b.y);
-  // D: E's back substitution, a += x, M·a into w: 1 mul 2 add 3 FMA.
-  solve_down_multiply(
-      b, b.e, uniform.e, b.y, b.mass_matrix,
-      b.w, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
-        const Lanes a = b.a[i] + x;
-        store(&b.a[i], a);
-        return a;
-      });
-  // E: D's forward sweep: 1 mul 1 FMA.
-  sweep_up(b, b.d, uniform.d, b.w);
+  // E: w = M·a and D's forward sweep on it: 2 mul 2 FMA 1 add.
+  multiply_sweep_up(b, b.d, uniform.d, b.a, b.mass_matrix, b.w);
 
   // The contact (the rod's contact dof is the last, which the forward sweep leaves final): the
   // contact-free u₂ there and λ, by KrAlphaExplicit::enforce's expressions.
@@ -258,45 +393,28 @@ template <class Combine>
     scaled = b.scale * lambda;
   }
   // F: D's back substitution (w = α1·a), u₂ = (u₁ + Δt·v̂) + s·w, the contact's corrections,
-  // v̂ += Δt·w: 4 mul 3 add 2 FMA.
+  // v̂ += Δt·w: 3 mul 3 add 2 FMA.
   const Lanes dt = b.dt, scale = b.scale;
-  const auto finish = [&]<bool kContact, bool kGeneric>(Eigen::Index i, const Lanes& x)
-      __attribute__((always_inline)) {
-    const Lanes v_hat = b.v_hat[i];
-    Lanes next = (u1[i] + dt * v_hat) + scale * x;
-    Lanes w = x;
-    if constexpr (kContact) {
-      const Lanes response = b.w_response[i];
-      w = select(closes, x - lambda * response, x);
-      next = select(closes, next - scaled * response, next);
-      const Lanes a = b.a[i];
-      store(&b.a[i], select(closes, a - lambda * b.a_response[i], a));
-    }
-    if (kGeneric && i == last) {
-      next = select(closes, b.gap, next);  // exactly the wall, not a few ulps off
-      velocity = v_hat + b.lead * w;
-    }
-    store(&u2[i], next);
-    store(&b.v_hat[i], v_hat + dt * w);
-  };
-  Lanes x1{}, x2{}, y_next{};
   const auto solve = [&]<bool kContact>() __attribute__((always_inline)) {
-    each_row<false>(
+    solve_down(
         b, b.d, uniform.d,
-        [&]<bool kGeneric>(Eigen::Index i, const Factors& f) __attribute__((always_inline)) {
-          const Lanes yi = b.w[i];
-          Lanes x;
-          if (kGeneric && i == last) {
-            x = yi;
-          } else if (kGeneric && i == last - 1) {
-            x = fma(f.minus_upper_ratio, x1, yi);
-          } else {
-            x = fma(f.upper_ratio2, x2, fma(f.minus_upper_ratio, y_next, yi));
+        b.w, [&]<bool kGeneric>(Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+          const Lanes v_hat = b.v_hat[i];
+          Lanes next = (u1[i] + dt * v_hat) + scale * x;
+          Lanes w = x;
+          if constexpr (kContact) {
+            const Lanes response = b.w_response[i];
+            w = select(closes, x - lambda * response, x);
+            next = select(closes, next - scaled * response, next);
+            const Lanes a = b.a[i];
+            store(&b.a[i], select(closes, a - lambda * b.a_response[i], a));
           }
-          y_next = yi;
-          x2 = x1;
-          x1 = x;
-          finish.template operator()<kContact, kGeneric>(i, x);
+          if (kGeneric && i == last) {
+            next = select(closes, b.gap, next);  // exactly the wall, not a few ulps off
+            velocity = v_hat + b.lead * w;
+          }
+          store(&u2[i], next);
+          store(&b.v_hat[i], v_hat + dt * w);
         });
   };
   if (any) {
@@ -321,13 +439,18 @@ template <class Combine>
   const auto mean = [&](Eigen::Index i) __attribute__((always_inline)) {
     return half * (b.u[i] + b.u_next[i]);
   };
+  // Each row's w and m formed once and slid along (a division per row, not three).
   Lanes kinetic{}, strain{};
+  Lanes w_prev{}, w = rate(0), m_prev{}, m = mean(0);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const Lanes w = rate(i), m = mean(i);
-    const Lanes w_prev = i > 0 ? rate(i - 1) : Lanes{}, w_next = i + 1 < n ? rate(i + 1) : Lanes{};
-    const Lanes m_prev = i > 0 ? mean(i - 1) : Lanes{}, m_next = i + 1 < n ? mean(i + 1) : Lanes{};
+    const Lanes w_next = i + 1 < n ? rate(i + 1) : Lanes{};
+    const Lanes m_next = i + 1 < n ? mean(i + 1) : Lanes{};
     kinetic = kinetic + w * quadratic_form_row(mass, i, w_prev, w, w_next);
     strain = strain + m * quadratic_form_row(stiffness, i, m_prev, m, m_next);
+    w_prev = w;
+    w = w_next;
+    m_prev = m;
+    m = m_next;
   }
   return half * kinetic + half * strain;
 }
@@ -438,37 +561,25 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
   const int count = static_cast<int>(scenes.size());
   SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
   const Eigen::Index n = system.size();
-  const double dt = derive(scenes[0]).time_step;
-
-  constexpr int kArrays = 21;
-  storage.assign(static_cast<std::size_t>(kArrays * n), LaneBlock{});
-  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
-  const auto take = [&] {
-    Lanes* p = block;
-    block += n;
-    return p;
-  };
   KrBatch b{};
+  b.loop = loop_settings(scenes[0], options);
+  const double dt = b.loop.dt;
+
+  constexpr int kArrays = 3 * 4 + 9;  // three factorisations' four, the rows' nine below
+  LaneStorage arrays(storage, kArrays, n);
   KrRows& rows = b.rows;
   rows.n = n;
   for (FactorRows* f : {&rows.mass, &rows.d, &rows.e}) {
-    f->inverse_pivot = take();
-    f->minus_lower_ratio = take();
-    f->minus_upper_ratio = take();
-    f->upper_ratio2 = take();
+    arrays.take(
+        {&f->inverse_pivot, &f->minus_lower_ratio, &f->minus_upper_ratio, &f->upper_ratio2});
   }
-  rows.u = take(), rows.u_next = take(), rows.v_hat = take(), rows.a = take();
-  rows.r = take(), rows.y = take(), rows.w = take();
-  rows.a_response = take(), rows.w_response = take();
+  arrays.take({&rows.u, &rows.u_next, &rows.v_hat, &rows.a, &rows.r, &rows.y, &rows.w,
+               &rows.a_response, &rows.w_response});
   rows.gap = splat(kInf);  // unused lanes never touch a wall
   rows.dt = splat(dt);
   b.mass = &system.mass;
   b.stiffness = &system.stiffness;
   b.start = &starts;
-  b.loop = {.area = scenes[0].area,
-            .dt = dt,
-            .energy_check_interval = options.energy_check_interval,
-            .energy_growth_limit = options.energy_growth_limit};
 
   // Every lane prepared first: the start changes a lane's start state (the contact at the start
   // corrects a), which a later lane of the same velocity would otherwise copy (prepare_lane).
@@ -484,6 +595,11 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
   const bool mass_factored = mass.factor(system.mass);
   const bool uniform = uniform_symmetric(system.mass) && uniform_symmetric(system.stiffness) &&
                        system.contact_dof == n - 1 && n >= 2;
+  rows.lumped_mass = mass_factored;
+  for (Eigen::Index i = 0; i < n && mass_factored; ++i) {
+    rows.lumped_mass = rows.lumped_mass && mass.lower_ratios()[i] == 0.0 &&
+                       mass.upper_ratios()[i] == 0.0 && mass.inverse_pivots()[i] > 0.5;
+  }
   bool any = false;
   for (int l = 0; l < count; ++l) {
     const auto lane = static_cast<std::size_t>(l);
@@ -575,6 +691,10 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
     set_factors(rows.mass, l, mass);
     set_factors(rows.d, l, d);
     set_factors(rows.e, l, e);
+    for (Eigen::Index i = 0; i < n; ++i) {  // KrRows::lumped_mass
+      rows.lumped_mass = rows.lumped_mass && d_matrix.diag[i] != 0.0 &&
+                         e.inverse_pivots()[i] != 0.0 && (i == 0 || e.lower_ratios()[i] != 0.0);
+    }
     set_diagonals(rows.stiffness, l, system.stiffness);
     set_diagonals(rows.mass_matrix, l, system.mass);
     set_diagonals(rows.d_matrix, l, d_matrix);

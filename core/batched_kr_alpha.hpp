@@ -16,26 +16,34 @@
 // first displacement with the contact at the start, v̂₀) likewise, lane by lane at set-up. The
 // energy of the `unstable` test is the scalar's own half-step energy.
 //
-// The step, per lane (KrAlphaExplicit::step), in six passes over the rows, each one sweep with
-// the products and vector work that can ride on it:
+// The step, per lane (KrAlphaExplicit::step), in passes over the rows, each one sweep with the
+// products and vector work that can ride on it:
 //   A (up)   r = (0 + (−α_f)·K·u) + (−(1 − α_f))·K·u₁, M's forward sweep;
 //   B (down) M's back substitution, r − a, D·(r − a) row by row as its neighbours are solved;
 //   C (up)   E's forward sweep;
-//   D (down) E's back substitution, a += x, M·a row by row;
-//   E (up)   D's forward sweep; it leaves the last row (the contact dof) final, so the contact-free
-//            u₂ there and the multiplier λ = (u₂ − gap)/(s·W_cc) are decided before F;
+//   D (down) E's back substitution, a += x;
+//   E (up)   w = M·a row by row, D's forward sweep; it leaves the last row (the contact dof)
+//            final, so the contact-free u₂ there and the multiplier λ = (u₂ − gap)/(s·W_cc) are
+//            decided before F;
 //   F (down) D's back substitution (w = α1·a), u₂ = (u₁ + Δt·v̂₁) + s·w and, in lanes in contact,
 //            the corrections of a, w and u₂ by λ; then v̂ += Δt·w, the next step's first update,
 //            done here so that w is never stored (the same operation on the same numbers).
-// u₁ = u₂ of the last step is a pointer swap, not a copy. The reported velocity v̂ + γΔt·w is
-// formed at the contact dof only, the one the trace reads.
+// On a lumped mass (the paper's rod, and every shipped plan's) A, B and C are one pass upwards:
+// M's factorisation has zero ratios, so its sweeps give r_i·(1/m_i) bit for bit whenever that is
+// finite (KrRows::lumped_mass says why), and D·(r − a) and E's forward sweep follow one row
+// behind; a step where some r_i·(1/m_i) is not finite (then neither is the sweep's last row) does
+// A, B and C instead. u₁ = u₂ of the
+// last step is a pointer swap, not a copy. The reported velocity v̂ + γΔt·w is formed at the
+// contact dof only, the one the trace reads.
 //
-// Per unknown and step a lane costs (counted at the passes in core/batched_kr_alpha.cpp): A 7 mul
-// 6 add 1 FMA, B 1 mul 2 add/sub 3 FMA, C 1 mul 1 FMA, D 1 mul 2 add 3 FMA, E 1 mul 1 FMA, F 4 mul
-// 3 add 2 FMA: 15 mul + 13 add/sub + 11 FMA, 50 flops in 39 instructions (HHT's step: 23 in 14),
-// 8 stores per unknown and register (HHT's: 4). While some lane is in contact F also subtracts
-// λ times the step's responses to a unit contact force from a, w and u₂ (3 mul 3 sub 3 blends,
-// one store more).
+// Per unknown and step a lane costs (counted at the passes in core/batched_kr_alpha.cpp), on a
+// lumped mass: ABC 9 mul 8 add/sub 2 FMA, D 1 add 2 FMA, E 2 mul 1 add 2 FMA, F 3 mul 3 add
+// 2 FMA: 14 mul + 13 add/sub + 8 FMA, 43 flops in 35 instructions (HHT's step: 23 in 14), 5 stores
+// per unknown and register (HHT's: 4), four passes moving 14 arrays of a row (HHT: two passes, 9).
+// On a consistent mass: A 7 mul 6 add 1 FMA, B 1 mul 2 add/sub 3 FMA, C 1 mul 1 FMA, then D, E, F:
+// 49 flops in 38 instructions, six passes, 18 arrays. While some lane is in contact F also
+// subtracts λ times the step's responses to a unit contact force from a, w and u₂ (3 mul 3 sub 3
+// blends, one store more).
 //
 // What batches (kr_alpha_batchable, through batchable / same_batch): KR-α with any ρ∞ on an
 // undamped rod with a lumped or a consistent mass (damped runs go through simulate()), single
