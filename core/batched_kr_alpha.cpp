@@ -44,15 +44,23 @@ struct LaneDiagonals {
   Lanes first, interior, last, off;
 };
 
-// What KrAlphaExplicit::step reads, for every lane. Small, so that the step takes a local copy of
-// it (see kr_alpha_step_lanes).
+// The step's constants of every lane, apart from KrRows: the step reads them through a pointer once
+// a pass (each pass copies what it needs into registers), not in a copy of its own.
+struct KrConstants {
+  LaneDiagonals stiffness, mass_matrix, d_matrix;
+  Lanes dt, minus_af, minus_rest, scale, lead, contact_denominator, gap;
+};
+
+// What KrAlphaExplicit::step reads, for every lane. Small (the arrays' pointers and the bounds;
+// the constants apart, in KrConstants), so that the step takes a local copy of it (see
+// kr_alpha_step_lanes).
 struct KrRows {
   Eigen::Index n;
   FactorRows mass, d, e;
   // Rows [uniform_begin, uniform_end) have every factor of row uniform_begin in every lane, bit
   // for bit (checked): held in registers there. Within [1, n − 2).
   Eigen::Index uniform_begin, uniform_end;
-  LaneDiagonals stiffness, mass_matrix, d_matrix;
+  const KrConstants* constants;
   // The state: u (the sample's), u_next (u₂, fixed by the last equilibrium), v̂ already advanced by
   // Δt·w (the next step's first update, done at the end of this one), a; r and y scratch, w the
   // M·a and α1·a of the step (scratch too: see the header).
@@ -60,7 +68,6 @@ struct KrRows {
   // The step's response of a and of α1·a to a unit force on the contact dof (KrAlphaExplicit's
   // step_response_.a_main, .w_main).
   Lanes *a_response, *w_response;
-  Lanes dt, minus_af, minus_rest, scale, lead, contact_denominator, gap;
   // M is diagonal (lumped): its factorisation's ratios are zeros and every 1/m_i > ½ (checked).
   // Then M's sweeps change nothing: with r_i·(1/m_i) finite and never −0 (r never is, and a product
   // with a factor above ½ does not underflow to zero), each fused multiply-add of the sweeps adds
@@ -240,12 +247,12 @@ class RightHandSide {
       : u_(b.u),
         u1_(b.u_next),
         last_(b.n - 1),
-        off_(b.stiffness.off),
-        k_first_(b.stiffness.first),
-        k_interior_(b.stiffness.interior),
-        k_last_(b.stiffness.last),
-        minus_af_(b.minus_af),
-        minus_rest_(b.minus_rest),
+        off_(b.constants->stiffness.off),
+        k_first_(b.constants->stiffness.first),
+        k_interior_(b.constants->stiffness.interior),
+        k_last_(b.constants->stiffness.last),
+        minus_af_(b.constants->minus_af),
+        minus_rest_(b.constants->minus_rest),
         cur_(load(0)) {}
 
   template <bool kGeneric>
@@ -300,7 +307,7 @@ class RightHandSide {
 [[gnu::always_inline]] inline void lumped_mass_pass(const KrRows& b, const RowFactors& uniform) {
   const Eigen::Index n = b.n, last = n - 1;
   RightHandSide rhs(b);
-  const LaneDiagonals dm = b.d_matrix;
+  const LaneDiagonals dm = b.constants->d_matrix;
   const Lanes inverse_mass = uniform.mass.inverse_pivot;
   const Factors e = uniform.e;
   SweepUp sweep;
@@ -340,11 +347,14 @@ class RightHandSide {
 [[gnu::always_inline]] inline Lanes kr_alpha_step_lanes(const KrRows& rows,
                                                         const RowFactors& uniform_row,
                                                         Lanes& velocity) {
-  // Local copies, so that the compiler keeps them in registers: a store through a Lanes pointer
-  // (may_alias) could otherwise change them, and every use would reload them
-  // (core/batched_simulation.cpp's step_lanes).
+  // A local copy of the pointers and bounds, so that the compiler keeps them in registers: a store
+  // through a Lanes pointer (may_alias) could otherwise change them, and every use would reload
+  // them (core/batched_simulation.cpp's step_lanes). The constants (KrConstants) and `uniform` are
+  // copied by each pass, as far as it uses them, into registers: a copy here too moved 2.7 KB a
+  // step.
   const KrRows b = rows;
-  const RowFactors uniform = uniform_row;
+  const KrConstants& k = *b.constants;
+  const RowFactors& uniform = uniform_row;
   const Eigen::Index last = b.n - 1;
 
   // ABC (lumped M): A, B and C in one pass, unless some r_i/m_i is not finite.
@@ -364,7 +374,7 @@ class RightHandSide {
         });
     // B: M's back substitution, r − a, D·(r − a) into y: 1 mul 2 add/sub 3 FMA.
     solve_down_multiply(
-        b, b.mass, uniform.mass, b.r, b.d_matrix,
+        b, b.mass, uniform.mass, b.r, k.d_matrix,
         b.y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
           return x - b.a[i];
         });
@@ -378,23 +388,23 @@ class RightHandSide {
         store(&b.a[i], b.a[i] + x);
       });
   // E: w = M·a and D's forward sweep on it: 2 mul 2 FMA 1 add.
-  multiply_sweep_up(b, b.d, uniform.d, b.a, b.mass_matrix, b.w);
+  multiply_sweep_up(b, b.d, uniform.d, b.a, k.mass_matrix, b.w);
 
   // The contact (the rod's contact dof is the last, which the forward sweep leaves final): the
   // contact-free u₂ there and λ, by KrAlphaExplicit::enforce's expressions.
   const Lanes* const u1 = b.u_next;
   Lanes* const u2 = b.u;  // u, no longer needed: u₂ is written over it
-  const Lanes free_end = (u1[last] + b.dt * b.v_hat[last]) + b.scale * b.w[last];
-  const LaneMask closes = greater(free_end, b.gap);
+  const Lanes dt = k.dt, scale = k.scale, gap = k.gap, lead = k.lead;
+  const Lanes free_end = (u1[last] + dt * b.v_hat[last]) + scale * b.w[last];
+  const LaneMask closes = greater(free_end, gap);
   const bool any = any_lane(closes);
   Lanes lambda{}, scaled{};
   if (any) {
-    lambda = select(closes, (free_end - b.gap) / b.contact_denominator, Lanes{});
-    scaled = b.scale * lambda;
+    lambda = select(closes, (free_end - gap) / k.contact_denominator, Lanes{});
+    scaled = scale * lambda;
   }
   // F: D's back substitution (w = α1·a), u₂ = (u₁ + Δt·v̂) + s·w, the contact's corrections,
   // v̂ += Δt·w: 3 mul 3 add 2 FMA.
-  const Lanes dt = b.dt, scale = b.scale;
   const auto solve = [&]<bool kContact>() __attribute__((always_inline)) {
     solve_down(
         b, b.d, uniform.d,
@@ -410,8 +420,8 @@ class RightHandSide {
             store(&b.a[i], select(closes, a - lambda * b.a_response[i], a));
           }
           if (kGeneric && i == last) {
-            next = select(closes, b.gap, next);  // exactly the wall, not a few ulps off
-            velocity = v_hat + b.lead * w;
+            next = select(closes, gap, next);  // exactly the wall, not a few ulps off
+            velocity = v_hat + lead * w;
           }
           store(&u2[i], next);
           store(&b.v_hat[i], v_hat + dt * w);
@@ -432,9 +442,9 @@ class RightHandSide {
                                                           const Tridiagonal& stiffness,
                                                           const KrRows& b) {
   const Eigen::Index n = b.n;
-  const Lanes half = splat(0.5);
+  const Lanes half = splat(0.5), dt = b.constants->dt;
   const auto rate = [&](Eigen::Index i) __attribute__((always_inline)) {
-    return (b.u_next[i] - b.u[i]) / b.dt;
+    return (b.u_next[i] - b.u[i]) / dt;
   };
   const auto mean = [&](Eigen::Index i) __attribute__((always_inline)) {
     return half * (b.u[i] + b.u_next[i]);
@@ -463,6 +473,7 @@ struct KrStart {
 
 struct KrBatch {
   KrRows rows;
+  KrConstants constants;
   const Tridiagonal *mass, *stiffness;
   std::array<LaneRun, kBatchLanes> lanes;
   std::array<State, kBatchLanes>* start;
@@ -575,8 +586,10 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
   }
   arrays.take({&rows.u, &rows.u_next, &rows.v_hat, &rows.a, &rows.r, &rows.y, &rows.w,
                &rows.a_response, &rows.w_response});
-  rows.gap = splat(kInf);  // unused lanes never touch a wall
-  rows.dt = splat(dt);
+  KrConstants& constants = b.constants;
+  rows.constants = &constants;
+  constants.gap = splat(kInf);  // unused lanes never touch a wall
+  constants.dt = splat(dt);
   b.mass = &system.mass;
   b.stiffness = &system.stiffness;
   b.start = &starts;
@@ -682,12 +695,12 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
 
     // The lane's constants, by KrAlphaExplicit::step's expressions.
     const double scale = dt * dt * (0.5 + c.gamma);
-    rows.minus_af.set(l, -c.alpha_f);
-    rows.minus_rest.set(l, -(1.0 - c.alpha_f));
-    rows.scale.set(l, scale);
-    rows.lead.set(l, c.gamma * dt);
-    rows.contact_denominator.set(l, scale * step_w[contact]);
-    rows.gap.set(l, system.has_contact() ? system.gap : kInf);
+    constants.minus_af.set(l, -c.alpha_f);
+    constants.minus_rest.set(l, -(1.0 - c.alpha_f));
+    constants.scale.set(l, scale);
+    constants.lead.set(l, c.gamma * dt);
+    constants.contact_denominator.set(l, scale * step_w[contact]);
+    constants.gap.set(l, system.has_contact() ? system.gap : kInf);
     set_factors(rows.mass, l, mass);
     set_factors(rows.d, l, d);
     set_factors(rows.e, l, e);
@@ -695,9 +708,9 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
       rows.lumped_mass = rows.lumped_mass && d_matrix.diag[i] != 0.0 &&
                          e.inverse_pivots()[i] != 0.0 && (i == 0 || e.lower_ratios()[i] != 0.0);
     }
-    set_diagonals(rows.stiffness, l, system.stiffness);
-    set_diagonals(rows.mass_matrix, l, system.mass);
-    set_diagonals(rows.d_matrix, l, d_matrix);
+    set_diagonals(constants.stiffness, l, system.stiffness);
+    set_diagonals(constants.mass_matrix, l, system.mass);
+    set_diagonals(constants.d_matrix, l, d_matrix);
     for (Eigen::Index i = 0; i < n; ++i) {
       rows.a_response[i].set(l, step_a[i]);
       rows.w_response[i].set(l, step_w[i]);
