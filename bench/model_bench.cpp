@@ -67,13 +67,19 @@ ModelScene grid_scene(int side) {
   return {model, dt, static_cast<double>(kSteps) * dt};
 }
 
-// One run (set-up and 200 steps) of each method family: central difference (a diagonal
-// left-hand matrix) and HHT (the effective matrix factored once, one or two solves a step).
+// The methods BM_ModelRun times, by its second argument: central difference (a diagonal
+// left-hand matrix), HHT (the effective matrix factored once, one or two solves a step), the two
+// explicit stage schemes (two of central difference's stages and each stage's contact problem)
+// and KR-α (three solves a step with its model-based matrices, factored once).
+const std::vector<MethodParams> kModelRunMethods = {CentralDifferenceParams{},
+                                                    HhtParams{.alpha = -0.1}, NohBatheParams{},
+                                                    KimExplicitParams{}, KrAlphaParams{}};
+
+// One run (set-up and 200 steps) of each method family.
 void BM_ModelRun(benchmark::State& state) {
   const ModelScene scene = grid_scene(static_cast<int>(state.range(0)));
   const AssembledScene assembled = assemble(scene);
-  const MethodParams method = state.range(1) == 0 ? MethodParams{CentralDifferenceParams{}}
-                                                  : MethodParams{HhtParams{.alpha = -0.1}};
+  const MethodParams method = kModelRunMethods.at(static_cast<std::size_t>(state.range(1)));
   state.SetLabel(std::string(to_string(kind_of(method))) + ", " +
                  std::to_string(scene.model->size()) + " DOFs");
   SimulationWorkspace workspace;
@@ -86,7 +92,9 @@ void BM_ModelRun(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(kSteps) * static_cast<double>(state.iterations()),
                          benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_ModelRun)->ArgsProduct({{32, 100, 316}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ModelRun)
+    ->ArgsProduct({{32, 100, 316}, {0, 1, 2, 3, 4}})
+    ->Unit(benchmark::kMillisecond);
 
 // HHT's effective matrix of the grid model, M + b1·dt²·K; side 0: of the shipped block
 // (examples/block, 1722 DOFs of plane strain).
