@@ -374,10 +374,14 @@ TEST(SparseImplicitIntegrator, PenaltyAndAugmentedLagrangianAsTheChainIntegrator
       ASSERT_NEAR(s.multipliers[0], r.multipliers[0], 1e-9 * impulse_scale) << "t = " << s.t;
     }
     EXPECT_GT(active, 0);
-    if (law == ContactLaw::penalty) EXPECT_GT(deepest, 0.0);
+    if (law == ContactLaw::penalty) {
+      EXPECT_GT(deepest, 0.0);
+    }
     EXPECT_EQ(stepper.contact_iterations(), reference.contact_iterations());
     EXPECT_EQ(stepper.unconverged_contact_steps(), 0);
-    if (law == ContactLaw::augmented_lagrangian) EXPECT_GT(stepper.contact_iterations(), 0);
+    if (law == ContactLaw::augmented_lagrangian) {
+      EXPECT_GT(stepper.contact_iterations(), 0);
+    }
   }
 }
 
@@ -521,7 +525,9 @@ TEST(SparseCentralDifference, PenaltyAndAugmentedLagrangianAsTheChainCentralDiff
     }
     EXPECT_GT(active, 0);
     EXPECT_EQ(stepper.contact_iterations(), reference.contact_iterations());
-    if (law == ContactLaw::augmented_lagrangian) EXPECT_GT(stepper.contact_iterations(), 0);
+    if (law == ContactLaw::augmented_lagrangian) {
+      EXPECT_GT(stepper.contact_iterations(), 0);
+    }
     EXPECT_EQ(stepper.unconverged_contact_steps(), 0);
   }
 }
