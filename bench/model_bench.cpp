@@ -92,8 +92,12 @@ void BM_ModelRun(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(kSteps) * static_cast<double>(state.iterations()),
                          benchmark::Counter::kIsRate);
 }
+// KR-α not on the 1e5 grid: its run there (three factorisations, three solves a step) takes
+// longer than the rest of this file together, and bench.every_benchmark_once runs every case.
 BENCHMARK(BM_ModelRun)
-    ->ArgsProduct({{32, 100, 316}, {0, 1, 2, 3, 4}})
+    ->ArgsProduct({{32, 100, 316}, {0, 1, 2, 3}})
+    ->Args({32, 4})
+    ->Args({100, 4})
     ->Unit(benchmark::kMillisecond);
 
 // HHT's effective matrix of the grid model, M + b1·dt²·K; side 0: of the shipped block
