@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/model_scene.hpp"
@@ -56,7 +57,10 @@ std::shared_ptr<const Model> grid_model(int side) {
   const double dt = 1.0 / model->omega_bound;  // Courant 0.5
   for (int c = 0; c < 41; ++c) {
     const Eigen::Index dof = static_cast<Eigen::Index>(c) * (side - 1) / 40;
-    model->contacts.push_back({"c" + std::to_string(c), -1, dof, 100.0 * dt, 1.0, dof});
+    // Appended, not "c" + to_string(c): GCC 12 warns falsely (-Wrestrict) on that operator+.
+    std::string name = "c";
+    name += std::to_string(c);
+    model->contacts.push_back({name, -1, dof, 100.0 * dt, 1.0, dof});
   }
   return model;
 }
