@@ -902,13 +902,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   // A second state and factorisation (Houbolt: its three factorisations and past displacements).
   const bool two_steps = kind == StepKind::composite || kind == StepKind::wilson_theta;
   const int arrays = two_steps ? 8 : houbolt ? 10 : 4;
-  ws.storage_.assign(static_cast<std::size_t>(arrays * n), LaneBlock{});
-  Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
-  const auto take = [&] {
-    Lanes* p = block;
-    block += n;
-    return p;
-  };
+  LaneStorage storage(ws.storage_, arrays, n);
+  const auto take = [&storage] { return storage.take(); };
   Batch b{};
   LaneArrays& x = b.arrays;
   x.n = n;
