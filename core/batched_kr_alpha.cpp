@@ -23,7 +23,7 @@ using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's voc
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// One factorisation's numbers of a row in every lane: TridiagonalFactorization's 1/pivot,
+// E's factorisation's numbers of a row in every lane: TridiagonalFactorization's 1/pivot,
 // −lower/pivot, −upper/pivot (negated as the sweeps negate them) and the product of two upper
 // ratios.
 struct Factors {
@@ -32,10 +32,6 @@ struct Factors {
 // The same, [unknown][lane].
 struct FactorRows {
   Lanes *inverse_pivot, *minus_lower_ratio, *minus_upper_ratio, *upper_ratio2;
-};
-// A row's factors of the three solves.
-struct RowFactors {
-  Factors mass, d, e;
 };
 
 // A tridiagonal matrix of the uniform rod in every lane: its first, interior and last diagonal
@@ -47,7 +43,7 @@ struct LaneDiagonals {
 // The step's constants of every lane, apart from KrRows: the step reads them through a pointer once
 // a pass (each pass copies what it needs into registers), not in a copy of its own.
 struct KrConstants {
-  LaneDiagonals stiffness, mass_matrix, d_matrix;
+  LaneDiagonals stiffness, d_matrix;
   Lanes dt, minus_af, minus_rest, scale, lead, contact_denominator, gap;
 };
 
@@ -56,33 +52,21 @@ struct KrConstants {
 // kr_alpha_step_lanes).
 struct KrRows {
   Eigen::Index n;
-  FactorRows mass, d, e;
+  FactorRows e;
   // Rows [uniform_begin, uniform_end) have every factor of row uniform_begin in every lane, bit
   // for bit (checked): held in registers there. Within [1, n − 2).
   Eigen::Index uniform_begin, uniform_end;
   const KrConstants* constants;
   // The state: u (the sample's), u_next (u₂, fixed by the last equilibrium), v̂ already advanced by
-  // Δt·w (the next step's first update, done at the end of this one), a; r and y scratch, w the
-  // M·a and α1·a of the step (scratch too: see the header).
-  Lanes *u, *u_next, *v_hat, *a, *r, *y, *w;
-  // The step's response of a and of α1·a to a unit force on the contact dof (KrAlphaExplicit's
-  // step_response_.a_main, .w_main).
-  Lanes *a_response, *w_response;
-  // M is diagonal (lumped): its factorisation's ratios are zeros and every 1/m_i > ½ (checked).
-  // Then M's sweeps change nothing: with r_i·(1/m_i) finite and never −0 (r never is, and a product
-  // with a factor above ½ does not underflow to zero), each fused multiply-add of the sweeps adds
-  // ±0 to it and returns it. The step then does A, B and C in one pass (lumped_mass_pass). Also
-  // checked, in every lane: D's diagonal, E's 1/pivots and its lower ratios (rows 1 on) are not
-  // zero, so that a non-finite r_i·(1/m_i) makes row i of D·(M⁻¹·r − a) and of E's forward sweep
-  // non-finite, and every row of the sweep after it: the sweep's last row is the step's probe.
-  bool lumped_mass;
+  // Δt·w (the next step's first update, done at the end of this one), w = α1·a; y scratch.
+  Lanes *u, *u_next, *v_hat, *w, *y;
+  // The step's response of w to a unit force on the contact dof (KrAlphaExplicit's
+  // step_response_.w_main, E⁻¹·f).
+  Lanes* w_response;
 };
 
 [[gnu::always_inline]] inline Factors factors(const FactorRows& f, Eigen::Index i) {
   return {f.inverse_pivot[i], f.minus_lower_ratio[i], f.minus_upper_ratio[i], f.upper_ratio2[i]};
-}
-[[gnu::always_inline]] inline RowFactors row_factors(const KrRows& b, Eigen::Index i) {
-  return {factors(b.mass, i), factors(b.d, i), factors(b.e, i)};
 }
 // Row j's diagonal entry of a matrix of the rod.
 [[gnu::always_inline]] inline Lanes diagonal(const LaneDiagonals& m, Eigen::Index j,
@@ -91,10 +75,9 @@ struct KrRows {
 }
 
 // Calls row.template operator()<kGeneric>(i, f) for every row, upwards (kUp) or downwards, with
-// the row's factors of one solve: from its arrays outside [uniform_begin, uniform_end) (kGeneric:
-// the row may be an end row or the one before the last), `uniform` inside it (an interior row).
-// One factorisation at a time, a copy in registers: with all three the step's fused
-// multiply-adds were split into per-lane scalar ones (GCC's vectoriser gave up on them).
+// the row's factors of E: from its arrays outside [uniform_begin, uniform_end) (kGeneric: the row
+// may be an end row or the one before the last), `uniform` inside it (an interior row), a copy in
+// registers.
 template <bool kUp, class Row>
 [[gnu::always_inline]] inline void each_row(const KrRows& b, const FactorRows& rows,
                                             const Factors& uniform_factors, Row&& row) {
@@ -141,99 +124,6 @@ template <class Visit>
         x2 = x1;
         x1 = x;
         visit.template operator()<kGeneric>(i, x);
-      });
-}
-
-// solve_down fused with a product of the solution's rows as `combine` makes them
-// (t_i = combine(i, x_i)) with a symmetric tridiagonal matrix: row j of it (Tridiagonal::multiply:
-// d·t_j fused onto the lower neighbour's product, then + the upper's; each off-diagonal product
-// shared by two rows) is written into `out` as soon as t_{j−1} is known. 2 FMA for the solve,
-// 1 mul 1 FMA 1 add for the product.
-template <class Combine>
-[[gnu::always_inline]] inline void solve_down_multiply(const KrRows& b, const FactorRows& rows,
-                                                       const Factors& uniform, const Lanes* y_rows,
-                                                       const LaneDiagonals& diagonals, Lanes* out,
-                                                       Combine&& combine) {
-  const Eigen::Index last = b.n - 1;
-  const LaneDiagonals matrix = diagonals;
-  Lanes t1{}, t2{}, p1{}, p2{};  // t_{i+1}, t_{i+2} and their products with the off-diagonal
-  solve_down(
-      b, rows, uniform,
-      y_rows, [&]<bool kGeneric>(Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
-        const Lanes t = combine(i, x);
-        const Lanes p = matrix.off * t;
-        if (!(kGeneric && i == last)) {  // row j = i + 1
-          const Eigen::Index j = i + 1;
-          const Lanes d = kGeneric ? diagonal(matrix, j, last) : matrix.interior;
-          Lanes row = fma(d, t1, p);
-          if (!(kGeneric && j == last)) row = row + p2;
-          store(&out[j], row);
-        }
-        t2 = t1;
-        t1 = t;
-        p2 = p1;
-        p1 = p;
-      });
-  store(&out[0], b.n > 1 ? fma(matrix.first, t1, p2) : matrix.first * t1);
-}
-
-// A forward sweep (TridiagonalFactorization::forward_in_place: y_0·(1/pivot_0), then
-// y_i·(1/pivot_i) − (l_i/pivot_i)·y_{i−1}, one FMA) of rows handed over upwards, one at a time,
-// into `out`: 1 mul 1 FMA.
-struct SweepUp {
-  Lanes eliminated{};
-
-  template <bool kGeneric>
-  [[gnu::always_inline]] void row(Eigen::Index i, const Factors& s, const Lanes& value,
-                                  Lanes* out) {
-    Lanes y = value * s.inverse_pivot;
-    if (!(kGeneric && i == 0)) y = fma(s.minus_lower_ratio, eliminated, y);
-    store(&out[i], y);
-    eliminated = y;
-  }
-};
-
-// A forward sweep in place: 1 mul 1 FMA.
-[[gnu::always_inline]] inline void sweep_up(const KrRows& b, const FactorRows& factor_rows,
-                                            const Factors& uniform, Lanes* rows) {
-  SweepUp sweep;
-  each_row<true>(
-      b, factor_rows,
-      uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
-        sweep.row<kGeneric>(i, s, rows[i], rows);
-      });
-}
-
-// The forward sweep of (matrix·x) into `out`, the product's rows (Tridiagonal::multiply, as
-// solve_down_multiply) formed as the sweep reaches them: 2 mul 2 FMA 1 add.
-[[gnu::always_inline]] inline void multiply_sweep_up(const KrRows& b, const FactorRows& factor_rows,
-                                                     const Factors& uniform, const Lanes* x_rows,
-                                                     const LaneDiagonals& diagonals, Lanes* out) {
-  const Eigen::Index last = b.n - 1;
-  const LaneDiagonals matrix = diagonals;
-  Lanes x = x_rows[0], p = matrix.off * x, p_prev{};  // x_i, its product with the off-diagonal
-  SweepUp sweep;
-  each_row<true>(
-      b, factor_rows,
-      uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
-        Lanes x_next{}, p_next{};
-        if (!(kGeneric && i == last)) {
-          x_next = x_rows[i + 1];
-          p_next = matrix.off * x_next;
-        }
-        const Lanes d = kGeneric ? diagonal(matrix, i, last) : matrix.interior;
-        Lanes row;
-        if (kGeneric && i == 0) {
-          row = fma(d, x, p_next);
-        } else if (kGeneric && i == last) {
-          row = fma(d, x, p_prev);
-        } else {
-          row = fma(d, x, p_prev) + p_next;
-        }
-        sweep.row<kGeneric>(i, s, row, out);
-        p_prev = p;
-        x = x_next;
-        p = p_next;
       });
 }
 
@@ -300,102 +190,66 @@ class RightHandSide {
   Ahead prev_{}, cur_, next_{};
 };
 
-// A, B and C of the step in one pass upwards, for a lumped M (KrRows::lumped_mass): M⁻¹·r is
-// r_i·(1/m_i), y = D·(M⁻¹·r − a) row by row as its upper neighbour is known, E's forward sweep on
-// it. In a lane where some r_i·(1/m_i) is not finite, neither is the sweep's last row
-// (KrRows::lumped_mass): the caller then does A, B and C instead. 9 mul 8 add/sub 2 FMA.
-[[gnu::always_inline]] inline void lumped_mass_pass(const KrRows& b, const RowFactors& uniform) {
-  const Eigen::Index n = b.n, last = n - 1;
+// The first pass, upwards: row i of r − D·w (r of RightHandSide; D·w by multiply_rows' operations,
+// d·w_i fused onto the lower neighbour's product, then + the upper's) and E's forward sweep on it
+// (TridiagonalFactorization::forward_in_place: y_0·(1/pivot_0), then
+// y_i·(1/pivot_i) − (l_i/pivot_i)·y_{i−1}) into y. 8 mul 8 add/sub 2 FMA.
+[[gnu::always_inline]] inline void residual_sweep_up(const KrRows& b, const Factors& uniform) {
+  const Eigen::Index last = b.n - 1;
   RightHandSide rhs(b);
   const LaneDiagonals dm = b.constants->d_matrix;
-  const Lanes inverse_mass = uniform.mass.inverse_pivot;
-  const Factors e = uniform.e;
-  SweepUp sweep;
-  Lanes t1{}, p1{}, p2{};  // t_{i−1}, p_{i−1}, p_{i−2}: p = D's off-diagonal · t
-  const auto row = [&]<bool kGeneric>(Eigen::Index i) __attribute__((always_inline)) {
-    const Lanes q =
-        rhs.template row<kGeneric>(i) * (kGeneric ? b.mass.inverse_pivot[i] : inverse_mass);
-    const Lanes t = q - b.a[i];
-    const Lanes p = dm.off * t;
-    if (!(kGeneric && i == 0)) {  // row j = i − 1 of D·t, then of E's sweep
-      const Eigen::Index j = i - 1;
-      if (kGeneric && j == 0) {
-        sweep.row<true>(0, factors(b.e, 0), fma(dm.first, t1, p), b.y);
-      } else if (kGeneric) {
-        sweep.row<true>(j, factors(b.e, j), fma(diagonal(dm, j, last), t1, p2) + p, b.y);
-      } else {
-        sweep.row<false>(j, e, fma(dm.interior, t1, p2) + p, b.y);
-      }
-    }
-    t1 = t;
-    p2 = p1;
-    p1 = p;
-  };
-  // Generic rows where row i or i − 1 is outside [uniform_begin, uniform_end).
-  Eigen::Index i = 0;
-  const Eigen::Index split = std::min(b.uniform_begin + 1, b.uniform_end);
-  for (; i < split; ++i) row.template operator()<true>(i);
-#pragma GCC unroll 2
-  for (; i < b.uniform_end; ++i) row.template operator()<false>(i);
-  for (; i < n; ++i) row.template operator()<true>(i);
-  sweep.row<true>(last, factors(b.e, last), fma(dm.last, t1, p2), b.y);
+  const Lanes* const w = b.w;
+  Lanes x = w[0], p = dm.off * x, p_prev{};  // w_i, its product with the off-diagonal
+  Lanes eliminated{};                        // y_{i−1}
+  each_row<true>(
+      b, b.e,
+      uniform, [&]<bool kGeneric>(Eigen::Index i, const Factors& s) __attribute__((always_inline)) {
+        Lanes x_next{}, p_next{};
+        if (!(kGeneric && i == last)) {
+          x_next = w[i + 1];
+          p_next = dm.off * x_next;
+        }
+        const Lanes d = kGeneric ? diagonal(dm, i, last) : dm.interior;
+        Lanes product;
+        if (kGeneric && i == 0) {
+          product = fma(d, x, p_next);
+        } else if (kGeneric && i == last) {
+          product = fma(d, x, p_prev);
+        } else {
+          product = fma(d, x, p_prev) + p_next;
+        }
+        Lanes y = (rhs.template row<kGeneric>(i) - product) * s.inverse_pivot;
+        if (!(kGeneric && i == 0)) y = fma(s.minus_lower_ratio, eliminated, y);
+        store(&b.y[i], y);
+        eliminated = y;
+        p_prev = p;
+        x = x_next;
+        p = p_next;
+      });
 }
 
 // One step of KR-α in every lane (KrAlphaExplicit::step, single wall, no damping): the passes of
 // the header. Returns λ of the equilibrium at t + Δt; `velocity` gets the contact dof's reported
 // velocity v̂ + γΔt·w. Leaves u₁ in rows.u_next and u₂ in rows.u: the caller swaps them.
-[[gnu::always_inline]] inline Lanes kr_alpha_step_lanes(const KrRows& rows,
-                                                        const RowFactors& uniform_row,
+[[gnu::always_inline]] inline Lanes kr_alpha_step_lanes(const KrRows& rows, const Factors& uniform,
                                                         Lanes& velocity) {
   // A local copy of the pointers and bounds, so that the compiler keeps them in registers: a store
   // through a Lanes pointer (may_alias) could otherwise change them, and every use would reload
   // them (core/batched_simulation.cpp's step_lanes). The constants (KrConstants) and `uniform` are
-  // copied by each pass, as far as it uses them, into registers: a copy here too moved 2.7 KB a
-  // step.
+  // copied by each pass, as far as it uses them, into registers.
   const KrRows b = rows;
   const KrConstants& k = *b.constants;
-  const RowFactors& uniform = uniform_row;
   const Eigen::Index last = b.n - 1;
 
-  // ABC (lumped M): A, B and C in one pass, unless some r_i/m_i is not finite.
-  bool fused = false;
-  if (b.lumped_mass) {
-    lumped_mass_pass(b, uniform);
-    fused = all_finite(b.y[last], Lanes{});
-  }
-  if (!fused) {
-    // A: r, M's forward sweep: 7 mul 6 add 1 FMA.
-    RightHandSide rhs(b);
-    SweepUp sweep;
-    each_row<true>(
-        b, b.mass, uniform.mass,
-        [&]<bool kGeneric>(Eigen::Index i, const Factors& f) __attribute__((always_inline)) {
-          sweep.row<kGeneric>(i, f, rhs.template row<kGeneric>(i), b.r);
-        });
-    // B: M's back substitution, r − a, D·(r − a) into y: 1 mul 2 add/sub 3 FMA.
-    solve_down_multiply(
-        b, b.mass, uniform.mass, b.r, k.d_matrix,
-        b.y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
-          return x - b.a[i];
-        });
-    // C: E's forward sweep: 1 mul 1 FMA.
-    sweep_up(b, b.e, uniform.e, b.y);
-  }
-  // D: E's back substitution, a += x: 2 FMA 1 add.
-  solve_down(
-      b, b.e, uniform.e,
-      b.y, [&]<bool>(Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
-        store(&b.a[i], b.a[i] + x);
-      });
-  // E: w = M·a and D's forward sweep on it: 2 mul 2 FMA 1 add.
-  multiply_sweep_up(b, b.d, uniform.d, b.a, k.mass_matrix, b.w);
+  // Up: r − D·w and E's forward sweep.
+  residual_sweep_up(b, uniform);
 
-  // The contact (the rod's contact dof is the last, which the forward sweep leaves final): the
-  // contact-free u₂ there and λ, by KrAlphaExplicit::enforce's expressions.
+  // The contact (the rod's contact dof is the last, where E's back substitution starts: x = y
+  // there): the contact-free u₂ and λ, by KrAlphaExplicit::enforce's expressions.
   const Lanes* const u1 = b.u_next;
   Lanes* const u2 = b.u;  // u, no longer needed: u₂ is written over it
   const Lanes dt = k.dt, scale = k.scale, gap = k.gap, lead = k.lead;
-  const Lanes free_end = (u1[last] + dt * b.v_hat[last]) + scale * b.w[last];
+  const Lanes free_end = (u1[last] + dt * b.v_hat[last]) + scale * (b.w[last] + b.y[last]);
   const LaneMask closes = greater(free_end, gap);
   const bool any = any_lane(closes);
   Lanes lambda{}, scaled{};
@@ -403,26 +257,25 @@ class RightHandSide {
     lambda = select(closes, (free_end - gap) / k.contact_denominator, Lanes{});
     scaled = scale * lambda;
   }
-  // F: D's back substitution (w = α1·a), u₂ = (u₁ + Δt·v̂) + s·w, the contact's corrections,
-  // v̂ += Δt·w: 3 mul 3 add 2 FMA.
+  // Down: E's back substitution, w += x, u₂ = (u₁ + Δt·v̂) + s·w, the contact's corrections,
+  // v̂ += Δt·w: 3 mul 4 add 2 FMA.
   const auto solve = [&]<bool kContact>() __attribute__((always_inline)) {
     solve_down(
-        b, b.d, uniform.d,
-        b.w, [&]<bool kGeneric>(Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
+        b, b.e, uniform,
+        b.y, [&]<bool kGeneric>(Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
           const Lanes v_hat = b.v_hat[i];
-          Lanes next = (u1[i] + dt * v_hat) + scale * x;
-          Lanes w = x;
+          Lanes w = b.w[i] + x;
+          Lanes next = (u1[i] + dt * v_hat) + scale * w;
           if constexpr (kContact) {
             const Lanes response = b.w_response[i];
-            w = select(closes, x - lambda * response, x);
+            w = select(closes, w - lambda * response, w);
             next = select(closes, next - scaled * response, next);
-            const Lanes a = b.a[i];
-            store(&b.a[i], select(closes, a - lambda * b.a_response[i], a));
           }
           if (kGeneric && i == last) {
             next = select(closes, gap, next);  // exactly the wall, not a few ulps off
             velocity = v_hat + lead * w;
           }
+          store(&b.w[i], w);
           store(&u2[i], next);
           store(&b.v_hat[i], v_hat + dt * w);
         });
@@ -465,10 +318,10 @@ class RightHandSide {
   return half * kinetic + half * strain;
 }
 
-// Each lane's start as KrAlphaExplicit::initialize leaves it: u₂ and v̂ (already advanced by Δt·w,
-// see KrRows); u, a and λ are in the lane's State.
+// Each lane's start as KrAlphaExplicit::initialize leaves it: u₂, v̂ (already advanced by Δt·w,
+// see KrRows) and w = α1·a₀; u and λ are in the lane's State.
 struct KrStart {
-  Eigen::VectorXd u_next, v_hat;
+  Eigen::VectorXd u_next, v_hat, w;
 };
 
 struct KrBatch {
@@ -486,16 +339,16 @@ struct KrBatch {
 // each kernel kind has: core/function_versions.hpp).
 IMPACTID_SIMD_VERSIONS void run_kr_alpha_batch(KrBatch& b) {
   KrRows& rows = b.rows;
-  const RowFactors uniform = row_factors(rows, rows.uniform_begin);
+  const Factors uniform = factors(rows.e, rows.uniform_begin);
   const Eigen::Index n = rows.n;
   Lanes velocity{};
   const auto set_lane = [&](int l, const State* start, const KrStart* kr)
       __attribute__((always_inline)) {
     for (Eigen::Index i = 0; i < n; ++i) {
       rows.u[i].set(l, start ? start->u[i] : 0.0);
-      rows.a[i].set(l, start ? start->a[i] : 0.0);
       rows.u_next[i].set(l, kr ? kr->u_next[i] : 0.0);
       rows.v_hat[i].set(l, kr ? kr->v_hat[i] : 0.0);
+      rows.w[i].set(l, kr ? kr->w[i] : 0.0);
     }
   };
   run_lanes(b.lanes, b.loop,
@@ -576,16 +429,13 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
   b.loop = loop_settings(scenes[0], options);
   const double dt = b.loop.dt;
 
-  constexpr int kArrays = 3 * 4 + 9;  // three factorisations' four, the rows' nine below
+  constexpr int kArrays = 4 + 6;  // E's factorisation's four, the rows' six below
   LaneStorage arrays(storage, kArrays, n);
   KrRows& rows = b.rows;
   rows.n = n;
-  for (FactorRows* f : {&rows.mass, &rows.d, &rows.e}) {
-    arrays.take(
-        {&f->inverse_pivot, &f->minus_lower_ratio, &f->minus_upper_ratio, &f->upper_ratio2});
-  }
-  arrays.take({&rows.u, &rows.u_next, &rows.v_hat, &rows.a, &rows.r, &rows.y, &rows.w,
-               &rows.a_response, &rows.w_response});
+  arrays.take({&rows.e.inverse_pivot, &rows.e.minus_lower_ratio, &rows.e.minus_upper_ratio,
+               &rows.e.upper_ratio2});
+  arrays.take({&rows.u, &rows.u_next, &rows.v_hat, &rows.w, &rows.y, &rows.w_response});
   KrConstants& constants = b.constants;
   rows.constants = &constants;
   constants.gap = splat(kInf);  // unused lanes never touch a wall
@@ -608,11 +458,6 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
   const bool mass_factored = mass.factor(system.mass);
   const bool uniform = uniform_symmetric(system.mass) && uniform_symmetric(system.stiffness) &&
                        system.contact_dof == n - 1 && n >= 2;
-  rows.lumped_mass = mass_factored;
-  for (Eigen::Index i = 0; i < n && mass_factored; ++i) {
-    rows.lumped_mass = rows.lumped_mass && mass.lower_ratios()[i] == 0.0 &&
-                       mass.upper_ratios()[i] == 0.0 && mass.inverse_pivots()[i] > 0.5;
-  }
   bool any = false;
   for (int l = 0; l < count; ++l) {
     const auto lane = static_cast<std::size_t>(l);
@@ -652,23 +497,16 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
       continue;
     }
     // The responses to a unit force on the contact dof (KrAlphaExplicit::respond): the start's
-    // w = D⁻¹·f, the step's a = E⁻¹·D·M⁻¹·f and w = D⁻¹·M·a.
+    // a = M⁻¹·f and w = D⁻¹·f, the step's w = E⁻¹·f.
     const Eigen::Index contact = system.contact_dof;
     Eigen::VectorXd force = Eigen::VectorXd::Zero(n);
     force[contact] = 1.0;
-    Eigen::VectorXd start_a = force;
-    mass.solve_in_place(start_a);
     Eigen::VectorXd start_w = force;
     d.solve_in_place(start_w);
-    Eigen::VectorXd step_a = force;
-    mass.solve_in_place(step_a);
-    Eigen::VectorXd y(n);
-    d_matrix.multiply(step_a, y);
-    e.solve_in_place(y);
-    step_a = y;
-    Eigen::VectorXd step_w(n);
-    system.mass.multiply(step_a, step_w);
-    d.solve_in_place(step_w);
+    Eigen::VectorXd start_a = force;
+    mass.solve_in_place(start_a);
+    Eigen::VectorXd step_w = force;
+    e.solve_in_place(step_w);
 
     // The start: α1·a₀, u₂ = u₀ + Δt·v₀ + Δt²/2·α1·a₀ with the contact at the start
     // (KrAlphaExplicit::enforce, single wall), v̂₀ = v₀ − γΔt·α1·a₀.
@@ -692,6 +530,7 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
     const Eigen::VectorXd v_hat = state.v - (c.gamma * dt) * w;
     // Advanced by the first step's v̂ += Δt·w (KrRows).
     kr.v_hat = v_hat + dt * w;
+    kr.w = w;
 
     // The lane's constants, by KrAlphaExplicit::step's expressions.
     const double scale = dt * dt * (0.5 + c.gamma);
@@ -701,20 +540,10 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
     constants.lead.set(l, c.gamma * dt);
     constants.contact_denominator.set(l, scale * step_w[contact]);
     constants.gap.set(l, system.has_contact() ? system.gap : kInf);
-    set_factors(rows.mass, l, mass);
-    set_factors(rows.d, l, d);
     set_factors(rows.e, l, e);
-    for (Eigen::Index i = 0; i < n; ++i) {  // KrRows::lumped_mass
-      rows.lumped_mass = rows.lumped_mass && d_matrix.diag[i] != 0.0 &&
-                         e.inverse_pivots()[i] != 0.0 && (i == 0 || e.lower_ratios()[i] != 0.0);
-    }
     set_diagonals(constants.stiffness, l, system.stiffness);
-    set_diagonals(constants.mass_matrix, l, system.mass);
     set_diagonals(constants.d_matrix, l, d_matrix);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      rows.a_response[i].set(l, step_a[i]);
-      rows.w_response[i].set(l, step_w[i]);
-    }
+    for (Eigen::Index i = 0; i < n; ++i) rows.w_response[i].set(l, step_w[i]);
     any = true;
   }
   if (any) {
@@ -734,13 +563,9 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
         return true;
       };
       const auto same_row = [&](Eigen::Index i) {
-        for (const FactorRows* f : {&rows.mass, &rows.d, &rows.e}) {
-          if (!same(f->inverse_pivot, i) || !same(f->minus_lower_ratio, i) ||
-              !same(f->minus_upper_ratio, i) || !same(f->upper_ratio2, i)) {
-            return false;
-          }
-        }
-        return true;
+        const FactorRows& f = rows.e;
+        return same(f.inverse_pivot, i) && same(f.minus_lower_ratio, i) &&
+               same(f.minus_upper_ratio, i) && same(f.upper_ratio2, i);
       };
       rows.uniform_begin = ref;
       while (rows.uniform_begin > 1 && same_row(rows.uniform_begin - 1)) --rows.uniform_begin;

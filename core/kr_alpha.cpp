@@ -22,24 +22,18 @@ std::pair<Eigen::Index, Eigen::Index> non_zero_rows(const Eigen::VectorXd& colum
 
 }  // namespace
 
-void KrAlphaExplicit::respond(const SecondOrderSystem& system, bool start,
-                              const Eigen::VectorXd& force, Eigen::VectorXd& a,
+void KrAlphaExplicit::respond(bool start, const Eigen::VectorXd& force, Eigen::VectorXd& a,
                               Eigen::VectorXd& w) const {
   const Recurrence& k = recurrence_;
-  a = force;
-  k.mass.solve_in_place(a);  // M⁻¹·f
-  if (start) {
-    w = force;
-    k.d.solve_in_place(w);  // D⁻¹·f
+  w = force;
+  if (!start) {
+    k.e.solve_in_place(w);  // E⁻¹·f (= D⁻¹·M·E⁻¹·D·M⁻¹·f, the header)
+    a.resize(0);            // a step's acceleration follows from w
     return;
   }
-  Eigen::VectorXd y(a.size());
-  k.d_matrix.multiply(a, y);
-  k.e.solve_in_place(y);  // E⁻¹·D·M⁻¹·f
-  a = y;
-  w.resize(a.size());
-  system.mass.multiply(a, w);
-  k.d.solve_in_place(w);  // D⁻¹·M·a
+  k.d.solve_in_place(w);  // D⁻¹·f
+  a = force;
+  k.mass.solve_in_place(a);  // M⁻¹·f
 }
 
 void KrAlphaExplicit::set_up(const SecondOrderSystem& system, bool start,
@@ -48,17 +42,17 @@ void KrAlphaExplicit::set_up(const SecondOrderSystem& system, bool start,
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
   Eigen::VectorXd force = zero;
   force[system.contact_dof] = 1.0;
-  respond(system, start, force, response.a_main, response.w_main);
+  respond(start, force, response.a_main, response.w_main);
   if (system.has_far_contact()) {
     force = zero;
     force[system.far_contact_dof] = 1.0;
-    respond(system, start, force, response.a_far, response.w_far);
+    respond(start, force, response.a_far, response.w_far);
   } else {
     response.a_far.resize(0);
     response.w_far.resize(0);
   }
   const auto m = static_cast<Eigen::Index>(system.constraints.size());
-  response.a_list.setZero(n, m);
+  response.a_list.setZero(start ? n : 0, m);
   response.w_list.setZero(n, m);
   response.rows_a.assign(static_cast<std::size_t>(m), {0, 0});
   response.rows_w.assign(static_cast<std::size_t>(m), {0, 0});
@@ -69,10 +63,10 @@ void KrAlphaExplicit::set_up(const SecondOrderSystem& system, bool start,
     force = zero;
     if (c.plus >= 0) force[c.plus] += 1.0;
     if (c.minus >= 0) force[c.minus] -= 1.0;
-    respond(system, start, force, a, w);
-    response.a_list.col(k) = a;
+    respond(start, force, a, w);
+    if (start) response.a_list.col(k) = a;
     response.w_list.col(k) = w;
-    response.rows_a[static_cast<std::size_t>(k)] = non_zero_rows(a);
+    if (start) response.rows_a[static_cast<std::size_t>(k)] = non_zero_rows(a);
     response.rows_w[static_cast<std::size_t>(k)] = non_zero_rows(w);
   }
   for (Eigen::Index j = 0; j < m; ++j) {
@@ -132,17 +126,17 @@ bool KrAlphaExplicit::initialize(const SecondOrderSystem& system,
   k.resize(system.size());
   // The start (the header): the start's contact moves u₁ by Δt²/2 per unit of α1·a₀.
   k.start(system, start,
-          [&](Eigen::VectorXd& next) { enforce(system, start_response_, start.a, next, start); });
+          [&](Eigen::VectorXd& next) { enforce(system, start_response_, &start.a, next, start); });
   return true;
 }
 
 bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResponse& response,
-                              Eigen::VectorXd& a, Eigen::VectorXd& next, State& at) {
+                              Eigen::VectorXd* a, Eigen::VectorXd& next, State& at) {
   Eigen::VectorXd& w = recurrence_.w;  // α1·a: moves with a
   if (system.has_constraint_list()) {
     const bool pushing =
         list_law_.forward_increment(system.constraints, response.list, next, next, forces_);
-    apply_constraint_forces(response.a_list, response.rows_a, forces_, a);
+    if (a != nullptr) apply_constraint_forces(response.a_list, response.rows_a, forces_, *a);
     apply_constraint_forces(response.w_list, response.rows_w, forces_, w);
     scaled_forces_ = response.scale * forces_;
     apply_constraint_forces(response.w_list, response.rows_w, scaled_forces_, next);
@@ -169,12 +163,12 @@ bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResp
       list_law_.count(iterations);
     }
     if (forces.main > 0.0) {
-      a -= forces.main * response.a_main;
+      if (a != nullptr) *a -= forces.main * response.a_main;
       w -= forces.main * response.w_main;
       next -= (s * forces.main) * response.w_main;
     }
     if (forces.far > 0.0) {
-      a += forces.far * response.a_far;
+      if (a != nullptr) *a += forces.far * response.a_far;
       w += forces.far * response.w_far;
       next += (s * forces.far) * response.w_far;
     }
@@ -197,7 +191,7 @@ bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResp
                                   1.0 / contact_.main, contact_, iterations);
     list_law_.count(iterations);
   }
-  a -= lambda * response.a_main;
+  if (a != nullptr) *a -= lambda * response.a_main;
   w -= lambda * response.w_main;
   next -= (s * lambda) * response.w_main;
   if (contact_.lagrange()) next[contact] = system.gap;
@@ -206,8 +200,8 @@ bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResp
 }
 
 bool KrAlphaExplicit::step(const SecondOrderSystem& system, State& state) {
-  return recurrence_.step(system, state, [&](Eigen::VectorXd& a, Eigen::VectorXd& next) {
-    return enforce(system, step_response_, a, next, state);
+  return recurrence_.step(system, state, [&](Eigen::VectorXd& next) {
+    return enforce(system, step_response_, nullptr, next, state);
   });
 }
 

@@ -9,10 +9,17 @@
 //   D = M + γΔt·C + βΔt²·K,   N = α_m·M + α_f·γΔt·C + α_f·βΔt²·K,
 // are dense, so they are never formed. Each is applied through the factorised tridiagonals M, D
 // and E = D − N = (1−α_m)·M + (1−α_f)·(γΔt·C + βΔt²·K):
-//   w = α1·a = D⁻¹·(M·a)                                  (one product, one solve);
+//   w = α1·a = D⁻¹·(M·a);
 //   M·(I − α3)·a₁ = r − M·α3·a₀  ⇔  a₁ = a₀ + E⁻¹·D·(M⁻¹·r − a₀)   (M(I − α3) = M·D⁻¹·E),
-// with r = −K·u_{1−α_f} − C·v_{1−α_f}. A step is then two products with K (and C), three
-// solves (M, E, D), two products (D, M) and O(n) vector work: no allocation once sized.
+// with r = −K·u_{1−α_f} − C·v_{1−α_f}. The stepper carries w, not a: applying α1 to the second
+// line gives w₁ = w₀ + D⁻¹·M·E⁻¹·D·M⁻¹·(r − M·a₀), and D⁻¹·M·E⁻¹·D·M⁻¹ = E⁻¹ (D = M + B and
+// E = (1 − α_m)·M + (1 − α_f)·B share B = γΔt·C + βΔt²·K, so M⁻¹·D and M⁻¹·E are functions of
+// the one matrix M⁻¹·B and commute: D⁻¹·M·E⁻¹·D·M⁻¹ = (M⁻¹·D)⁻¹·(M⁻¹·E)⁻¹·(M⁻¹·D)·M⁻¹
+// = (M⁻¹·E)⁻¹·M⁻¹ = E⁻¹), with M·a₀ = D·w₀:
+//   w₁ = w₀ + E⁻¹·(r − D·w₀)                               (one product, one solve).
+// A step is then two products with K (and C), one product with D and one solve with E, and O(n)
+// vector work; the reported acceleration a₁ = M⁻¹·D·w₁ costs one more product and M's solve.
+// D's factorisation is the start's (w₀ = D⁻¹·M·a₀). No allocation once sized.
 //
 // The velocity. Matching Taylor series in the update and the equilibrium shows that when u_n
 // approximates u(t_n) to second order, the method's own velocity v̂_n (the v of the formulas at
@@ -33,15 +40,13 @@
 //   M·((I − α3)·a₁ + α3·a₀) + C·v_{1−α_f} + K·u_{1−α_f} + Gᵀ·λ₁ = 0,
 // chosen so that the next displacement u_{n+2} lies on the wall where the contact-free one would
 // penetrate: the complementarity problem g_next − s·G·W·λ <= 0, λ >= 0, complementary, with
-// s = Δt²(½ + γ) and W = D⁻¹·M·E⁻¹·D·M⁻¹·Gᵀ the response of α1·a₁ to the force (one wall: one
-// division; two walls: core/two_wall_contact.hpp; a list: core/contact_lcp.hpp). W = E⁻¹·Gᵀ for
-// every symmetric M, C and K, whatever the damping (Rayleigh's, a scene's body by body, or a
-// model's dashpot): D = M + B and E = (1 − α_m)·M + (1 − α_f)·B share B = γΔt·C + βΔt²·K, so
-// M⁻¹·D and M⁻¹·E are functions of the one matrix M⁻¹·B and commute, and
-// D⁻¹·M·E⁻¹·D·M⁻¹ = (M⁻¹·E)⁻¹·M⁻¹ = E⁻¹ (at the start W₀ = D⁻¹·Gᵀ). So the Delassus matrix s·G·W
-// is symmetric positive definite (tests/kr_alpha_test.cpp checks the identity with a dashpot);
-// the chain of solves that forms it leaves round-off, which symmetrize_contact_operator()
-// averages away. The next displacement is computed once, there, snapped onto its wall, and used
+// s = Δt²(½ + γ) and W = E⁻¹·Gᵀ the response of α1·a₁ to the force (the force enters r, and w₁
+// moves by E⁻¹ times r's change, above; at the start W₀ = D⁻¹·Gᵀ): one wall, one division; two
+// walls, core/two_wall_contact.hpp; a list, core/contact_lcp.hpp. The Delassus matrix s·G·E⁻¹·Gᵀ
+// is symmetric positive definite for every symmetric M, C and K, whatever the damping (Rayleigh's,
+// a scene's body by body, or a model's dashpot; tests/kr_alpha_test.cpp checks the identity with a
+// dashpot); the solve that forms it leaves round-off, which symmetrize_contact_operator() averages
+// away. The next displacement is computed once, there, snapped onto its wall, and used
 // as such by the next step. So:
 //   - the constraints hold at every sample t_{n+1} (enforced by λ_n);
 //   - the multiplier reported with the sample t_{n+1} is that of its own equilibrium, λ_{n+1} >= 0,
@@ -119,8 +124,9 @@ class KrAlphaExplicit {
   long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
-  // The response of the state to unit contact forces: of the acceleration (`a`) and of α1·a
-  // (`w`; the next displacement moves by s·w). One set for the start, one for the steps.
+  // The response of the state to unit contact forces: of α1·a (`w`; the next displacement moves by
+  // s·w) and, at the start only, of the acceleration (`a`; a step's follows from w). One set for
+  // the start, one for the steps.
   struct ContactResponse {
     double scale = 0.0;              // s: the next displacement moves by s·w
     Eigen::VectorXd a_main, w_main;  // to the main wall's force
@@ -130,14 +136,15 @@ class KrAlphaExplicit {
     ConstraintListProblem list;  // s·G·W (and + diag(1/k) for the augmented Lagrangian)
   };
   // The response to the force vector f on each contact: the start's a = M⁻¹·f, w = D⁻¹·f, or a
-  // step's a = E⁻¹·D·M⁻¹·f, w = D⁻¹·M·a. Allocates: set-up only.
-  void respond(const SecondOrderSystem& system, bool start, const Eigen::VectorXd& force,
-               Eigen::VectorXd& a, Eigen::VectorXd& w) const;
+  // step's w = E⁻¹·f (a left empty). Allocates: set-up only.
+  void respond(bool start, const Eigen::VectorXd& force, Eigen::VectorXd& a,
+               Eigen::VectorXd& w) const;
   void set_up(const SecondOrderSystem& system, bool start, ContactResponse& response);
-  // The contact of the equilibrium whose acceleration is `a`: `next` holds the contact-free
-  // displacement of the next sample; corrects a, recurrence_.w and next and writes the
-  // multipliers into `at`. Returns true if a constraint pushes.
-  bool enforce(const SecondOrderSystem& system, const ContactResponse& response, Eigen::VectorXd& a,
+  // The contact of an equilibrium: `next` holds the contact-free displacement of the next sample;
+  // corrects recurrence_.w, next and, at the start, the acceleration `a` (null for a step, whose
+  // acceleration follows from w) and writes the multipliers into `at`. Returns true if a
+  // constraint pushes.
+  bool enforce(const SecondOrderSystem& system, const ContactResponse& response, Eigen::VectorXd* a,
                Eigen::VectorXd& next, State& at);
 
   using Recurrence = KrAlphaRecurrence<Tridiagonal, TridiagonalFactorization>;
@@ -151,8 +158,8 @@ class KrAlphaExplicit {
 
 /// KR-α's contact operator s·G·W of a constraint list (either system), made exactly symmetric
 /// for the contact solver's Cholesky: g = (g + gᵀ)/2. It is symmetric in exact arithmetic for
-/// every damping (the header), so what the average removes is the round-off of the chain of
-/// solves that formed it; an assertion checks that it is no more (a relative asymmetry of at most
+/// every damping (the header), so what the average removes is the round-off of the solves that
+/// formed it; an assertion checks that it is no more (a relative asymmetry of at most
 /// 1e-6: round-off grows as the condition of D and E times ε, 1e-10 at a condition of 1e6; an
 /// unsymmetric M, C or K reaching a stepper, which the scenes and the model reader never build,
 /// shows as O(1)).

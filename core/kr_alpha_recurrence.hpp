@@ -37,7 +37,7 @@ struct KrAlphaRecurrence {
   double dt = 0.0;
   double scale = 0.0;  ///< s = Δt²(½ + γ): the next displacement's factor on w = α1·a
   Matrix d_matrix;     ///< D = M + γΔt·C + βΔt²·K
-  Factorization mass, d, e;
+  Factorization mass, d, e;  ///< d: the start's only (α1·a₀); a step solves with E and M
   Eigen::VectorXd w;       ///< α1·a of the current sample (Δt·w is the next velocity increment)
   Eigen::VectorXd v_hat;   ///< the method's velocity v̂, which lags the sample's by γΔt
   Eigen::VectorXd u_next;  ///< the next sample's displacement, fixed by the last equilibrium
@@ -52,7 +52,7 @@ struct KrAlphaRecurrence {
 
   /// The start (core/kr_alpha.hpp): u₁ = u₀ + Δt·v̂₀ + s·α1·a₀ with v̂₀ = v₀ − γΔt·α1·a₀ is
   /// u₀ + Δt·v₀ + Δt²/2·α1·a₀; `enforce(next)` applies the start's contact to `start` and u_next
-  /// (and to w, the response of α1·a).
+  /// (and to w, the response of α1·a, and to start.a).
   template <class System, class Enforce>
   void start(const System& system, State& start, Enforce&& enforce) {
     multiply(system.mass, start.a, w);
@@ -62,8 +62,8 @@ struct KrAlphaRecurrence {
     v_hat = start.v - (c.gamma * dt) * w;
   }
 
-  /// Advances state from t to t + Δt; `enforce(a, next)` applies the contact of the equilibrium
-  /// at t + Δt to its acceleration `a` and the contact-free next displacement (and to w) and
+  /// Advances state from t to t + Δt; `enforce(next)` applies the contact of the equilibrium at
+  /// t + Δt to the contact-free next displacement and to w (the acceleration follows from w) and
   /// returns whether a constraint pushes, which step() returns.
   template <class System, class Enforce>
   bool step(const System& system, State& state, Enforce&& enforce) {
@@ -82,18 +82,19 @@ struct KrAlphaRecurrence {
     multiply_add(system.stiffness, -(1.0 - af), state.u, r);
     if (damped) multiply_add(system.damping, -(1.0 - af), v_hat, r);
 
-    // a₁ = a₀ + E⁻¹·D·(M⁻¹·r − a₀).
-    mass.solve_in_place(r);
-    for (Eigen::Index i = 0; i < n; ++i) r[i] -= state.a[i];
-    multiply(d_matrix, r, y);
+    // α1·a₁ = α1·a₀ + E⁻¹·(r − D·α1·a₀): the header of core/kr_alpha.hpp derives it from
+    // a₁ = a₀ + E⁻¹·D·(M⁻¹·r − a₀), with one solve instead of three.
+    multiply(d_matrix, w, y);
+    for (Eigen::Index i = 0; i < n; ++i) y[i] = r[i] - y[i];
     e.solve_in_place(y);
-    for (Eigen::Index i = 0; i < n; ++i) state.a[i] += y[i];
+    for (Eigen::Index i = 0; i < n; ++i) w[i] += y[i];
 
-    // α1·a₁ and the contact-free u₂ = u₁ + Δt·v₁ + Δt²(½ + γ)·α1·a₁.
-    multiply(system.mass, state.a, w);
-    d.solve_in_place(w);
+    // The contact-free u₂ = u₁ + Δt·v₁ + Δt²(½ + γ)·α1·a₁.
     for (Eigen::Index i = 0; i < n; ++i) u_next[i] = state.u[i] + dt * v_hat[i] + scale * w[i];
-    const bool pushing = enforce(state.a, u_next);
+    const bool pushing = enforce(u_next);
+    // The acceleration a₁ = M⁻¹·D·α1·a₁, which the step no longer needs; reported.
+    multiply(d_matrix, w, state.a);
+    mass.solve_in_place(state.a);
     // The sample's velocity: v̂ lags u by γΔt (core/kr_alpha.hpp).
     const double lead = c.gamma * dt;
     for (Eigen::Index i = 0; i < n; ++i) state.v[i] = v_hat[i] + lead * w[i];

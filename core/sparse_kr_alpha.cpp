@@ -8,21 +8,15 @@
 
 namespace impactid {
 
-void SparseKrAlphaExplicit::respond(const SparseSystem& system, bool start, Eigen::VectorXd& a,
-                                    Eigen::VectorXd& w) const {
+void SparseKrAlphaExplicit::respond(bool start, Eigen::VectorXd& a, Eigen::VectorXd& w) const {
   const Recurrence& k = recurrence_;
-  if (start) {
-    w = a;                     // the same size: no allocation
-    k.mass.solve_in_place(a);  // M⁻¹·f
-    k.d.solve_in_place(w);     // D⁻¹·f
+  w = a;  // the same size: no allocation
+  if (!start) {
+    k.e.solve_in_place(w);  // E⁻¹·f (core/kr_alpha.hpp); a step's acceleration follows from w
     return;
   }
-  k.mass.solve_in_place(a);
-  multiply(k.d_matrix, a, w);
-  k.e.solve_in_place(w);
-  a.swap(w);  // a = E⁻¹·D·M⁻¹·f
-  multiply(system.mass, a, w);
-  k.d.solve_in_place(w);  // D⁻¹·M·a
+  k.mass.solve_in_place(a);  // M⁻¹·f
+  k.d.solve_in_place(w);     // D⁻¹·f
 }
 
 void SparseKrAlphaExplicit::set_up(const SparseSystem& system, ContactProblem& problem) {
@@ -34,7 +28,7 @@ void SparseKrAlphaExplicit::set_up(const SparseSystem& system, ContactProblem& p
     unit[k] = 1.0;
     response_a_.setZero();
     add_constraint_forces(system.constraints, unit, 1.0, response_a_);
-    respond(system, problem.start, response_a_, response_w_);
+    respond(problem.start, response_a_, response_w_);
     for (Eigen::Index j = 0; j < m; ++j) {
       g(j, k) = problem.scale *
                 constraint_row(system.constraints[static_cast<std::size_t>(j)], response_w_);
@@ -95,12 +89,12 @@ bool SparseKrAlphaExplicit::initialize(const SparseSystem& system,
   // The start (core/kr_alpha.hpp): u₁ = u₀ + Δt·v₀ + Δt²/2·α1·a₀, its contact by the start's
   // problem.
   k.start(system, start,
-          [&](Eigen::VectorXd& next) { enforce(system, start_problem_, start.a, next, start); });
+          [&](Eigen::VectorXd& next) { enforce(system, start_problem_, &start.a, next, start); });
   return true;
 }
 
 bool SparseKrAlphaExplicit::enforce(const SparseSystem& system, const ContactProblem& problem,
-                                    Eigen::VectorXd& a, Eigen::VectorXd& next, State& at) {
+                                    Eigen::VectorXd* a, Eigen::VectorXd& next, State& at) {
   // KrAlphaExplicit's law and order of operations; the correction by a chain of solves.
   const bool pushing =
       list_law_.forward_increment(system.constraints, problem.list, next, next, forces_, &lcp_);
@@ -109,8 +103,8 @@ bool SparseKrAlphaExplicit::enforce(const SparseSystem& system, const ContactPro
   if (!pushing) return false;
   response_a_.setZero();
   add_constraint_forces(system.constraints, forces_, 1.0, response_a_);
-  respond(system, problem.start, response_a_, response_w_);
-  a -= response_a_;
+  respond(problem.start, response_a_, response_w_);
+  if (a != nullptr) *a -= response_a_;
   recurrence_.w -= response_w_;
   next -= problem.scale * response_w_;
   if (contact_.lagrange()) snap_walls(system.constraints, forces_, next);
@@ -118,8 +112,8 @@ bool SparseKrAlphaExplicit::enforce(const SparseSystem& system, const ContactPro
 }
 
 bool SparseKrAlphaExplicit::step(const SparseSystem& system, State& state) {
-  return recurrence_.step(system, state, [&](Eigen::VectorXd& a, Eigen::VectorXd& next) {
-    return enforce(system, step_problem_, a, next, state);
+  return recurrence_.step(system, state, [&](Eigen::VectorXd& next) {
+    return enforce(system, step_problem_, nullptr, next, state);
   });
 }
 

@@ -15,17 +15,16 @@
 //
 // Here M, C, K are sparse, M, D and E are factored once per run by core/sparse_factorization.hpp
 // (M entry by entry when lumped), and the constraints are always a list. Their complementarity
-// problem g_next − s·G·W·λ <= 0 (s = Δt²(½ + γ); W = D⁻¹·M·E⁻¹·D·M⁻¹·Gᵀ, the response of α1·a to
-// the forces; at the start s = Δt²/2, W₀ = D⁻¹·Gᵀ) is formed once per run, one chain of solves per
-// constraint, and solved by Murty's pivoting with storage sized once (core/contact_lcp.hpp: any
-// number of constraints). As on a tridiagonal system, W = E⁻¹·Gᵀ in exact arithmetic whatever the
-// damping, so s·G·W is symmetric (core/kr_alpha.hpp says why); its round-off is averaged away. The
-// responses W are not kept (dense for a 2D or 3D model, core/sparse_integrators.hpp says why): when
-// a force acts it moves the state by a chain of three solves and two products with Gᵀ·λ as the
-// right-hand side.
+// problem g_next − s·G·W·λ <= 0 (s = Δt²(½ + γ); W = E⁻¹·Gᵀ, the response of α1·a to the forces,
+// core/kr_alpha.hpp says why; at the start s = Δt²/2, W₀ = D⁻¹·Gᵀ) is formed once per run, one
+// solve per constraint, and solved by Murty's pivoting with storage sized once
+// (core/contact_lcp.hpp: any number of constraints). s·G·W is symmetric, its round-off averaged
+// away. The responses W are not kept (dense for a 2D or 3D model, core/sparse_integrators.hpp says
+// why): when a force acts it moves the state by one solve with E with Gᵀ·λ as the right-hand side.
 //
-// Per step: two products with K (and C), three solves (M, E, D), two products (D, M), O(n) vector
-// work, the LCP, and when a force acts three more solves; no allocation once sized.
+// Per step: two products with K (and C), one solve with E, two products with D, the reported
+// acceleration's solve with M, O(n) vector work, the LCP, and when a force acts one more solve; no
+// allocation once sized.
 //
 // Thread safety: one object per thread.
 #pragma once
@@ -74,16 +73,15 @@ class SparseKrAlphaExplicit {
     double scale = 0.0;          // s: the next displacement moves by s·(α1·a)
     ConstraintListProblem list;  // s·G·W (and + diag(1/k) for the augmented Lagrangian)
   };
-  // `a` holds a force vector f on entry and its acceleration's response on return, `w` the
-  // response of α1·a: the start's a = M⁻¹·f, w = D⁻¹·f; a step's a = E⁻¹·D·M⁻¹·f,
-  // w = D⁻¹·M·a. No allocation once sized.
-  void respond(const SparseSystem& system, bool start, Eigen::VectorXd& a,
-               Eigen::VectorXd& w) const;
+  // `a` holds a force vector f on entry, `w` gets the response of α1·a to it: the start's
+  // w = D⁻¹·f (and a its acceleration's, M⁻¹·f), a step's w = E⁻¹·f (a unchanged: a step's
+  // acceleration follows from w). No allocation once sized.
+  void respond(bool start, Eigen::VectorXd& a, Eigen::VectorXd& w) const;
   void set_up(const SparseSystem& system, ContactProblem& problem);
-  // The contact of the equilibrium whose acceleration is `a`: `next` holds the contact-free
-  // displacement of the next sample; corrects a, recurrence_.w and next and writes the
-  // multipliers into `at`. Returns true if a constraint pushes.
-  bool enforce(const SparseSystem& system, const ContactProblem& problem, Eigen::VectorXd& a,
+  // The contact of an equilibrium: `next` holds the contact-free displacement of the next sample;
+  // corrects recurrence_.w, next and, at the start, the acceleration `a` (null for a step) and
+  // writes the multipliers into `at`. Returns true if a constraint pushes.
+  bool enforce(const SparseSystem& system, const ContactProblem& problem, Eigen::VectorXd* a,
                Eigen::VectorXd& next, State& at);
 
   using Recurrence = KrAlphaRecurrence<SparseMatrix, SparseFactorization>;
