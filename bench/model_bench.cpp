@@ -74,7 +74,8 @@ ModelScene grid_scene(int side) {
 // The methods BM_ModelRun times, by its second argument: central difference (a diagonal
 // left-hand matrix), HHT (the effective matrix factored once, one or two solves a step), the two
 // explicit stage schemes (two of central difference's stages and each stage's contact problem)
-// and KR-α (three solves a step with its model-based matrices, factored once).
+// and KR-α (one solve with E a step and one with M for the reported acceleration, its model-based
+// matrices factored once).
 const std::vector<MethodParams> kModelRunMethods = {CentralDifferenceParams{},
                                                     HhtParams{.alpha = -0.1}, NohBatheParams{},
                                                     KimExplicitParams{}, KrAlphaParams{}};
@@ -96,8 +97,9 @@ void BM_ModelRun(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(kSteps) * static_cast<double>(state.iterations()),
                          benchmark::Counter::kIsRate);
 }
-// KR-α not on the 1e5 grid: its run there (three factorisations, three solves a step) takes
-// longer than the rest of this file together, and bench.every_benchmark_once runs every case.
+// KR-α not on the 1e5 grid: its set-up there factors three matrices of 1e5 DOFs (a run took
+// 18.6 s when its step took three solves; docs/performance.md), and bench.every_benchmark_once
+// runs every case.
 BENCHMARK(BM_ModelRun)
     ->ArgsProduct({{32, 100, 316}, {0, 1, 2, 3}})
     ->Args({32, 4})

@@ -13,7 +13,9 @@
 //   penalty of explicit codes, and for the explicit multi-stage schemes (Noh–Bathe, Kim's) each
 //   stage's at the displacement its equilibrium is taken at (core/explicit_stage_contact.hpp): the
 //   spring raises the highest frequency, so the stable step shrinks with k (core/stable_step.hpp
-//   computes it, and the run reports it). KR-α takes no penalty (core/kr_alpha.hpp says why).
+//   computes it, and the run reports it). KR-α's springs are solved with its forward increment,
+//   as the implicit methods' with their step: it stays unconditionally stable (core/kr_alpha.hpp
+//   says why its spring cannot be explicit).
 // - **augmented-lagrangian**: Uzawa's iterations on the penalty problem of every method, the
 //   explicit ones' forward increments included: μ_{j+1} solves the penalty problem around μ_j, (D +
 //   C)·μ = p + C·μ_j with C = diag(1/(w·k)), from μ_0 = 0 (the penalty solution) until the largest

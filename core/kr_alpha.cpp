@@ -95,9 +95,9 @@ bool KrAlphaExplicit::initialize(const SecondOrderSystem& system,
                                  const ContactPenalties& contact) {
   failure_.clear();
   contact_ = contact;
-  // No penalty reaches here (core/simulation.cpp refuses it): the form is the explicit methods'.
+  // The penalty's springs are solved with the forward increment (the header says why).
   list_law_.initialize(contact_, static_cast<Eigen::Index>(system.constraints.size()),
-                       PenaltyForm::explicit_spring);
+                       PenaltyForm::solved_with_step);
   Recurrence& k = recurrence_;
   k.c = coefficients;
   k.dt = dt;

@@ -3,7 +3,7 @@
 // Earthquake Engng Struct. Dyn. 43(9):1361–1380, doi:10.1002/eqe.2401; formulas, ρ∞ and the
 // derived α_m, α_f, β, γ at KrAlphaParams, core/method.hpp) on the tridiagonal systems (the rod,
 // scenes of bodies, a model of tridiagonal matrices), with Lagrange-multiplier contact (or the
-// augmented Lagrangian, below).
+// penalty or the augmented Lagrangian, below).
 //
 // The model-based matrices α1 = D⁻¹·M, α2 = (½ + γ)·α1 and α3 = D⁻¹·N, with
 //   D = M + γΔt·C + βΔt²·K,   N = α_m·M + α_f·γΔt·C + α_f·βΔt²·K,
@@ -55,22 +55,28 @@
 // a multiplier in the equilibrium at the start, M·a₀ = −K·u₀ − C·v₀ − Gᵀ·λ₀ (response
 // W₀ = D⁻¹·Gᵀ, scale Δt²/2), which then belongs to the start's acceleration.
 //
-// Augmented Lagrangian (core/contact_treatment.hpp): Uzawa's iterations on the forward
-// increment's problem above with the springs' compliances, (s·G·W + diag(1/k))·λ = g_next +
-// diag(1/k)·λ_j, to the tolerance or the cap, counted in the run summary; the node is not snapped.
+// Penalty (core/contact_treatment.hpp): the spring λ = k·max(0, g) of the displacement the
+// equilibrium's force moves, u_{n+2}, solved with the forward increment: the problem above with
+// the springs' compliances, (s·G·W + diag(1/k))·λ = g_next, λ >= 0, complementary (one wall:
+// λ = p/(s·W_cc + 1/k)); the next displacement then penetrates by λ/k, the node is not snapped,
+// and λ → Lagrange's at first order in 1/k. Why not the explicit spring of u_{n+1}, the
+// displacement the equilibrium is taken at, as central difference's and the stage schemes' are: it
+// acts outside the model-based matrices α1, α3 that make the method unconditionally stable, so its
+// stable step is set by the springs through α's amplification, which core/stable_step.hpp's
+// Gershgorin bound does not give, and a run above it could not be flagged; putting the springs into
+// α1, α3 does not mend it (held closed, they freeze the contact node's response while open, and
+// the energy grows; made to follow the contact state, the method goes unstable: docs/methods.md,
+// measured). Solved with the increment, the spring acts as the implicit methods' does with their
+// step: the method stays unconditionally stable for every k (tests/contact_treatment_test.cpp
+// runs k = 10⁴·K_cc at Courant 4).
+//
+// Augmented Lagrangian (core/contact_treatment.hpp): Uzawa's iterations on the same problem,
+// (s·G·W + diag(1/k))·λ = g_next + diag(1/k)·λ_j, from λ₀ = 0 (the penalty's solution) to the
+// tolerance or the cap, counted in the run summary; the node is not snapped.
 //
 // A model of sparse matrices runs on core/sparse_kr_alpha.hpp: the same formulas (one template,
 // core/kr_alpha_recurrence.hpp) and contact conventions, with M, D and E factored by
 // core/sparse_factorization.hpp.
-//
-// Not offered (the run is refused with a message, core/simulation.cpp): penalty contact. An
-// explicit penalty (the spring of the sample's penetration in its equilibrium, as the other
-// explicit methods', core/explicit_stage_contact.hpp) acts outside the model-based matrices α1,
-// α3 that make the method unconditionally stable: its stable step is then set by the springs
-// through α's amplification, which core/stable_step.hpp's Gershgorin bound does not give, so a
-// run above it could not be flagged. Putting the springs into α1, α3 does not mend it: held
-// closed, they freeze the contact node's response while open (it drifts, the energy grows); made
-// to follow the contact state, the method goes unstable (docs/methods.md, measured).
 //
 // Thread safety: one object per thread.
 #pragma once
@@ -95,7 +101,8 @@ class KrAlphaExplicit {
   /// `start` (a₀ consistent), with the contact at the start (the header): start.a and its
   /// multipliers (lambda, far_lambda or multipliers) then include that force. False, with
   /// failure() saying why, if a matrix is singular.
-  /// `contact`: Lagrange's multipliers (default) or the augmented Lagrangian (the header).
+  /// `contact`: Lagrange's multipliers (default), the penalty or the augmented Lagrangian (the
+  /// header).
   bool initialize(const SecondOrderSystem& system, const KrAlphaCoefficients& coefficients,
                   double dt, State& start, const ContactPenalties& contact = {});
 

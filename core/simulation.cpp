@@ -278,20 +278,12 @@ void run_kim_explicit(const System& system, const KimExplicitParams& params, dou
   count_contact_iterations(stepper, summary);
 }
 
-// The KR-α explicit method (core/kr_alpha.hpp): Lagrange multipliers or the augmented Lagrangian
-// (not the penalty: the header says why); unconditionally stable, so there is no stable step to
-// report.
+// The KR-α explicit method (core/kr_alpha.hpp): unconditionally stable with every contact law (the
+// penalty's springs solved with its forward increment), so there is no stable step to report.
 template <class System, class Stepper, class Run>
 void run_kr_alpha(const System& system, const KrAlphaParams& params, double dt,
                   const ContactPenalties& contact, Stepper& stepper, State& state,
                   RunSummary& summary, Run&& run) {
-  if (contact.law == ContactLaw::penalty) {
-    summary.status = RunStatus::failed;
-    summary.message =
-        "kr-alpha: contact = penalty is not available; it takes Lagrange "
-        "multipliers or the augmented Lagrangian";
-    return;
-  }
   if (!stepper.initialize(system, kr_alpha_coefficients(params), dt, state, contact)) {
     summary.status = RunStatus::failed;
     summary.message = "kr-alpha: " + stepper.failure();

@@ -43,12 +43,8 @@ bool SparseKrAlphaExplicit::initialize(const SparseSystem& system,
                                        State& start, const ContactPenalties& contact) {
   failure_.clear();
   contact_ = contact;
-  if (contact_.law == ContactLaw::penalty) {
-    failure_ = "contact = penalty is not available (core/kr_alpha.hpp says why)";
-    return false;
-  }
   const auto m = static_cast<Eigen::Index>(system.constraints.size());
-  list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);
+  list_law_.initialize(contact_, m, PenaltyForm::solved_with_step);  // core/kr_alpha.hpp: why
   Recurrence& k = recurrence_;
   k.c = coefficients;
   k.dt = dt;

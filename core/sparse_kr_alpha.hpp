@@ -11,7 +11,8 @@
 //     t_{n+2}. The start's u₁ is fixed the same way by a multiplier in the start's equilibrium.
 //   - the augmented Lagrangian: Uzawa's iterations on that problem with the springs' compliances,
 //     counted; no snap.
-//   - not the penalty (initialize() refuses it; core/kr_alpha.hpp says why).
+//   - the penalty: the springs solved with that forward increment, (s·G·W + diag(1/k))·λ = g_next,
+//     λ >= 0, complementary (core/kr_alpha.hpp says why).
 //
 // Here M, C, K are sparse, M, D and E are factored once per run by core/sparse_factorization.hpp
 // (M entry by entry when lumped), and the constraints are always a list. Their complementarity

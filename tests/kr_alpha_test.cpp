@@ -5,8 +5,7 @@
 // its characteristic polynomial equal to generalized-α's; ρ <= 1 over Ω ∈ [1e-4, 1e8], ρ → 1 as
 // Ω → 0 and ρ → ρ∞ as Ω → ∞, ρ∞ = 1 non-dissipative, period error O(Ω²); the plain energy on the
 // paper's rod; the Signorini conditions at every sample on the paper's rod, between two walls
-// and in a scene of bodies; refusals (range of ρ∞, keys, other contact laws, sparse models) and
-// the command line.
+// and in a scene of bodies; refusals (range of ρ∞, keys, sparse models) and the command line.
 #include "core/kr_alpha.hpp"
 
 #include <gtest/gtest.h>
@@ -442,16 +441,10 @@ TEST(KrAlpha, AugmentedLagrangianReachesLagrange) {
   EXPECT_NE(summary.warning.find("augmented_max_iterations"), std::string::npos);
 }
 
-// Penalty contact is refused naming the method; a model of sparse matrices runs (the shipped
-// block; the sparse stepper's checks are tests/sparse_explicit_test.cpp).
-TEST(KrAlpha, RefusesThePenaltyAndRunsOnAModelOfSparseMatrices) {
+// A model of sparse matrices runs (the shipped block; the sparse stepper's checks, the penalty's
+// among them, are tests/sparse_explicit_test.cpp; the penalty's law tests/contact_treatment_test).
+TEST(KrAlpha, RunsOnAModelOfSparseMatrices) {
   SimulationWorkspace ws;
-  RunOptions options;
-  options.contact = {.law = ContactLaw::penalty};
-  const RunSummary refused = simulate(RodScene{}, KrAlphaParams{}, options, ws);
-  EXPECT_EQ(refused.status, RunStatus::failed);
-  EXPECT_NE(refused.message.find("kr-alpha: contact = penalty"), std::string::npos)
-      << refused.message;
   const Simulation block = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
   const AssembledScene scene = assemble(*block.model);

@@ -74,14 +74,13 @@ struct MethodCase {
 std::vector<MethodCase> explicit_methods() {
   const std::vector<ContactLaw> all = {ContactLaw::lagrange, ContactLaw::penalty,
                                        ContactLaw::augmented_lagrangian};
-  const std::vector<ContactLaw> kr = {ContactLaw::lagrange, ContactLaw::augmented_lagrangian};
   return {{"noh-bathe", NohBatheParams{}, all},
           {"noh-bathe p=0.75", NohBatheParams{.p = 0.75}, all},
           {"kim-explicit", KimExplicitParams{}, all},
           {"kim-explicit p=1/3", KimExplicitParams{.p = 1.0 / 3.0}, all},
           {"kim-explicit p=1/2", KimExplicitParams{.p = 0.5}, all},
-          {"kr-alpha", KrAlphaParams{}, kr},
-          {"kr-alpha rho_inf=0", KrAlphaParams{.rho_inf = 0.0}, kr}};
+          {"kr-alpha", KrAlphaParams{}, all},
+          {"kr-alpha rho_inf=0", KrAlphaParams{.rho_inf = 0.0}, all}};
 }
 
 // The laws as a run uses them: the augmented Lagrangian with a spring stiff enough to converge
@@ -182,18 +181,6 @@ TEST(SparseExplicit, AStepAboveTheStableStepIsFlaggedAsOnTheTridiagonalPath) {
       EXPECT_LT(b.summary.stable_dt, scene.dt);
     }
   }
-}
-
-// KR-α refuses the penalty on a sparse model with the tridiagonal path's message.
-TEST(SparseExplicit, KrAlphaRefusesThePenaltyAsOnTheTridiagonalPath) {
-  const AssembledScene rod = assemble(example_model("rod"));
-  const RunOptions options = options_for(ContactLaw::penalty);
-  const testing::Run a = run(rod, KrAlphaParams{}, options);
-  const testing::Run b = run(as_sparse_model(rod), KrAlphaParams{}, options);
-  EXPECT_EQ(a.summary.status, RunStatus::failed);
-  EXPECT_EQ(b.summary.status, RunStatus::failed);
-  EXPECT_EQ(a.summary.message, b.summary.message);
-  EXPECT_NE(b.summary.message.find("contact = penalty is not available"), std::string::npos);
 }
 
 // A mass that is not positive definite is named by its DOF.
