@@ -92,7 +92,7 @@ struct KrAlphaRecurrence {
     // The contact-free u₂ = u₁ + Δt·v₁ + Δt²(½ + γ)·α1·a₁.
     for (Eigen::Index i = 0; i < n; ++i) u_next[i] = state.u[i] + dt * v_hat[i] + scale * w[i];
     const bool pushing = enforce(u_next);
-    // The acceleration a₁ = M⁻¹·D·α1·a₁, which the step no longer needs; reported.
+    // The acceleration a₁ = M⁻¹·D·α1·a₁: reported (State::a); no step reads it.
     multiply(d_matrix, w, state.a);
     mass.solve_in_place(state.a);
     // The sample's velocity: v̂ lags u by γΔt (core/kr_alpha.hpp).
