@@ -132,7 +132,7 @@ bool KrAlphaExplicit::initialize(const SecondOrderSystem& system,
 
 bool KrAlphaExplicit::enforce(const SecondOrderSystem& system, const ContactResponse& response,
                               Eigen::VectorXd* a, Eigen::VectorXd& next, State& at) {
-  Eigen::VectorXd& w = recurrence_.w;  // α1·a: moves with a
+  Eigen::VectorXd& w = recurrence_.w;  // α1·a: moves with the force
   if (system.has_constraint_list()) {
     const bool pushing =
         list_law_.forward_increment(system.constraints, response.list, next, next, forces_);

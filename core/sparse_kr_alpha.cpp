@@ -91,7 +91,8 @@ bool SparseKrAlphaExplicit::initialize(const SparseSystem& system,
 
 bool SparseKrAlphaExplicit::enforce(const SparseSystem& system, const ContactProblem& problem,
                                     Eigen::VectorXd* a, Eigen::VectorXd& next, State& at) {
-  // KrAlphaExplicit's law and order of operations; the correction by a chain of solves.
+  // KrAlphaExplicit's law and order of operations; the correction by one solve (E's; the start's D
+  // and M).
   const bool pushing =
       list_law_.forward_increment(system.constraints, problem.list, next, next, forces_, &lcp_);
   at.multipliers = forces_;  // the same size: no allocation
