@@ -444,18 +444,17 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
   b.stiffness = &system.stiffness;
   b.start = &starts;
 
-  // Every lane prepared first: the start changes a lane's start state (the contact at the start
-  // corrects a), which a later lane of the same velocity would otherwise copy (prepare_lane).
+  // Every lane prepared first, then set up (the start's contact below changes only the lane's
+  // own λ and KrStart, not the acceleration a later lane of the same velocity copies).
   std::array<bool, kBatchLanes> prepared{};
   for (int l = 0; l < count; ++l) {
     const auto lane = static_cast<std::size_t>(l);
     prepared[lane] =
         prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, b.lanes[lane]);
   }
-  // M's factorisation is every lane's; the kernel's rows are checked, not assumed (never otherwise
-  // on a RodScene).
-  TridiagonalFactorization mass;
-  const bool mass_factored = mass.factor(system.mass);
+  // M is factored only to fail as KrAlphaExplicit::initialize does on a singular one (no step
+  // solves with it); the kernel's rows are checked, not assumed (never otherwise on a RodScene).
+  const bool mass_factored = TridiagonalFactorization{}.factor(system.mass);
   const bool uniform = uniform_symmetric(system.mass) && uniform_symmetric(system.stiffness) &&
                        system.contact_dof == n - 1 && n >= 2;
   bool any = false;
@@ -496,15 +495,14 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
       fail("batched kernel: the mass or the stiffness is not uniform along the rod");
       continue;
     }
-    // The responses to a unit force on the contact dof (KrAlphaExplicit::respond): the start's
-    // a = M⁻¹·f and w = D⁻¹·f, the step's w = E⁻¹·f.
+    // The responses of w to a unit force on the contact dof (KrAlphaExplicit::respond): the
+    // start's D⁻¹·f, the step's E⁻¹·f. (The start's acceleration, which the scalar stepper also
+    // corrects, is not what a batch reports.)
     const Eigen::Index contact = system.contact_dof;
     Eigen::VectorXd force = Eigen::VectorXd::Zero(n);
     force[contact] = 1.0;
     Eigen::VectorXd start_w = force;
     d.solve_in_place(start_w);
-    Eigen::VectorXd start_a = force;
-    mass.solve_in_place(start_a);
     Eigen::VectorXd step_w = force;
     e.solve_in_place(step_w);
 
@@ -521,7 +519,6 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
     if (system.has_contact() && kr.u_next[contact] > system.gap) {
       const double s = start_scale;
       const double lambda = (kr.u_next[contact] - system.gap) / (s * start_w[contact]);
-      state.a -= lambda * start_a;
       w -= lambda * start_w;
       kr.u_next -= (s * lambda) * start_w;
       kr.u_next[contact] = system.gap;

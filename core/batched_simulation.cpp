@@ -566,10 +566,7 @@ struct Batch {
   HouboltLanes houbolt;  // Houbolt only
   std::array<LaneRun, kBatchLanes> lanes;
   std::array<State, kBatchLanes>* start;
-  double area;
-  double dt;
-  int energy_check_interval;
-  double energy_growth_limit;
+  LaneLoop loop;
 };
 
 void set_lane(const LaneArrays& x, int lane, const State* state) {
@@ -599,12 +596,8 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
   phase.fill(3);
   bool startup = false;
   const Eigen::Index contact = x.n - 1;
-  const LaneLoop loop{.area = b.area,
-                      .dt = b.dt,
-                      .energy_check_interval = b.energy_check_interval,
-                      .energy_growth_limit = b.energy_growth_limit};
   run_lanes(
-      b.lanes, loop,
+      b.lanes, b.loop,
       lane_stepper(
           [&](int l) __attribute__((always_inline)) {
             const State& start = (*b.start)[static_cast<std::size_t>(l)];
@@ -892,7 +885,8 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   const int count = static_cast<int>(scenes.size());
   const SecondOrderSystem system = assemble_rod(scenes[0]);  // gap aside, every lane's
   const Eigen::Index n = system.size();
-  const double dt = derive(scenes[0]).time_step;
+  const LaneLoop loop = loop_settings(scenes[0], options);
+  const double dt = loop.dt;
 
   // The interleaved arrays: state, inverse pivots; for a composite scheme also the sub-step's
   // state and its factorisation's inverse pivots, for Wilson-θ the extended step's.
@@ -903,7 +897,6 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   const bool two_steps = kind == StepKind::composite || kind == StepKind::wilson_theta;
   const int arrays = two_steps ? 8 : houbolt ? 10 : 4;
   LaneStorage storage(ws.storage_, arrays, n);
-  const auto take = [&storage] { return storage.take(); };
   Batch b{};
   LaneArrays& x = b.arrays;
   x.n = n;
@@ -928,19 +921,14 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     uniform_interior = uniform_interior && M.lower[i] == x.m_lower && M.diag[i] == x.m_diag &&
                        M.upper[i] == x.m_upper;
   }
-  x.u = take(), x.v = take(), x.a = take();
-  x.inverse_pivot = take();
+  storage.take({&x.u, &x.v, &x.a, &x.inverse_pivot});
   b.kind = kind;
   if (two_steps) {
     b.mid = x;
-    b.mid.u = take(), b.mid.v = take(), b.mid.a = take();
-    b.mid.inverse_pivot = take();
+    storage.take({&b.mid.u, &b.mid.v, &b.mid.a, &b.mid.inverse_pivot});
   }
   b.start = &ws.start_;
-  b.area = scenes[0].area;
-  b.dt = dt;
-  b.energy_check_interval = options.energy_check_interval;
-  b.energy_growth_limit = options.energy_growth_limit;
+  b.loop = loop;
   LaneCoefficients& k = b.coefficients;
   k.gap = splat(kInf);  // unused lanes never touch a wall
   k.dt = dt;
@@ -956,9 +944,9 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
       h.steps[p].gap = splat(kInf);
       h.steps[p].dt = dt;
       h.steps[p].tail_begin = 1;
-      h.pivots[p] = take();
+      h.pivots[p] = storage.take();
     }
-    h.back1 = take(), h.back2 = take(), h.start_velocity = take();
+    storage.take({&h.back1, &h.back2, &h.start_velocity});
   }
   const HouboltCoefficients houbolt_steps = houbolt_coefficients();
 

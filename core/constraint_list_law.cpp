@@ -5,15 +5,18 @@
 
 namespace impactid {
 
+double constraint_violation(const Constraint& constraint, const Eigen::VectorXd& x) {
+  double g = -constraint.gap;
+  if (constraint.plus >= 0) g += x[constraint.plus];
+  if (constraint.minus >= 0) g -= x[constraint.minus];
+  return g;
+}
+
 void constraint_violations(const std::vector<Constraint>& constraints, const Eigen::VectorXd& x,
                            Eigen::VectorXd& violation) {
   const auto m = static_cast<Eigen::Index>(constraints.size());
   for (Eigen::Index j = 0; j < m; ++j) {
-    const Constraint& con = constraints[static_cast<std::size_t>(j)];
-    double g = -con.gap;
-    if (con.plus >= 0) g += x[con.plus];
-    if (con.minus >= 0) g -= x[con.minus];
-    violation[j] = g;
+    violation[j] = constraint_violation(constraints[static_cast<std::size_t>(j)], x);
   }
 }
 

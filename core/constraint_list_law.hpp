@@ -47,8 +47,10 @@ struct ConstraintListProblem {
   Eigen::MatrixXd penalized;  ///< D + diag(compliance); empty for lagrange
 };
 
-/// g_j = −gap_j + x[plus_j] − x[minus_j] for every listed constraint, in this order of
-/// operations (the steppers' bits). `violation` has m entries; no allocation.
+/// g = −gap + x[plus] − x[minus] of one constraint (> 0: penetration), in this order of operations
+/// (the steppers' bits).
+double constraint_violation(const Constraint& constraint, const Eigen::VectorXd& x);
+/// constraint_violation() of every listed constraint. `violation` has m entries; no allocation.
 void constraint_violations(const std::vector<Constraint>& constraints, const Eigen::VectorXd& x,
                            Eigen::VectorXd& violation);
 

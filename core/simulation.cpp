@@ -8,6 +8,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/constraint_list_law.hpp"
 #include "core/second_order_system.hpp"
 #include "core/stable_step_warning.hpp"
 
@@ -115,14 +116,6 @@ void run_rod_steps(const SecondOrderSystem& system, double area, const RunOption
       });
 }
 
-// Violation u[plus] − u[minus] − gap of a listed constraint (> 0: penetration).
-double violation(const Constraint& c, const Eigen::VectorXd& u) {
-  double g = -c.gap;
-  if (c.plus >= 0) g += u[c.plus];
-  if (c.minus >= 0) g -= u[c.minus];
-  return g;
-}
-
 // A scene with a constraint list (of bodies, or a model's `system`): every contact's pressure and
 // velocity, the primary contact's also in the trace's main columns, and the largest penetration
 // of any constraint.
@@ -141,7 +134,7 @@ void run_listed_steps(const AssembledScene& scene, const System& system, const R
           trace.contact_velocity[static_cast<std::size_t>(k)][i] = s.v[probe.velocity_dof];
           summary.max_penetration =
               std::max(summary.max_penetration,
-                       violation(system.constraints[static_cast<std::size_t>(k)], s.u));
+                       constraint_violation(system.constraints[static_cast<std::size_t>(k)], s.u));
         }
         trace.pressure[i] = trace.contact_pressure[primary][i];
         trace.velocity[i] = trace.contact_velocity[primary][i];
