@@ -1,10 +1,12 @@
 // Run time of the engine (Google Benchmark 1.7). Counters: dof_steps/s (degrees of freedom ×
 // steps per second), runs/s for sweeps. bench/report prints the ratios of one run.
 #include <benchmark/benchmark.h>
+#include <immintrin.h>
 #include <omp.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <variant>
@@ -412,61 +414,122 @@ void BM_Clock(benchmark::State& state) {
 }
 BENCHMARK(BM_Clock)->Unit(benchmark::kMillisecond);
 
-// The kernel's own arithmetic ceiling: 16 independent chains a = a·m + c of one 8-double
-// register each, compiled like the kernel for the best of AVX-512, AVX2 and baseline, once with
-// a separate multiply and add (as -ffp-contract=off issues a·m + c) and once fused, as the
-// kernel issues its multiply-adds now. The chains are named variables, not an array: GCC keeps
-// an array indexed in a loop on the stack, and the loads and stores then bound the loop instead
-// of the arithmetic. flops/s ÷ Hz ÷ 8 = how many flops of 8 doubles retire per cycle.
-using BenchRegister = double __attribute__((vector_size(sizeof(double) * 8)));
+// The kernels' own arithmetic ceiling at the level that runs (core/kernel_level.hpp):
+// independent chains a = a·m + c on the level's registers, once with a separate multiply and add
+// (as -ffp-contract=off issues a·m + c) and once fused, as the kernels issue their multiply-adds.
+// x86-64-v4: 16 chains of 8 doubles (AVX-512 has 32 registers); x86-64-v3: 12 chains of 4
+// doubles (AVX2 has 16: 12 chains, m and c stay in registers); baseline: 12 chains of 2 doubles
+// (SSE2; no fused instruction: std::fma is a library call there). Enough chains to cover the
+// latency of two FMA units. The chains are named variables, not an array: GCC keeps an array
+// indexed in a loop on the stack, and the loads and stores then bound the loop. flops/s ÷ Hz ÷
+// (doubles per register) = how many register operations retire per cycle.
+#define IMPACTID_CHAINS_12(op)                                                               \
+  a0 = op(a0), a1 = op(a1), a2 = op(a2), a3 = op(a3), a4 = op(a4), a5 = op(a5), a6 = op(a6), \
+  a7 = op(a7), a8 = op(a8), a9 = op(a9), a10 = op(a10), a11 = op(a11)
+#define IMPACTID_CHAINS_16(op) \
+  IMPACTID_CHAINS_12(op), a12 = op(a12), a13 = op(a13), a14 = op(a14), a15 = op(a15)
 
-// One link of a chain. Fused: a per-lane __builtin_fma, which GCC turns into one vfmadd per
-// register in the x86-64-v3 and v4 versions (a C library call per lane in the baseline one).
-// Always inlined, so a wide value never crosses a call between targets.
 #pragma GCC diagnostic ignored "-Wpsabi"
-template <bool kFused>
-[[gnu::always_inline]] inline BenchRegister link(const BenchRegister& a, const BenchRegister& m,
-                                                 const BenchRegister& c) {
-  if constexpr (!kFused) return a * m + c;
-  BenchRegister r;
-  for (int l = 0; l < 8; ++l) r[l] = __builtin_fma(a[l], m[l], c[l]);
-  return r;
-}
+struct Chains {
+  double (*function)(long iterations, bool fused);
+  int chains, lanes;  // flops per iteration: 2 · chains · lanes
+};
 
-// Inlined into each versioned caller below, so compiled once per target.
-template <bool kFused>
-[[gnu::always_inline]] inline double chains(long iterations) {
-  BenchRegister m, c, a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13, a14, a15;
-  for (int l = 0; l < 8; ++l) {
-    m[l] = 0.999999, c[l] = 1e-3;
-    a0[l] = a1[l] = a2[l] = a3[l] = a4[l] = a5[l] = a6[l] = a7[l] = l;
-    a8[l] = a9[l] = a10[l] = a11[l] = a12[l] = a13[l] = a14[l] = a15[l] = l + 1;
+#if defined(__x86_64__)
+using Register8 = double __attribute__((vector_size(64)));
+using Register4 = double __attribute__((vector_size(32)));
+using Register2 = double __attribute__((vector_size(16)));
+
+IMPACTID_AVX512_TARGET double chains_x86_64_v4(long iterations, bool fused) {
+  const Register8 m = (Register8)_mm512_set1_pd(0.999999), c = (Register8)_mm512_set1_pd(1e-3);
+  Register8 a0 = (Register8)_mm512_set1_pd(1.0), a1 = a0 + c, a2 = a1 + c, a3 = a2 + c, a4 = a3 + c,
+            a5 = a4 + c, a6 = a5 + c, a7 = a6 + c, a8 = a7 + c, a9 = a8 + c, a10 = a9 + c,
+            a11 = a10 + c, a12 = a11 + c, a13 = a12 + c, a14 = a13 + c, a15 = a14 + c;
+  const auto fma = [&](Register8 a) IMPACTID_AVX512_TARGET __attribute__((always_inline)) {
+    return (Register8)_mm512_fmadd_pd((__m512d)a, (__m512d)m, (__m512d)c);
+  };
+  const auto mul_add = [&](Register8 a) IMPACTID_AVX512_TARGET __attribute__((always_inline)) {
+    return a * m + c;
+  };
+  if (fused) {
+    for (long i = 0; i < iterations; ++i) IMPACTID_CHAINS_16(fma);
+  } else {
+    for (long i = 0; i < iterations; ++i) IMPACTID_CHAINS_16(mul_add);
   }
-  const auto f = [&m, &c](const BenchRegister& a)
-                     __attribute__((always_inline)) { return link<kFused>(a, m, c); };
-  for (long i = 0; i < iterations; ++i) {
-    a0 = f(a0), a1 = f(a1), a2 = f(a2), a3 = f(a3), a4 = f(a4), a5 = f(a5), a6 = f(a6);
-    a7 = f(a7), a8 = f(a8), a9 = f(a9), a10 = f(a10), a11 = f(a11), a12 = f(a12);
-    a13 = f(a13), a14 = f(a14), a15 = f(a15);
-  }
-  const BenchRegister sum = ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7)) +
-                            ((a8 + a9) + (a10 + a11)) + ((a12 + a13) + (a14 + a15));
+  const Register8 sum = ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7)) +
+                        ((a8 + a9) + (a10 + a11)) + ((a12 + a13) + (a14 + a15));
   return sum[0];
 }
-IMPACTID_SIMD_VERSIONS double mul_add_chains(long iterations) { return chains<false>(iterations); }
-IMPACTID_SIMD_VERSIONS double fma_chains(long iterations) { return chains<true>(iterations); }
 
-// flops/s of one of the chain functions above: 16 chains × 8 lanes × 2 flops per link.
-void measure_peak(benchmark::State& state, double (*chain_function)(long)) {
-  constexpr long kIterations = 1'000'000;
-  for (auto _ : state) benchmark::DoNotOptimize(chain_function(kIterations));
-  state.counters["flops/s"] =
-      benchmark::Counter(2.0 * 16 * 8 * kIterations * static_cast<double>(state.iterations()),
-                         benchmark::Counter::kIsRate);
+IMPACTID_FMA_TARGET double chains_x86_64_v3(long iterations, bool fused) {
+  const Register4 m = (Register4)_mm256_set1_pd(0.999999), c = (Register4)_mm256_set1_pd(1e-3);
+  Register4 a0 = (Register4)_mm256_set1_pd(1.0), a1 = a0 + c, a2 = a1 + c, a3 = a2 + c, a4 = a3 + c,
+            a5 = a4 + c, a6 = a5 + c, a7 = a6 + c, a8 = a7 + c, a9 = a8 + c, a10 = a9 + c,
+            a11 = a10 + c;
+  const auto fma = [&](Register4 a) IMPACTID_FMA_TARGET __attribute__((always_inline)) {
+    return (Register4)_mm256_fmadd_pd((__m256d)a, (__m256d)m, (__m256d)c);
+  };
+  const auto mul_add = [&](Register4 a) IMPACTID_FMA_TARGET __attribute__((always_inline)) {
+    return a * m + c;
+  };
+  if (fused) {
+    for (long i = 0; i < iterations; ++i) IMPACTID_CHAINS_12(fma);
+  } else {
+    for (long i = 0; i < iterations; ++i) IMPACTID_CHAINS_12(mul_add);
+  }
+  const Register4 sum =
+      ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7)) + ((a8 + a9) + (a10 + a11));
+  return sum[0];
 }
-void BM_MulAddPeak(benchmark::State& state) { measure_peak(state, mul_add_chains); }
+
+double chains_baseline(long iterations, bool /*fused: no instruction for it*/) {
+  const Register2 m = {0.999999, 0.999999}, c = {1e-3, 1e-3};
+  Register2 a0 = {1.0, 1.0}, a1 = a0 + c, a2 = a1 + c, a3 = a2 + c, a4 = a3 + c, a5 = a4 + c,
+            a6 = a5 + c, a7 = a6 + c, a8 = a7 + c, a9 = a8 + c, a10 = a9 + c, a11 = a10 + c;
+  const auto mul_add = [&](Register2 a) __attribute__((always_inline)) {
+    return a * m + c;
+  };
+  for (long i = 0; i < iterations; ++i) IMPACTID_CHAINS_12(mul_add);
+  const Register2 sum =
+      ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7)) + ((a8 + a9) + (a10 + a11));
+  return sum[0];
+}
+
+// The chains of the level that runs.
+Chains level_chains() {
+  switch (kernel_level()) {
+    case KernelLevel::x86_64_v4:
+      return {chains_x86_64_v4, 16, 8};
+    case KernelLevel::x86_64_v3:
+      return {chains_x86_64_v3, 12, 4};
+    case KernelLevel::baseline:
+      break;
+  }
+  return {chains_baseline, 12, 2};
+}
+#endif
+
+// flops/s of the level's chains (level_chains above), with a separate multiply and add or fused.
+void measure_peak(benchmark::State& state, bool fused) {
+#if defined(__x86_64__)
+  constexpr long kIterations = 1'000'000;
+  const Chains chains = level_chains();
+  for (auto _ : state) benchmark::DoNotOptimize(chains.function(kIterations, fused));
+  state.counters["flops/s"] = benchmark::Counter(
+      2.0 * chains.chains * chains.lanes * kIterations * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate);
+  state.SetLabel(to_string(kernel_level()));
+#else
+  state.SkipWithError("x86-64 only");
+#endif
+}
+void BM_MulAddPeak(benchmark::State& state) {
+  measure_peak(state, false);
+}
 BENCHMARK(BM_MulAddPeak)->Unit(benchmark::kMillisecond);
-void BM_FmaPeak(benchmark::State& state) { measure_peak(state, fma_chains); }
+void BM_FmaPeak(benchmark::State& state) {
+  measure_peak(state, true);
+}
 BENCHMARK(BM_FmaPeak)->Unit(benchmark::kMillisecond);
 
 // The general sparse reference (SparseLU every step), checked to give the same pressures.
@@ -494,4 +557,21 @@ BENCHMARK(BM_SparseReference)->Unit(benchmark::kMicrosecond);
 }  // namespace
 }  // namespace impactid
 
-BENCHMARK_MAIN();
+// Google Benchmark's main, with the kernels that run and what the processor supports in the
+// context every report starts with (bench/report prints it; a speed figure means little without
+// it).
+int main(int argc, char** argv) {
+  const impactid::KernelSelection& kernels = impactid::kernel_selection();
+  if (!kernels.error.empty()) {
+    std::fprintf(stderr, "impactid_bench: %s\n", kernels.error.c_str());
+    return 2;
+  }
+  benchmark::AddCustomContext("impactid_kernels", impactid::to_string(kernels.level));
+  benchmark::AddCustomContext("impactid_kernels_supported", impactid::to_string(kernels.supported));
+  benchmark::AddCustomContext("impactid_kernels_forced", kernels.forced ? "yes" : "no");
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -8,8 +8,9 @@
 // every kernel stops, checks and records its lanes exactly as simulate() does, and each kernel's
 // file holds only its arithmetic.
 //
-// Internal to core/: the kernels' headers do not include it. Everything the loop calls is
-// inlined into the kernel's target versions (IMPACTID_SIMD_VERSIONS).
+// Internal to core/: included by the kernels' files only, after core/kernel_target.hpp (it lives
+// in the level's namespace, as core/simd_lanes.hpp). Everything the loop calls is inlined into
+// the kernel.
 //
 // Thread safety: values and pure functions; each batch its own objects.
 #pragma once
@@ -33,6 +34,7 @@
 #include "core/state.hpp"
 
 namespace impactid::simd {
+inline namespace IMPACTID_KERNEL_NAMESPACE {
 
 // The samples of the contact pressure and velocity of every lane, [sample][lane] as the step
 // gives them, written into the lanes' traces (one vector per lane) a chunk at a time. Written
@@ -302,4 +304,5 @@ inline void finish_lanes(int count, std::chrono::steady_clock::time_point start,
     summaries[static_cast<std::size_t>(l)].wall_time_s = seconds / count;
 }
 
+}  // namespace IMPACTID_KERNEL_NAMESPACE
 }  // namespace impactid::simd

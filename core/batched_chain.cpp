@@ -7,11 +7,17 @@
 #include <limits>
 #include <string>
 
+#include "core/batch_kernels.hpp"
 #include "core/contact_lcp.hpp"
-#include "core/function_versions.hpp"
-#include "core/simd_lanes.hpp"
 
-namespace impactid {
+// Last: the level's target for the rest of the file (core/kernel_target.hpp), then the lane
+// vocabulary, compiled for the level (kept in this order: clang-format would sort them).
+// clang-format off
+#include "core/kernel_target.hpp"
+#include "core/simd_lanes.hpp"
+// clang-format on
+
+namespace impactid::IMPACTID_KERNEL_NAMESPACE {
 namespace {
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
@@ -279,7 +285,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kCorrect>
     violation[j] = g;
     weighted[j] = Lanes{};
     const LaneMask closes = greater(g, Lanes{});
-    penetrating = {penetrating.lo | closes.lo, penetrating.hi | closes.hi};
+    penetrating = penetrating | closes;
   }
   // The contact problem, in the lanes where a contact would penetrate: solve_contact_lcp's
   // answer is zero in the others (its start, the penetrating set, is empty and stays so).
@@ -287,7 +293,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kCorrect>
     // One contact: solve_contact_lcp's answer is p/d where p > 0 (and d > 0, which a Delassus
     // matrix is), the same division, in every lane at once.
     const LaneMask solves = greater(x.single_delassus, Lanes{});
-    const LaneMask on = {penetrating.lo & solves.lo, penetrating.hi & solves.hi};
+    const LaneMask on = penetrating & solves;
     weighted[0] = select(on, violation[0] / x.single_delassus, Lanes{});
   } else if (any_lane(penetrating)) {
     for (int l = 0; l < kBatchLanes; ++l) {
@@ -482,7 +488,7 @@ template <bool kDamping, bool kMassTerm>
       if (contact.plus >= 0) g = g + displacement(x, c, pending, contact.plus);
       if (contact.minus >= 0) g = g - displacement(x, c, pending, contact.minus);
       const LaneMask larger = greater(g, penetration);  // std::max(penetration, g)
-      penetration = select({larger.lo & stepping.lo, larger.hi & stepping.hi}, g, penetration);
+      penetration = select(larger & stepping, g, penetration);
     }
     if (!at_event && finite) {
       if (i + 1 - chunk_begin == kTraceChunk) {
@@ -526,7 +532,7 @@ template <bool kDamping, bool kMassTerm>
   b.penetration = penetration;
 }
 
-IMPACTID_SIMD_VERSIONS void run_chain_any(ChainBatch& b) {
+void run_chain_any(ChainBatch& b) {
   with_kernel_flags(
       b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
       [&b]<bool kDamping, bool kMassTerm>()
@@ -600,59 +606,14 @@ std::vector<RowBlock> row_blocks(const ChainArrays& x, const std::vector<ForceRo
   return blocks;
 }
 
-bool same_tridiagonal(const Tridiagonal& a, const Tridiagonal& b) {
-  return a.lower == b.lower && a.diag == b.diag && a.upper == b.upper;
-}
-
 }  // namespace
 
-bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
-                     const RunOptions& options) {
-  const SecondOrderSystem& system = scene.system;
-  if (!is_single_step_implicit(method) || options.record_history ||
-      options.contact.law != ContactLaw::lagrange || !system.has_constraint_list() ||
-      system.has_contact() || system.has_far_contact() || !scene.contact_columns ||
-      system.size() < 3 || scene.probes.size() != system.constraints.size() ||
-      system.constraints.size() > static_cast<std::size_t>(kMaxConstraints)) {
-    return false;
-  }
-  // A wall's node is put on the wall at the end of a step: the kernel keeps the first and the
-  // last row's state plain for that (the others are deferred).
-  const Eigen::Index last = system.size() - 1;
-  for (const Constraint& c : system.constraints) {
-    if (c.plus < 0 && c.minus != 0) return false;
-    if (c.minus < 0 && c.plus != last) return false;
-  }
-  return true;
-}
-
-bool same_chain_batch(const AssembledScene& a, const RunOptions& options_a, const AssembledScene& b,
-                      const RunOptions& options_b) {
-  const SecondOrderSystem& s = a.system;
-  const SecondOrderSystem& t = b.system;
-  if (s.size() != t.size() || s.constraints.size() != t.constraints.size() ||
-      a.probes.size() != b.probes.size()) {
-    return false;
-  }
-  for (std::size_t k = 0; k < s.constraints.size(); ++k) {
-    if (s.constraints[k].plus != t.constraints[k].plus ||
-        s.constraints[k].minus != t.constraints[k].minus || a.probes[k].area != b.probes[k].area ||
-        a.probes[k].velocity_dof != b.probes[k].velocity_dof) {
-      return false;
-    }
-  }
-  const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
-                            options_a.energy_check_interval == options_b.energy_check_interval &&
-                            options_a.record_history == options_b.record_history &&
-                            options_a.skip_free_flight == options_b.skip_free_flight;
-  return same_options && a.dt == b.dt && a.rigid_flight == b.rigid_flight &&
-         same_tridiagonal(s.mass, t.mass) && same_tridiagonal(s.stiffness, t.stiffness) &&
-         same_tridiagonal(s.damping, t.damping);
-}
-
-void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
+void simulate_chain_lanes(std::span<const AssembledScene* const> scenes,
                           std::span<const MethodParams> methods, const RunOptions& options,
-                          ChainBatchWorkspace& ws, std::span<RunSummary> summaries) {
+                          std::vector<LaneBlock>& storage, std::array<State, kBatchLanes>& starts,
+                          std::array<ImplicitIntegrator, kBatchLanes>& integrators,
+                          std::array<ContactTrace, kBatchLanes>& traces,
+                          std::span<RunSummary> summaries) {
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
   const SecondOrderSystem& system = scenes[0]->system;  // every lane's, gaps aside
@@ -667,8 +628,8 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
     const auto lane = static_cast<std::size_t>(l);
     const AssembledScene& scene = *scenes[lane];
     RunSummary& summary = summaries[lane];
-    if (!prepare_run(scene, options, ws.traces[lane], ws.start_[lane], summary)) continue;
-    if (!ws.integrators_[lane].initialize(system, implicit_coefficients(methods[lane]), dt)) {
+    if (!prepare_run(scene, options, traces[lane], starts[lane], summary)) continue;
+    if (!integrators[lane].initialize(system, implicit_coefficients(methods[lane]), dt)) {
       summary.status = RunStatus::failed;
       summary.message =
           std::string(to_string(kind_of(methods[lane]))) + ": singular effective matrix";
@@ -693,8 +654,8 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
     k.end = k.common_end = 0;
     for (int l = 0; l < count; ++l) {
       if (!running[l]) continue;
-      const auto [first, end] = ws.integrators_[static_cast<std::size_t>(l)]
-                                    .constraint_rows()[static_cast<std::size_t>(j)];
+      const auto [first, end] =
+          integrators[static_cast<std::size_t>(l)].constraint_rows()[static_cast<std::size_t>(j)];
       k.lane_begin[static_cast<std::size_t>(l)] = first;
       k.lane_end[static_cast<std::size_t>(l)] = end;
       k.begin = std::min(k.begin, first);
@@ -716,9 +677,8 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
   }
 
   // The interleaved arrays: state, factorisation, columns, trace buffer.
-  ws.storage_.assign(static_cast<std::size_t>(6 * n + column_rows + 2 * m * kTraceChunk),
-                     LaneBlock{});
-  Lanes* block = reinterpret_cast<Lanes*>(ws.storage_.data());
+  storage.assign(static_cast<std::size_t>(6 * n + column_rows + 2 * m * kTraceChunk), LaneBlock{});
+  Lanes* block = reinterpret_cast<Lanes*>(storage.data());
   const auto take = [&](Eigen::Index rows) {
     Lanes* p = block;
     block += rows;
@@ -749,14 +709,14 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
   ChainCoefficients& k = b.coefficients;
   k.dt = dt;
   k.w = splat(1.0);  // idle lanes: λ = 0/1
-  b.start = &ws.start_;
+  b.start = &starts;
   b.energy_check_interval = options.energy_check_interval;
   b.energy_growth_limit = options.energy_growth_limit;
   for (int l = 0; l < count; ++l) {
     const auto lane = static_cast<std::size_t>(l);
     b.penetration.set(l, summaries[lane].max_penetration);
     if (!running[l]) continue;
-    const ImplicitIntegrator& integrator = ws.integrators_[lane];
+    const ImplicitIntegrator& integrator = integrators[lane];
     const TridiagonalFactorization& f = integrator.factorization();
     for (Eigen::Index i = 0; i < n; ++i) {
       x.minus_inverse_pivot[i].set(l, -f.inverse_pivots()[i]);
@@ -789,7 +749,7 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
     RunSummary& summary = summaries[lane];
     LaneRun& run = b.lanes[lane];
     run.summary = &summary;
-    run.trace = &ws.traces[lane];
+    run.trace = &traces[lane];
     run.first = summary.skipped_steps;
     run.last = scenes[lane]->step_count - 1;
     run.energy_bound = options.energy_growth_limit * summary.initial_energy;
@@ -808,4 +768,4 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
     summaries[static_cast<std::size_t>(l)].wall_time_s = seconds / count;
 }
 
-}  // namespace impactid
+}  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

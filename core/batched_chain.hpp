@@ -65,6 +65,7 @@ class ChainBatchWorkspace {
   std::vector<LaneBlock> storage_;        // the interleaved [unknown][lane] arrays
   std::array<State, kBatchLanes> start_;  // each lane's state when it starts stepping
   std::array<ImplicitIntegrator, kBatchLanes> integrators_;  // each lane's set-up
+  SimulationWorkspace scalar_;  // the baseline level's runs, one at a time
 };
 
 /// Runs *scenes[k] with methods[k] for k < scenes.size() (1..kBatchLanes runs, each

@@ -10,19 +10,25 @@
 #include <variant>
 #include <vector>
 
-#include "core/batch_lanes.hpp"
+#include "core/batch_kernels.hpp"
 #include "core/central_difference.hpp"
 #include "core/contact_treatment.hpp"
-#include "core/function_versions.hpp"
 #include "core/kim_explicit.hpp"
 #include "core/noh_bathe.hpp"
 #include "core/parameter_error.hpp"
 #include "core/second_order_system.hpp"
-#include "core/simd_lanes.hpp"
 #include "core/stable_step_warning.hpp"
 #include "core/tridiagonal.hpp"
 
-namespace impactid {
+// Last: the level's target for the rest of the file (core/kernel_target.hpp), then the lane
+// vocabulary, compiled for the level (kept in this order: clang-format would sort them).
+// clang-format off
+#include "core/kernel_target.hpp"
+#include "core/batch_lanes.hpp"
+#include "core/simd_lanes.hpp"
+// clang-format on
+
+namespace impactid::IMPACTID_KERNEL_NAMESPACE {
 namespace {
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
@@ -40,7 +46,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 }
 [[gnu::always_inline]] inline Lanes select_bits(const LaneMask& mask, const Lanes& a,
                                                 const Lanes& b) {
-  return {select_bits(mask.lo, a.lo, b.lo), select_bits(mask.hi, a.hi, b.hi)};
+  Lanes out;
+  for_each_register([&](auto k) __attribute__((always_inline)) {
+    out.r[k] = select_bits(mask.r[k], a.r[k], b.r[k]);
+  });
+  return out;
 }
 
 // One row's numbers of central difference's step, the same in every lane: M's and K's diagonal
@@ -372,9 +382,9 @@ void set_cdm_lane(const CdmRows& b, int l, const Lanes* now, const Lanes* ahead)
   }
 }
 
-// The batch loop (core/batch_lanes.hpp: run_lanes) with central difference's step, for the
-// machine at hand (GCC target_clones: everything the loop calls is inlined into each version).
-IMPACTID_SIMD_VERSIONS void run_cdm_batch(CdmBatch& b) {
+// The batch loop (core/batch_lanes.hpp: run_lanes) with central difference's step: everything
+// the loop calls is inlined.
+void run_cdm_batch(CdmBatch& b) {
   CdmRows& rows = b.rows;
   const RowFactors uniform = row_factors(rows, rows.uniform_begin);
   Lanes velocity{};
@@ -913,7 +923,7 @@ struct NohBatheLanes {
   }
   static void run(StageBatch<Rows>& b);  // the target-cloned loop, below
 };
-IMPACTID_SIMD_VERSIONS void run_noh_bathe_batch(StageBatch<NohBatheRows>& b) {
+void run_noh_bathe_batch(StageBatch<NohBatheRows>& b) {
   run_stage_lanes<NohBatheLanes>(b);
 }
 void NohBatheLanes::run(StageBatch<Rows>& b) {
@@ -1150,7 +1160,7 @@ struct KimLanes {
   }
   static void run(StageBatch<Rows>& b);  // the target-cloned loop, below
 };
-IMPACTID_SIMD_VERSIONS void run_kim_batch(StageBatch<KimRows>& b) {
+void run_kim_batch(StageBatch<KimRows>& b) {
   run_stage_lanes<KimLanes>(b);
 }
 void KimLanes::run(StageBatch<Rows>& b) {
@@ -1159,47 +1169,20 @@ void KimLanes::run(StageBatch<Rows>& b) {
 
 }  // namespace
 
-ExplicitBatchKind explicit_batch_kind(const MethodParams& method) {
-  if (std::holds_alternative<CentralDifferenceParams>(method)) {
-    return ExplicitBatchKind::central_difference;
-  }
-  if (std::holds_alternative<NohBatheParams>(method)) return ExplicitBatchKind::noh_bathe;
-  if (std::holds_alternative<KimExplicitParams>(method)) return ExplicitBatchKind::kim_explicit;
-  return ExplicitBatchKind::none;
-}
-
-bool explicit_batchable(const RodScene& scene, const MethodParams& method) {
-  switch (explicit_batch_kind(method)) {
-    case ExplicitBatchKind::central_difference:
-      // Damping adds terms to the step and to the left-hand matrix (per velocity variant) that
-      // the kernel does not have: damped central difference runs through simulate().
-      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
-    case ExplicitBatchKind::noh_bathe:
-      // Damping adds a product with C to each sub-step: damped runs go through simulate().
-      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
-    case ExplicitBatchKind::kim_explicit:
-      // Likewise a product with C to each stage.
-      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
-    case ExplicitBatchKind::none:
-      return false;
-  }
-  return false;
-}
-
-void simulate_explicit_batch(std::span<const RodScene> scenes,
+void simulate_explicit_lanes(std::span<const RodScene> scenes,
                              std::span<const MethodParams> methods, const RunOptions& options,
-                             BatchWorkspace& workspace, std::span<RunSummary> summaries) {
+                             BatchStorage workspace, std::span<RunSummary> summaries) {
   switch (explicit_batch_kind(methods[0])) {
     case ExplicitBatchKind::central_difference:
-      simulate_cdm_batch(scenes, methods, options, workspace.storage_, workspace.start_,
+      simulate_cdm_batch(scenes, methods, options, workspace.blocks, workspace.starts,
                          workspace.traces, summaries);
       return;
     case ExplicitBatchKind::noh_bathe:
-      simulate_stage_batch<NohBatheLanes>(scenes, methods, options, workspace.storage_,
-                                          workspace.start_, workspace.traces, summaries);
+      simulate_stage_batch<NohBatheLanes>(scenes, methods, options, workspace.blocks,
+                                          workspace.starts, workspace.traces, summaries);
       return;
     case ExplicitBatchKind::kim_explicit:
-      simulate_stage_batch<KimLanes>(scenes, methods, options, workspace.storage_, workspace.start_,
+      simulate_stage_batch<KimLanes>(scenes, methods, options, workspace.blocks, workspace.starts,
                                      workspace.traces, summaries);
       return;
     case ExplicitBatchKind::none:
@@ -1208,4 +1191,4 @@ void simulate_explicit_batch(std::span<const RodScene> scenes,
   assert(false && "simulate_explicit_batch: not an explicit batch");
 }
 
-}  // namespace impactid
+}  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

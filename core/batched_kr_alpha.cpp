@@ -10,13 +10,19 @@
 #include <utility>
 #include <variant>
 
-#include "core/batch_lanes.hpp"
-#include "core/function_versions.hpp"
+#include "core/batch_kernels.hpp"
 #include "core/second_order_system.hpp"
-#include "core/simd_lanes.hpp"
 #include "core/tridiagonal.hpp"
 
-namespace impactid {
+// Last: the level's target for the rest of the file (core/kernel_target.hpp), then the lane
+// vocabulary, compiled for the level (kept in this order: clang-format would sort them).
+// clang-format off
+#include "core/kernel_target.hpp"
+#include "core/batch_lanes.hpp"
+#include "core/simd_lanes.hpp"
+// clang-format on
+
+namespace impactid::IMPACTID_KERNEL_NAMESPACE {
 namespace {
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
@@ -334,10 +340,9 @@ struct KrBatch {
   LaneLoop loop;
 };
 
-// The batch loop (core/batch_lanes.hpp: run_lanes) with KR-α's step, for the machine at hand (GCC
-// target_clones: everything the loop calls is inlined into each version; its own function, as
-// each kernel kind has: core/function_versions.hpp).
-IMPACTID_SIMD_VERSIONS void run_kr_alpha_batch(KrBatch& b) {
+// The batch loop (core/batch_lanes.hpp: run_lanes) with KR-α's step: everything the loop calls is
+// inlined.
+void run_kr_alpha_batch(KrBatch& b) {
   KrRows& rows = b.rows;
   const Factors uniform = factors(rows.e, rows.uniform_begin);
   const Eigen::Index n = rows.n;
@@ -408,19 +413,12 @@ void set_factors(FactorRows& rows, int l, const TridiagonalFactorization& f) {
 
 }  // namespace
 
-bool kr_alpha_batchable(const RodScene& scene, const MethodParams& method) {
-  // Damping adds a product with C to each half of the right-hand side: damped runs go through
-  // simulate().
-  return std::holds_alternative<KrAlphaParams>(method) && scene.rayleigh_mass == 0.0 &&
-         scene.rayleigh_stiffness == 0.0;
-}
-
-void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
+void simulate_kr_alpha_lanes(std::span<const RodScene> scenes,
                              std::span<const MethodParams> methods, const RunOptions& options,
-                             std::vector<LaneBlock>& storage,
-                             std::array<State, kBatchLanes>& starts,
-                             std::array<ContactTrace, kBatchLanes>& traces,
-                             std::span<RunSummary> summaries) {
+                             BatchStorage workspace, std::span<RunSummary> summaries) {
+  std::vector<LaneBlock>& storage = workspace.blocks;
+  std::array<State, kBatchLanes>& starts = workspace.starts;
+  std::array<ContactTrace, kBatchLanes>& traces = workspace.traces;
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
   SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
@@ -572,4 +570,4 @@ void simulate_kr_alpha_batch(std::span<const RodScene> scenes,
   finish_lanes(count, start, traces, summaries);
 }
 
-}  // namespace impactid
+}  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

@@ -9,15 +9,21 @@
 #include <string>
 #include <utility>
 
-#include "core/batch_lanes.hpp"
+#include "core/batch_kernels.hpp"
 #include "core/batched_explicit.hpp"
 #include "core/batched_kr_alpha.hpp"
-#include "core/function_versions.hpp"
 #include "core/second_order_system.hpp"
-#include "core/simd_lanes.hpp"
 #include "core/tridiagonal.hpp"
 
-namespace impactid {
+// Last: the level's target for the rest of the file (core/kernel_target.hpp), then the lane
+// vocabulary, compiled for the level (kept in this order: clang-format would sort them).
+// clang-format off
+#include "core/kernel_target.hpp"
+#include "core/batch_lanes.hpp"
+#include "core/simd_lanes.hpp"
+// clang-format on
+
+namespace impactid::IMPACTID_KERNEL_NAMESPACE {
 namespace {
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
@@ -536,20 +542,8 @@ template <bool kPlain = false>
   return 0.5 * kinetic + 0.5 * strain;
 }
 
-// The kind of step a batch takes (one per batch: same_batch).
-enum class StepKind {
-  single_step,   // the ImplicitCoefficients family: step_lanes
-  composite,     // Bathe, ρ∞-Bathe, TR-BDF2: composite_step_lanes
-  wilson_theta,  // wilson_theta_step_lanes
-  houbolt,       // houbolt_predict_lanes, then step_lanes from plain rows
-};
-
-StepKind step_kind(const MethodParams& method) {
-  if (is_composite(method)) return StepKind::composite;
-  if (std::holds_alternative<WilsonThetaParams>(method)) return StepKind::wilson_theta;
-  if (std::holds_alternative<HouboltParams>(method)) return StepKind::houbolt;
-  return StepKind::single_step;
-}
+using StepKind = BatchStepKind;
+constexpr auto step_kind = batch_step_kind;
 
 struct Batch {
   LaneArrays arrays;
@@ -672,7 +666,7 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
 // One function (with its target versions) per step kind: in one function holding every kind's
 // loops, GCC optimised the composite and α_m loops worse (measured: bathe 1.97 → 2.95 ns and
 // generalized-α 0.55 → 0.92 ns per dof-step once Wilson-θ's kind was added beside them).
-IMPACTID_SIMD_VERSIONS void run_composite_batch(Batch& b) {  // both sub-steps have α_m = 0
+void run_composite_batch(Batch& b) {  // both sub-steps have α_m = 0
   if (b.arrays.damping != nullptr) {
     run_batch<true, false, StepKind::composite>(b);
   } else {
@@ -680,7 +674,7 @@ IMPACTID_SIMD_VERSIONS void run_composite_batch(Batch& b) {  // both sub-steps h
   }
 }
 
-IMPACTID_SIMD_VERSIONS void run_houbolt_batch(Batch& b) {  // its three steps have α_m = 0
+void run_houbolt_batch(Batch& b) {  // its three steps have α_m = 0
   if (b.arrays.damping != nullptr) {
     run_batch<true, false, StepKind::houbolt>(b);
   } else {
@@ -688,7 +682,7 @@ IMPACTID_SIMD_VERSIONS void run_houbolt_batch(Batch& b) {  // its three steps ha
   }
 }
 
-IMPACTID_SIMD_VERSIONS void run_wilson_theta_batch(Batch& b) {  // the extended step: α_m = 0
+void run_wilson_theta_batch(Batch& b) {  // the extended step: α_m = 0
   if (b.arrays.damping != nullptr) {
     run_batch<true, false, StepKind::wilson_theta>(b);
   } else {
@@ -696,7 +690,7 @@ IMPACTID_SIMD_VERSIONS void run_wilson_theta_batch(Batch& b) {  // the extended 
   }
 }
 
-IMPACTID_SIMD_VERSIONS void run_single_step_batch(Batch& b) {
+void run_single_step_batch(Batch& b) {
   with_kernel_flags(
       b.arrays.damping != nullptr, any_lane(b.coefficients.mass_term),
       [&b]<bool kDamping, bool kMassTerm>() __attribute__((always_inline)) {
@@ -704,9 +698,7 @@ IMPACTID_SIMD_VERSIONS void run_single_step_batch(Batch& b) {
       });
 }
 
-// The batch loop for the machine at hand: GCC compiles each of the above for each target and
-// picks one when the program starts. Everything they call in the step loop is inlined into each
-// version.
+// The batch loop. Everything it calls in the step loop is inlined.
 void run_batch_any(Batch& b) {
   switch (b.kind) {
     case StepKind::composite:
@@ -831,54 +823,15 @@ void set_lane_coefficients(int l, const ImplicitCoefficients& co, double dt, dou
 
 }  // namespace
 
-bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
-  // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
-  // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
-  // single-step implicit family, the composite schemes, Wilson-θ and Houbolt, and (core/
-  // batched_explicit.hpp) the explicit methods it knows, and KR-α (core/batched_kr_alpha.hpp),
-  // with Lagrange multipliers (not the penalty or augmented-Lagrangian contact laws).
-  return (is_single_step_implicit(method) || is_composite(method) ||
-          std::holds_alternative<WilsonThetaParams>(method) ||
-          std::holds_alternative<HouboltParams>(method) || explicit_batchable(scene, method) ||
-          kr_alpha_batchable(scene, method)) &&
-         !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
-}
-
-bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
-                const RodScene& b, const MethodParams& method_b, const RunOptions& options_b) {
-  // A batch steps one kind of step: the single-step family's, the composite schemes',
-  // Wilson-θ's or Houbolt's (each lane its own method and parameters within it, γ and θ too).
-  if (step_kind(method_a) != step_kind(method_b)) return false;
-  // An explicit method's batch (core/batched_explicit.hpp) steps that method only.
-  if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
-  // So does KR-α's (core/batched_kr_alpha.hpp).
-  if (std::holds_alternative<KrAlphaParams>(method_a) !=
-      std::holds_alternative<KrAlphaParams>(method_b)) {
-    return false;
-  }
-  // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
-  // are per lane.
-  const bool same_rod = a.length == b.length && a.elements == b.elements &&
-                        a.youngs_modulus == b.youngs_modulus && a.density == b.density &&
-                        a.area == b.area && a.mass == b.mass &&
-                        a.rayleigh_mass == b.rayleigh_mass &&
-                        a.rayleigh_stiffness == b.rayleigh_stiffness;
-  const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
-                            options_a.energy_check_interval == options_b.energy_check_interval &&
-                            options_a.record_history == options_b.record_history &&
-                            options_a.skip_free_flight == options_b.skip_free_flight;
-  return same_rod && same_options && derive(a).time_step == derive(b).time_step;
-}
-
-void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
-                    const RunOptions& options, BatchWorkspace& ws,
-                    std::span<RunSummary> summaries) {
+void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
+                        const RunOptions& options, BatchStorage ws,
+                        std::span<RunSummary> summaries) {
   if (explicit_batch_kind(methods[0]) != ExplicitBatchKind::none) {
-    simulate_explicit_batch(scenes, methods, options, ws, summaries);
+    simulate_explicit_lanes(scenes, methods, options, ws, summaries);
     return;
   }
   if (std::holds_alternative<KrAlphaParams>(methods[0])) {
-    simulate_kr_alpha_batch(scenes, methods, options, ws.storage_, ws.start_, ws.traces, summaries);
+    simulate_kr_alpha_lanes(scenes, methods, options, ws, summaries);
     return;
   }
   const auto start = std::chrono::steady_clock::now();
@@ -896,7 +849,7 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   // A second state and factorisation (Houbolt: its three factorisations and past displacements).
   const bool two_steps = kind == StepKind::composite || kind == StepKind::wilson_theta;
   const int arrays = two_steps ? 8 : houbolt ? 10 : 4;
-  LaneStorage storage(ws.storage_, arrays, n);
+  LaneStorage storage(ws.blocks, arrays, n);
   Batch b{};
   LaneArrays& x = b.arrays;
   x.n = n;
@@ -927,7 +880,7 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     b.mid = x;
     storage.take({&b.mid.u, &b.mid.v, &b.mid.a, &b.mid.inverse_pivot});
   }
-  b.start = &ws.start_;
+  b.start = &ws.starts;
   b.loop = loop;
   LaneCoefficients& k = b.coefficients;
   k.gap = splat(kInf);  // unused lanes never touch a wall
@@ -958,7 +911,7 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
     // same_batch: one kind of step per batch.
     assert(step_kind(method) == kind);
     LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
-    if (!prepare_lane(system, scenes, l, options, dt, summaries, ws.traces, ws.start_, run)) {
+    if (!prepare_lane(system, scenes, l, options, dt, summaries, ws.traces, ws.starts, run)) {
       continue;
     }
 
@@ -1015,4 +968,4 @@ void simulate_batch(std::span<const RodScene> scenes, std::span<const MethodPara
   finish_lanes(count, start, ws.traces, summaries);
 }
 
-}  // namespace impactid
+}  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

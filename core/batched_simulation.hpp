@@ -84,10 +84,10 @@
 
 namespace impactid {
 
-/// Runs per batch: 8 doubles, one AVX-512 register. The layout is [unknown][lane] whatever
-/// the machine: the kernel is compiled for AVX-512, AVX2 and baseline x86-64 and the best one
-/// the processor supports is chosen at run time (GCC target_clones), so the default build
-/// needs no -march=native; on an AVX2 machine a batch is two registers.
+/// Runs per batch. The layout is [unknown][lane] whatever the machine: the kernels are compiled
+/// for AVX-512 (a batch is two registers) and AVX2 (four), and the level the processor supports
+/// is chosen when the program starts (core/kernel_level.hpp), so the default build needs no
+/// -march=native; on baseline x86-64 each run of a batch goes through simulate().
 inline constexpr int kBatchLanes = 16;
 
 /// Whether a run can go through simulate_batch at all: a single-step implicit method, a
@@ -119,6 +119,7 @@ class BatchWorkspace {
                              const RunOptions&, BatchWorkspace&, std::span<RunSummary>);
   std::vector<LaneBlock> storage_;        // the interleaved [unknown][lane] arrays
   std::array<State, kBatchLanes> start_;  // each lane's state when it starts stepping
+  SimulationWorkspace scalar_;            // the baseline level's runs, one at a time
   // The explicit kernel (core/batched_explicit.hpp) uses the same storage.
   friend void simulate_explicit_batch(std::span<const RodScene>, std::span<const MethodParams>,
                                       const RunOptions&, BatchWorkspace&, std::span<RunSummary>);

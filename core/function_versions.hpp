@@ -1,35 +1,54 @@
-// Functions compiled once per processor generation, the best one picked when the program starts.
+// Code compiled once per processor generation, the one that runs chosen by the program
+// (core/kernel_level.hpp), not by the compiler's resolver.
 //
-// The project builds for baseline x86-64 (no -march=native: a binary runs on any x86-64 host).
-// Two kinds of hot code need more than that:
-//
+// Two kinds of hot code need more than baseline x86-64:
 // - The scalar implicit step (core/implicit_integrator.cpp, core/tridiagonal.cpp) writes a
 //   multiply whose product is only added as std::fma: one rounding instead of two, and a
 //   recurrence of one instruction (4 cycles) instead of a multiply and an add (6). The batched
-//   kernel (core/batched_simulation.cpp) fuses exactly the same operations, so that its lanes
-//   equal the scalar path bit for bit. std::fma is correctly rounded, so the bits are the same
-//   on every machine; only its speed differs: one instruction where the processor has FMA3
-//   (x86-64-v3: every x86-64 processor since 2013-2015), a C library routine on baseline
-//   x86-64, which made the scalar run several times slower (docs/performance.md).
-//   IMPACTID_FMA_VERSIONS marks these functions.
-// - The batched kernel's loop (run_batch_any) also wants AVX-512 registers, one register per 8
-//   lanes: IMPACTID_SIMD_VERSIONS adds x86-64-v4.
+//   kernels fuse exactly the same operations, so that their lanes equal the scalar path bit for
+//   bit. std::fma is correctly rounded, so the bits are the same on every machine; only its speed
+//   differs: one instruction where the processor has FMA3 (x86-64-v3), a C library routine on
+//   baseline x86-64, which made the scalar run several times slower (docs/performance.md).
+//   with_fma_versions() below compiles such a body twice and runs the one the level allows.
+// - The batched kernels (core/batched_*.cpp) are compiled once per level into their own object
+//   files, each in its own namespace with its own register width (core/simd_lanes.hpp,
+//   core/batch_kernels.hpp).
 //
-// GCC's target_clones compiles the marked function once per listed target and resolves the
-// symbol at load time from the processor's features. Elsewhere than x86-64 the marks are
-// empty: aarch64's baseline already has fused multiply-adds (std::fma is one instruction), and
-// the kernel's vector extensions compile to whatever vectors the target has.
-//
-// IMPACTID_SINGLE_VERSION leaves the marks empty, for a build that runs only where it is built
-// (scripts/sanitize, with -march=native): it checks the code, not the dispatch, and compiling
-// every kernel once per target under the sanitizers' instrumentation took most of its time.
+// IMPACTID_SINGLE_VERSION compiles one version, for the flags of the build (scripts/sanitize,
+// with -march=native: it checks the code, not the dispatch, and clang has no GCC target pragmas).
 #pragma once
 
+#include "core/kernel_level.hpp"
+
 #if defined(__x86_64__) && !defined(IMPACTID_SINGLE_VERSION)
-#define IMPACTID_FMA_VERSIONS __attribute__((target_clones("arch=x86-64-v3", "default")))
-#define IMPACTID_SIMD_VERSIONS \
-  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#define IMPACTID_FMA_TARGET __attribute__((target("arch=x86-64-v3")))
+#define IMPACTID_AVX512_TARGET __attribute__((target("arch=x86-64-v4")))
 #else
-#define IMPACTID_FMA_VERSIONS
-#define IMPACTID_SIMD_VERSIONS
+#define IMPACTID_FMA_TARGET
+#define IMPACTID_AVX512_TARGET
 #endif
+
+namespace impactid {
+
+// `body` with every call it makes inlined (flatten), compiled for x86-64-v3 or for baseline.
+template <class Body>
+__attribute__((flatten)) IMPACTID_FMA_TARGET void run_with_fma_instructions(const Body& body) {
+  body();
+}
+template <class Body>
+__attribute__((flatten)) void run_without_fma_instructions(const Body& body) {
+  body();
+}
+
+/// Runs body() compiled with FMA3 instructions when the kernel level has them, else compiled
+/// for baseline x86-64 (std::fma then calls the C library). The same numbers either way.
+template <class Body>
+[[gnu::always_inline]] inline void with_fma_versions(const Body& body) {
+  if (kernel_level() >= KernelLevel::x86_64_v3) {
+    run_with_fma_instructions(body);
+  } else {
+    run_without_fma_instructions(body);
+  }
+}
+
+}  // namespace impactid

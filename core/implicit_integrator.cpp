@@ -52,55 +52,57 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
   return true;
 }
 
-IMPACTID_FMA_VERSIONS
 void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
-  const Eigen::Index n = system.size();
-  const double dt = dt_, dt2 = dt * dt;
-  const double af = c_.alpha_f;
+  with_fma_versions([&] {
+    const Eigen::Index n = system.size();
+    const double dt = dt_, dt2 = dt * dt;
+    const double af = c_.alpha_f;
 
-  // Predictors from the known part of the update formulas, then the α_f-weighted arguments of
-  // the elastic and damping forces, written over u and v (their old values are not needed).
-  // (1−α_f)·u* + α_f·u is formed as u* − α_f·(u* − u) with the increment u* − u = d kept: one
-  // multiply fewer, and exactly u* for Newmark (α_f = 0). The batched kernel does the same
-  // operations (core/batched_simulation.cpp). A multiply whose product is only added is fused
-  // with the add (std::fma, correctly rounded: the same bits on every machine); the kernel
-  // fuses the same ones.
-  const double dt2_b0 = dt2 * c_.b0, dt_g0 = dt * c_.g0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double du = std::fma(dt, s.v[i], dt2_b0 * s.a[i]);
-    u_predicted_[i] = s.u[i] + du;
-    v_predicted_[i] = std::fma(dt_g0, s.a[i], s.v[i]);
-    s.u[i] = std::fma(-af, du, u_predicted_[i]);
-    s.v[i] = std::fma(-af, dt_g0 * s.a[i], v_predicted_[i]);
-  }
-  system.stiffness.multiply(s.u, rhs_);
-  rhs_ = -rhs_;
-  if (system.has_damping()) system.damping.multiply_add(-1.0, s.v, rhs_);
-  if (c_.alpha_m != 0.0) system.mass.multiply_add(-c_.alpha_m, s.a, rhs_);
-  const Eigen::Index contact = system.contact_dof;
-  rhs_[contact] -= (1.0 - c_.contact_weight) * s.lambda;
-  if (s.far_lambda != 0.0) {
-    rhs_[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
-  }
-  for (std::size_t k = 0; k < system.constraints.size(); ++k) {
-    const double force = (1.0 - c_.contact_weight) * s.multipliers[static_cast<Eigen::Index>(k)];
-    if (force == 0.0) continue;
-    if (system.constraints[k].plus >= 0) rhs_[system.constraints[k].plus] -= force;
-    if (system.constraints[k].minus >= 0) rhs_[system.constraints[k].minus] += force;
-  }
-  factorization_.forward_in_place(rhs_);
+    // Predictors from the known part of the update formulas, then the α_f-weighted arguments of
+    // the elastic and damping forces, written over u and v (their old values are not needed).
+    // (1−α_f)·u* + α_f·u is formed as u* − α_f·(u* − u) with the increment u* − u = d kept: one
+    // multiply fewer, and exactly u* for Newmark (α_f = 0). The batched kernel does the same
+    // operations (core/batched_simulation.cpp). A multiply whose product is only added is fused
+    // with the add (std::fma, correctly rounded: the same bits on every machine); the kernel
+    // fuses the same ones.
+    const double dt2_b0 = dt2 * c_.b0, dt_g0 = dt * c_.g0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double du = std::fma(dt, s.v[i], dt2_b0 * s.a[i]);
+      u_predicted_[i] = s.u[i] + du;
+      v_predicted_[i] = std::fma(dt_g0, s.a[i], s.v[i]);
+      s.u[i] = std::fma(-af, du, u_predicted_[i]);
+      s.v[i] = std::fma(-af, dt_g0 * s.a[i], v_predicted_[i]);
+    }
+    system.stiffness.multiply(s.u, rhs_);
+    rhs_ = -rhs_;
+    if (system.has_damping()) system.damping.multiply_add(-1.0, s.v, rhs_);
+    if (c_.alpha_m != 0.0) system.mass.multiply_add(-c_.alpha_m, s.a, rhs_);
+    const Eigen::Index contact = system.contact_dof;
+    rhs_[contact] -= (1.0 - c_.contact_weight) * s.lambda;
+    if (s.far_lambda != 0.0) {
+      rhs_[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
+    }
+    for (std::size_t k = 0; k < system.constraints.size(); ++k) {
+      const double force = (1.0 - c_.contact_weight) * s.multipliers[static_cast<Eigen::Index>(k)];
+      if (force == 0.0) continue;
+      if (system.constraints[k].plus >= 0) rhs_[system.constraints[k].plus] -= force;
+      if (system.constraints[k].minus >= 0) rhs_[system.constraints[k].minus] += force;
+    }
+    factorization_.forward_in_place(rhs_);
+  });
 }
 
-IMPACTID_FMA_VERSIONS
 void ImplicitIntegrator::update(State& s) const {
-  const Eigen::Index n = s.a.size();
-  const double dt = dt_, dt2 = dt * dt;
-  const double b1_dt2 = c_.b1 * dt2, g1_dt = c_.g1 * dt;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    s.a[i] = rhs_[i];
-    s.u[i] = std::fma(b1_dt2, rhs_[i], u_predicted_[i]);
-    s.v[i] = std::fma(g1_dt, rhs_[i], v_predicted_[i]);
-  }
+  with_fma_versions([&] {
+    const Eigen::Index n = s.a.size();
+    const double dt = dt_, dt2 = dt * dt;
+    const double b1_dt2 = c_.b1 * dt2, g1_dt = c_.g1 * dt;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      s.a[i] = rhs_[i];
+      s.u[i] = std::fma(b1_dt2, rhs_[i], u_predicted_[i]);
+      s.v[i] = std::fma(g1_dt, rhs_[i], v_predicted_[i]);
+    }
+  });
 }
 
 bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {

@@ -1,13 +1,18 @@
 // The vocabulary of the batched kernels (core/batched_simulation.cpp: the rod; core/
-// batched_chain.cpp: any chain of bodies): kBatchLanes doubles as two registers and the lane by
-// lane IEEE operations on them, the rows of a tridiagonal product, and what a lane keeps of its
-// run. Every helper is always_inline: it is compiled into each target version of the kernel that
-// calls it (IMPACTID_SIMD_VERSIONS), never called.
+// batched_chain.cpp: any chain of bodies): kBatchLanes doubles as registers of the kernel level's
+// width and the lane by lane IEEE operations on them, the rows of a tridiagonal product, and
+// what a lane keeps of its run. Every helper is always_inline: it is compiled into the kernel
+// that calls it, never called.
 //
-// Internal to core/: the kernels' headers do not include it.
+// Internal to core/: included by the kernels' files only, after core/kernel_target.hpp, which
+// sets the level (IMPACTID_KERNEL_LEVEL), its target and the register width. Everything here
+// lives in the level's inline namespace, so that the 256-bit and the 512-bit definitions of the
+// same names never meet at link time.
 //
 // Thread safety: values and pure functions.
 #pragma once
+
+#include <immintrin.h>
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -23,129 +28,164 @@
 #include "core/state.hpp"
 #include "core/tridiagonal.hpp"
 
+#if !defined(IMPACTID_KERNEL_NAMESPACE)
+#error "core/simd_lanes.hpp: include core/kernel_target.hpp first"
+#endif
+
 // Lanes travel by value only into helpers inlined into one function (always_inline), so GCC's
 // note that returning wide vectors differs between targets does not concern these files.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace impactid::simd {
+inline namespace IMPACTID_KERNEL_NAMESPACE {
 
-// One register of 8 doubles (GCC vector extensions: one AVX-512 register, two AVX2 ones);
-// may_alias: registers are read from LaneBlock storage.
-constexpr int kRegisterLanes = 8;
+// One register: kRegisterLanes doubles, the level's native vector (8 on x86-64-v4, 4 on
+// x86-64-v3); may_alias: registers are read from LaneBlock storage. Why native: a GCC vector
+// wider than the target's registers is lowered through the stack, lane by lane: the 512-bit
+// registers of the first kernels cost a 95 KB stack frame, lane-by-lane moves and 30-60 times
+// the time on AVX2 (docs/performance.md).
+constexpr int kRegisterLanes = IMPACTID_KERNEL_REGISTER_LANES;
 constexpr int kRegisters = kBatchLanes / kRegisterLanes;
 static_assert(kBatchLanes % kRegisterLanes == 0);
 using Register = double __attribute__((vector_size(sizeof(double) * kRegisterLanes), may_alias));
 using MaskRegister = std::int64_t __attribute__((vector_size(sizeof(double) * kRegisterLanes)));
 
-// kBatchLanes doubles as two independent registers. Why not one vector of kBatchLanes: the
-// serial recurrences of the tridiagonal sweeps bound a step by their latency (a multiply, a
-// subtract and a multiply per unknown); two registers per unknown are two independent chains
-// that the processor overlaps, which nearly halves the time per lane. A single GCC vector of 16
-// doubles is lowered through the stack instead, and so is an array of two registers (GCC's
-// scalar replacement does not take arrays indexed in loops): named members stay in registers.
-static_assert(kRegisters == 2, "Lanes holds two registers, lo and hi");
-struct __attribute__((may_alias)) Lanes {
-  Register lo, hi;
-
-  double operator[](int l) const { return l < kRegisterLanes ? lo[l] : hi[l - kRegisterLanes]; }
-  void set(int l, double x) {
-    if (l < kRegisterLanes) {
-      lo[l] = x;
-    } else {
-      hi[l - kRegisterLanes] = x;
-    }
+// Calls f(std::integral_constant<int, 0>{}, …, <kRegisters − 1>{}): each register by a
+// constant index, so that GCC's scalar replacement keeps every register of a Lanes in a
+// machine register (it does not take arrays indexed in loops).
+template <class F>
+[[gnu::always_inline]] inline void for_each_register(F&& f) {
+  [&]<int... k>(std::integer_sequence<int, k...>) __attribute__((always_inline)) {
+    (f(std::integral_constant<int, k>{}), ...);
   }
+  (std::make_integer_sequence<int, kRegisters>{});
+}
+
+// kBatchLanes doubles as kRegisters independent registers. Why several registers rather than one
+// vector of kBatchLanes: the serial recurrences of the tridiagonal sweeps bound a step by their
+// latency (a multiply, a subtract and a multiply per unknown); independent registers per unknown
+// are independent chains that the processor overlaps.
+struct __attribute__((may_alias)) Lanes {
+  Register r[kRegisters];
+
+  double operator[](int l) const { return r[l / kRegisterLanes][l % kRegisterLanes]; }
+  void set(int l, double x) { r[l / kRegisterLanes][l % kRegisterLanes] = x; }
 };
 struct LaneMask {
-  MaskRegister lo, hi;
+  MaskRegister r[kRegisters];
 
-  bool operator[](int l) const {
-    return (l < kRegisterLanes ? lo[l] : hi[l - kRegisterLanes]) != 0;
-  }
-  void set(int l, bool on) {
-    if (l < kRegisterLanes) {
-      lo[l] = on ? -1 : 0;
-    } else {
-      hi[l - kRegisterLanes] = on ? -1 : 0;
-    }
-  }
+  bool operator[](int l) const { return r[l / kRegisterLanes][l % kRegisterLanes] != 0; }
+  void set(int l, bool on) { r[l / kRegisterLanes][l % kRegisterLanes] = on ? -1 : 0; }
 };
 
 // Lane-by-lane arithmetic, register by register: the same IEEE operation on every lane.
+template <class Op>
+[[gnu::always_inline]] inline Lanes each(const Lanes& a, const Lanes& b, Op op) {
+  Lanes out;
+  for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = op(a.r[k], b.r[k]); });
+  return out;
+}
 [[gnu::always_inline]] inline Lanes operator+(const Lanes& a, const Lanes& b) {
-  return {a.lo + b.lo, a.hi + b.hi};
+  return each(
+      a, b, [](Register x, Register y) __attribute__((always_inline)) { return x + y; });
 }
 [[gnu::always_inline]] inline Lanes operator-(const Lanes& a, const Lanes& b) {
-  return {a.lo - b.lo, a.hi - b.hi};
+  return each(
+      a, b, [](Register x, Register y) __attribute__((always_inline)) { return x - y; });
 }
 [[gnu::always_inline]] inline Lanes operator*(const Lanes& a, const Lanes& b) {
-  return {a.lo * b.lo, a.hi * b.hi};
+  return each(
+      a, b, [](Register x, Register y) __attribute__((always_inline)) { return x * y; });
 }
 [[gnu::always_inline]] inline Lanes operator/(const Lanes& a, const Lanes& b) {
-  return {a.lo / b.lo, a.hi / b.hi};
+  return each(
+      a, b, [](Register x, Register y) __attribute__((always_inline)) { return x / y; });
 }
 [[gnu::always_inline]] inline Lanes operator-(const Lanes& a) {
-  return {-a.lo, -a.hi};
+  Lanes out;
+  for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = -a.r[k]; });
+  return out;
 }
 
 // a·b + c rounded once, lane by lane: the scalar path's std::fma. GCC's vector extensions have
-// no fused multiply-add, but in the x86-64-v3 and v4 versions of the kernels GCC turns these
-// per-lane fused multiply-adds into one vfmadd per register; the baseline version calls the C
-// library's fma per lane (correct, much slower: machines without FMA are from before 2013).
-// Written lane by lane, not as a loop over the lanes: GCC 12 unrolls such a loop only after its
-// loop vectoriser, and in Kim's kernel (core/batched_explicit.cpp), whose function is twice
-// Noh–Bathe's, the basic-block vectoriser then left the forward sweep's fused multiply-adds
-// scalar, eight vfnmadd…sd and the lane shuffles around them per register (docs/performance.md).
+// no fused multiply-add: the level's instruction, one per register. (Per-lane __builtin_fma,
+// which GCC had to gather back into registers, left it lane by lane on 256-bit targets.)
 [[gnu::always_inline]] inline Register fma(const Register& a, const Register& b,
                                            const Register& c) {
-  static_assert(kRegisterLanes == 8, "fma() names one lane of a register per term");
-  return Register{__builtin_fma(a[0], b[0], c[0]), __builtin_fma(a[1], b[1], c[1]),
-                  __builtin_fma(a[2], b[2], c[2]), __builtin_fma(a[3], b[3], c[3]),
-                  __builtin_fma(a[4], b[4], c[4]), __builtin_fma(a[5], b[5], c[5]),
-                  __builtin_fma(a[6], b[6], c[6]), __builtin_fma(a[7], b[7], c[7])};
+#if IMPACTID_KERNEL_REGISTER_LANES == 8
+  return (Register)_mm512_fmadd_pd((__m512d)a, (__m512d)b, (__m512d)c);
+#elif IMPACTID_KERNEL_REGISTER_LANES == 4
+  return (Register)_mm256_fmadd_pd((__m256d)a, (__m256d)b, (__m256d)c);
+#else
+#error "core/simd_lanes.hpp: no fused multiply-add for this register width"
+#endif
 }
 [[gnu::always_inline]] inline Lanes fma(const Lanes& a, const Lanes& b, const Lanes& c) {
-  return {fma(a.lo, b.lo, c.lo), fma(a.hi, b.hi, c.hi)};
+  Lanes out;
+  for_each_register([&](auto k)
+                        __attribute__((always_inline)) { out.r[k] = fma(a.r[k], b.r[k], c.r[k]); });
+  return out;
 }
 
 // *to = x register by register. An assignment of the whole struct made GCC 12 copy it through
 // the stack in the step loop (a store, a load and a store again), which the stores, the scarcest
 // resource of the step, paid for.
 [[gnu::always_inline]] inline void store(Lanes* to, const Lanes& x) {
-  to->lo = x.lo;
-  to->hi = x.hi;
+  for_each_register([&](auto k) __attribute__((always_inline)) { to->r[k] = x.r[k]; });
 }
 
-// A shuffle of lane 0 into every lane of a register: GCC 12 turns both the per-lane loop
-// `out[l] = x` and the initialiser {x, x, …} into one masked broadcast per lane, which made the
-// step loop three times as long; this is one broadcast.
+// x in every lane of a register: one broadcast (GCC 12 turns both the per-lane loop and the
+// initialiser {x, x, …} into one masked broadcast per lane).
+[[gnu::always_inline]] inline Register splat_register(double x) {
+#if IMPACTID_KERNEL_REGISTER_LANES == 8
+  return (Register)_mm512_set1_pd(x);
+#else
+  return (Register)_mm256_set1_pd(x);
+#endif
+}
 [[gnu::always_inline]] inline Lanes splat(double x) {
-  const Register first{x};
-  const Register all = __builtin_shufflevector(first, first, 0, 0, 0, 0, 0, 0, 0, 0);
-  static_assert(kRegisterLanes == 8, "splat() names one index per lane of a register");
-  return {all, all};
+  const Register all = splat_register(x);
+  Lanes out;
+  for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = all; });
+  return out;
 }
 [[gnu::always_inline]] inline Lanes operator*(double a, const Lanes& b) {
   return splat(a) * b;
 }
 
-// a > b lane by lane. Written per lane: GCC 12 fails (internal compiler error in
-// do_store_flag) on the vector comparison a > b when it lowers it for AVX2 or SSE2.
+// a > b lane by lane (all ones where it holds).
 [[gnu::always_inline]] inline LaneMask greater(const Lanes& a, const Lanes& b) {
   LaneMask out;
-  for (int l = 0; l < kBatchLanes; ++l) out.set(l, a[l] > b[l]);
+  for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = a.r[k] > b.r[k]; });
+  return out;
+}
+[[gnu::always_inline]] inline LaneMask operator&(const LaneMask& a, const LaneMask& b) {
+  LaneMask out;
+  for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = a.r[k] & b.r[k]; });
+  return out;
+}
+[[gnu::always_inline]] inline LaneMask operator|(const LaneMask& a, const LaneMask& b) {
+  LaneMask out;
+  for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = a.r[k] | b.r[k]; });
   return out;
 }
 
 [[gnu::always_inline]] inline bool any_lane(const LaneMask& mask) {
-  bool any = false;
-  for (int l = 0; l < kRegisterLanes; ++l) any |= (mask.lo[l] | mask.hi[l]) != 0;
-  return any;
+  MaskRegister any = mask.r[0];
+  for_each_register([&](auto k) __attribute__((always_inline)) {
+    if constexpr (k > 0) any |= mask.r[k];
+  });
+  bool out = false;
+  for (int l = 0; l < kRegisterLanes; ++l) out |= any[l] != 0;
+  return out;
 }
 
 // `mask ? a : b` lane by lane (a blend: no arithmetic on the lanes it does not pick).
 [[gnu::always_inline]] inline Lanes select(const LaneMask& mask, const Lanes& a, const Lanes& b) {
-  return {mask.lo ? a.lo : b.lo, mask.hi ? a.hi : b.hi};
+  Lanes out;
+  for_each_register([&](auto k)
+                        __attribute__((always_inline)) { out.r[k] = mask.r[k] ? a.r[k] : b.r[k]; });
+  return out;
 }
 
 // One row of ImplicitIntegrator::predict in every lane. The row holds what the previous step
@@ -311,11 +351,14 @@ template <class Kernel>
 // Zero in every lane whose λ and contact velocity are finite; NaN as soon as one lane's is not
 // (x − x is NaN for ±∞ and NaN). Lanes that are not stepping hold a zero state, so they pass.
 [[gnu::always_inline]] inline bool all_finite(const Lanes& lambda, const Lanes& velocity) {
-  const Register probe = ((lambda.lo - lambda.lo) + (velocity.lo - velocity.lo)) +
-                         ((lambda.hi - lambda.hi) + (velocity.hi - velocity.hi));
+  Register probe{};
+  for_each_register([&](auto k) __attribute__((always_inline)) {
+    probe += (lambda.r[k] - lambda.r[k]) + (velocity.r[k] - velocity.r[k]);
+  });
   double sum = 0.0;
   for (int l = 0; l < kRegisterLanes; ++l) sum += probe[l];
   return sum == 0.0;
 }
 
+}  // namespace IMPACTID_KERNEL_NAMESPACE
 }  // namespace impactid::simd

@@ -8,40 +8,41 @@ namespace impactid {
 
 namespace {
 
-// The three loops of the implicit step, on plain arrays: functions of this file only, because
-// a function compiled in several versions (IMPACTID_FMA_VERSIONS) is reached through a symbol
-// that clang 14 names differently from GCC; called from this file, both resolve it.
+// The three loops of the implicit step, on plain arrays, each compiled with and without FMA3
+// instructions (with_fma_versions, core/function_versions.hpp).
 
 // y = A·x (A by its diagonals). Written out rather than y = 0, y += 1·A·x: the same values
 // without the two no-op flops per row, which the batched kernel (core/batched_simulation.cpp)
 // would have to repeat to stay bit-identical. The diagonal term is fused onto the lower one
 // (one rounding fewer), as the kernel does it.
-IMPACTID_FMA_VERSIONS
 void multiply_rows(const double* lower, const double* diag, const double* upper, Eigen::Index n,
                    const double* x, double* y) {
   if (n == 1) {
     y[0] = diag[0] * x[0];
     return;
   }
-  y[0] = std::fma(diag[0], x[0], upper[0] * x[1]);
-  for (Eigen::Index i = 1; i + 1 < n; ++i) {
-    y[i] = std::fma(diag[i], x[i], lower[i] * x[i - 1]) + upper[i] * x[i + 1];
-  }
-  y[n - 1] = std::fma(diag[n - 1], x[n - 1], lower[n - 1] * x[n - 2]);
+  with_fma_versions([&] {
+    y[0] = std::fma(diag[0], x[0], upper[0] * x[1]);
+    for (Eigen::Index i = 1; i + 1 < n; ++i) {
+      y[i] = std::fma(diag[i], x[i], lower[i] * x[i - 1]) + upper[i] * x[i + 1];
+    }
+    y[n - 1] = std::fma(diag[n - 1], x[n - 1], lower[n - 1] * x[n - 2]);
+  });
 }
 
 // y_i = b_i/pivot_i − (lower_i/pivot_i)·y_{i−1} rather than (b_i − lower_i·y_{i−1})/pivot_i:
 // the same number up to round-off, but the recurrence through y is one fused multiply-add
 // (4 cycles) instead of three operations, which is what bounds the batched kernel's sweep
 // (core/batched_simulation.cpp does these operations, so its lanes equal this bit for bit).
-IMPACTID_FMA_VERSIONS
 void forward_sweep(const double* inverse_pivot, const double* lower_ratio, Eigen::Index n,
                    double* b) {
   if (n == 0) return;
-  b[0] *= inverse_pivot[0];
-  for (Eigen::Index i = 1; i < n; ++i) {
-    b[i] = std::fma(-lower_ratio[i], b[i - 1], b[i] * inverse_pivot[i]);
-  }
+  with_fma_versions([&] {
+    b[0] *= inverse_pivot[0];
+    for (Eigen::Index i = 1; i < n; ++i) {
+      b[i] = std::fma(-lower_ratio[i], b[i - 1], b[i] * inverse_pivot[i]);
+    }
+  });
 }
 
 // x_i = y_i − c'_i·x_{i+1}, two rows at a time: x_i = (y_i − c'_i·y_{i+1}) + c'_i·c'_{i+1}·x_{i+2}.
@@ -49,17 +50,18 @@ void forward_sweep(const double* inverse_pivot, const double* lower_ratio, Eigen
 // rows are two independent recurrences, each one fused multiply-add per two rows. The
 // batched kernel's back substitution is bound by this recurrence's latency, and does these
 // operations (core/batched_simulation.cpp), so its lanes equal this bit for bit.
-IMPACTID_FMA_VERSIONS
 void backward_sweep(const double* upper_ratio, const double* upper_ratio2, Eigen::Index n,
                     double* y) {
   if (n < 2) return;
-  double y_next = y[n - 2];  // y_{i+1} as the forward sweep left it
-  y[n - 2] = std::fma(-upper_ratio[n - 2], y[n - 1], y[n - 2]);
-  for (Eigen::Index i = n - 3; i >= 0; --i) {
-    const double yi = y[i];
-    y[i] = std::fma(upper_ratio2[i], y[i + 2], std::fma(-upper_ratio[i], y_next, yi));
-    y_next = yi;
-  }
+  with_fma_versions([&] {
+    double y_next = y[n - 2];  // y_{i+1} as the forward sweep left it
+    y[n - 2] = std::fma(-upper_ratio[n - 2], y[n - 1], y[n - 2]);
+    for (Eigen::Index i = n - 3; i >= 0; --i) {
+      const double yi = y[i];
+      y[i] = std::fma(upper_ratio2[i], y[i + 2], std::fma(-upper_ratio[i], y_next, yi));
+      y_next = yi;
+    }
+  });
 }
 
 }  // namespace

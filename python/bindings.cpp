@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/kernel_level.hpp"
 #include "core/model_reference.hpp"
 #include "core/scene_assembly.hpp"
 #include "metrics/indicator_table.hpp"
@@ -382,6 +383,11 @@ PYBIND11_MODULE(_impactid, m) {
   using namespace impactid;
   using namespace impactid::python;
   m.doc() = "impactid's C++ core; use the impactid package, not this module";
+  // A kernel level the processor lacks (IMPACTID_KERNELS) is refused at import, as the program
+  // refuses it at start (core/kernel_level.hpp).
+  if (const KernelSelection& kernels = kernel_selection(); !kernels.error.empty()) {
+    throw std::runtime_error("impactid: " + kernels.error);
+  }
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -404,6 +410,7 @@ PYBIND11_MODULE(_impactid, m) {
   m.def("run_plan", &python::run_plan_file);
   m.def("parameters", &python::parameters);
   m.def("version", [] { return std::string(kVersion) + "+" + kGitRevision; });
+  m.def("kernels", [] { return describe_kernel_selection(); });
   m.def("methods", [] {
     std::vector<std::string> names;
     for (const MethodDescriptor& d : method_registry()) names.emplace_back(d.name);

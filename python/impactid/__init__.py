@@ -43,6 +43,7 @@ __all__ = [
     "open_results",
     "plan_text",
     "parameters",
+    "kernels",
     "methods",
 ]
 
@@ -64,6 +65,13 @@ class ParameterError(ValueError):
 _impactid.set_parameter_error_class(ParameterError)
 
 __version__ = _impactid.version()
+
+
+def kernels() -> str:
+    """Which batched kernels run and what the processor supports, as `impactid --version` says:
+    for example "x86-64-v4 (processor supports x86-64-v4)". IMPACTID_KERNELS, set before the
+    import, forces a level (baseline, x86-64-v3, x86-64-v4)."""
+    return _impactid.kernels()
 
 _INDICATORS = tuple(name for name in _impactid.indicators() if name != "wall_time_s")
 

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <vector>
 
+#include "core/kernel_level.hpp"
 #include "study/cli/command_line.hpp"
 #include "study/cli/merge_command.hpp"
 #include "study/cli/methods_command.hpp"
@@ -23,8 +24,15 @@ int impactid_main(int argc, char** argv, const Runners& runners) {
       "impactid: time-stepping methods for dynamic contact and impact problems "
       "(after Serfozo & Pere 2022, doi:10.1556/606.2022.00599)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version",
-                       std::string(impactid::kVersion) + " (" + impactid::kGitRevision + ")");
+  app.set_version_flag("--version", std::string(impactid::kVersion) + " (" +
+                                        impactid::kGitRevision + ")\nkernels " +
+                                        describe_kernel_selection());
+  // A level the processor lacks would fault at its first instruction: refused before anything
+  // runs (IMPACTID_KERNELS, core/kernel_level.hpp).
+  if (const KernelSelection& kernels = kernel_selection(); !kernels.error.empty()) {
+    std::cerr << "impactid: " << kernels.error << '\n';
+    return impactid::kExitBadInput;
+  }
   std::vector<std::function<int()>> commands{
       impactid::add_simulate_command(app), impactid::add_compare_command(app),
       impactid::add_spectral_command(app), impactid::add_run_command(app, runners),
