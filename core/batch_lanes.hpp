@@ -47,9 +47,9 @@ struct TraceChunk {
 
   // Writes samples [begin, through] into the traces of the lanes stepping now (which stepped
   // at every one of them: a lane starts or stops only at an event, and events flush first).
-  void flush(std::array<LaneRun, kBatchLanes>& lanes, long through) {
+  void flush(std::array<LaneRun, kLanes>& lanes, long through) {
     if (through >= begin) {
-      for (int l = 0; l < kBatchLanes; ++l) {
+      for (int l = 0; l < kLanes; ++l) {
         LaneRun& run = lanes[static_cast<std::size_t>(l)];
         if (!run.stepping) continue;
         double* p = run.trace->pressure.data();
@@ -148,7 +148,7 @@ template <class Start, class Step, class Velocity, class Energy, class Stop>
 // check or last sample, a non-finite λ or velocity in some lane. Between events the loop only
 // steps, advances every lane's t (as run_steps' state.t += Δt) and buffers the trace.
 template <class Stepper>
-[[gnu::always_inline]] inline void run_lanes(std::array<LaneRun, kBatchLanes>& lanes,
+[[gnu::always_inline]] inline void run_lanes(std::array<LaneRun, kLanes>& lanes,
                                              const LaneLoop& loop, Stepper&& stepper) {
   const auto [begin, end] = lane_samples(lanes);
   TraceChunk chunk;
@@ -160,7 +160,7 @@ template <class Stepper>
     bool starting = false;
     if (at_event) {
       chunk.flush(lanes, i - 1);
-      for (int l = 0; l < kBatchLanes; ++l) {
+      for (int l = 0; l < kLanes; ++l) {
         LaneRun& run = lanes[static_cast<std::size_t>(l)];
         if (run.first != i || run.first > run.last) continue;
         const LaneStart start = stepper.start(l);
@@ -188,7 +188,7 @@ template <class Stepper>
     // it at this sample, for every lane at once.
     Lanes energy{};
     if (energy_due(lanes, i)) energy = stepper.energy();
-    for (int l = 0; l < kBatchLanes; ++l) {
+    for (int l = 0; l < kLanes; ++l) {
       LaneRun& run = lanes[static_cast<std::size_t>(l)];
       if (!run.stepping) continue;
       check_lane_energy(run, i, energy[l], t[l], loop.energy_check_interval,
@@ -221,8 +221,7 @@ template <class Stepper>
 // the start) prepares every lane before it changes any.
 inline bool prepare_lane(const SecondOrderSystem& system, std::span<const RodScene> scenes, int l,
                          const RunOptions& options, double dt, std::span<RunSummary> summaries,
-                         std::array<ContactTrace, kBatchLanes>& traces,
-                         std::array<State, kBatchLanes>& starts, LaneRun& run) {
+                         LaneSpan<ContactTrace> traces, LaneSpan<State> starts, LaneRun& run) {
   const auto lane = static_cast<std::size_t>(l);
   const Eigen::Index n = system.size();
   const RodScene& scene = scenes[lane];
@@ -289,8 +288,7 @@ inline bool prepare_lane(const SecondOrderSystem& system, std::span<const RodSce
 // The end of a batch of `count` lanes: the samples a lane did not reach are NaN (as simulate()
 // leaves them), and each lane's wall time is the batch's divided by the lanes.
 inline void finish_lanes(int count, std::chrono::steady_clock::time_point start,
-                         std::array<ContactTrace, kBatchLanes>& traces,
-                         std::span<RunSummary> summaries) {
+                         LaneSpan<ContactTrace> traces, std::span<RunSummary> summaries) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (int l = 0; l < count; ++l) {
     ContactTrace& trace = traces[static_cast<std::size_t>(l)];

@@ -27,7 +27,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // a ≠ 0 lane by lane: the scalar step skips a contact force that is zero.
 [[gnu::always_inline]] inline LaneMask nonzero(const Lanes& a) {
   LaneMask out;
-  for (int l = 0; l < kBatchLanes; ++l) out.set(l, a[l] != 0.0);
+  for (int l = 0; l < kLanes; ++l) out.set(l, a[l] != 0.0);
   return out;
 }
 
@@ -48,7 +48,7 @@ struct alignas(LaneBlock) LaneContact {
   Lanes* influence = nullptr;                     // rows [begin, end): influence[i − begin]
   Eigen::Index begin = 0, end = 0;                // the union of the lanes' rows
   Eigen::Index common_begin = 0, common_end = 0;  // their intersection (possibly empty)
-  std::array<Eigen::Index, kBatchLanes> lane_begin{}, lane_end{};
+  std::array<Eigen::Index, kLanes> lane_begin{}, lane_end{};
 };
 
 // A contact force entering the right-hand side of a row: rhs[row] −= force (the contact's plus
@@ -98,7 +98,7 @@ struct alignas(LaneBlock) ChainArrays {
   int force_row_count;
   const RowBlock* blocks;
   int block_count;
-  std::array<const double*, kBatchLanes> delassus;  // each lane's m×m, column-major
+  std::array<const double*, kLanes> delassus;  // each lane's m×m, column-major
   Lanes single_delassus;  // with one contact (m = 1): each lane's 1×1 Delassus matrix
 };
 
@@ -296,7 +296,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kCorrect>
     const LaneMask on = penetrating & solves;
     weighted[0] = select(on, violation[0] / x.single_delassus, Lanes{});
   } else if (any_lane(penetrating)) {
-    for (int l = 0; l < kBatchLanes; ++l) {
+    for (int l = 0; l < kLanes; ++l) {
       if (!penetrating[l]) continue;
       std::array<double, kMaxConstraints> p, mu;
       for (int j = 0; j < m; ++j) p[j] = violation[j][l];
@@ -335,7 +335,7 @@ template <bool kDamping, bool kMassTerm, bool kStartingLanes, bool kCorrect>
       }
       const auto lane_by_lane = [&](Eigen::Index from, Eigen::Index to) {
         for (Eigen::Index i = from; i < to; ++i) {
-          for (int l = 0; l < kBatchLanes; ++l) {
+          for (int l = 0; l < kLanes; ++l) {
             if (on[l] && i >= k.lane_begin[l] && i < k.lane_end[l]) {
               x.a[i].set(l, x.a[i][l] - f[l] * k.influence[i - k.begin][l]);
             }
@@ -398,10 +398,10 @@ constexpr long kTraceChunk = 32;
 struct alignas(LaneBlock) ChainBatch {
   ChainArrays arrays;
   ChainCoefficients coefficients;
-  std::array<LaneRun, kBatchLanes> lanes;
-  std::array<State, kBatchLanes>* start;
+  std::array<LaneRun, kLanes> lanes;
+  State* start = nullptr;
   Lanes* chunk;                          // kTraceChunk samples × (m pressures, m velocities)
-  std::array<int, kBatchLanes> primary;  // each lane's primary contact (its trace's main columns)
+  std::array<int, kLanes> primary;       // each lane's primary contact (its trace's main columns)
   int energy_check_interval;
   double energy_growth_limit;
   Lanes penetration;  // each lane's largest violation so far (RunSummary::max_penetration)
@@ -412,7 +412,7 @@ struct alignas(LaneBlock) ChainBatch {
 // flush first).
 void flush_chunk(ChainBatch& b, long begin, long through) {
   const int m = b.arrays.m;
-  for (int l = 0; l < kBatchLanes; ++l) {
+  for (int l = 0; l < kLanes; ++l) {
     LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
     if (!run.stepping || through < begin) continue;
     const auto primary = static_cast<std::size_t>(b.primary[static_cast<std::size_t>(l)]);
@@ -436,7 +436,7 @@ template <bool kDamping, bool kMassTerm>
 [[gnu::always_inline]] inline void run_chain(ChainBatch& b) {
   const ChainArrays& x = b.arrays;
   ChainCoefficients c = b.coefficients;
-  std::array<LaneRun, kBatchLanes>& lanes = b.lanes;
+  std::array<LaneRun, kLanes>& lanes = b.lanes;
   const int m = x.m;
   const auto [begin, end] = lane_samples(lanes);
   std::array<Lanes, kMaxConstraints> multipliers{};
@@ -451,10 +451,10 @@ template <bool kDamping, bool kMassTerm>
     if (at_event) {
       flush_chunk(b, chunk_begin, i - 1);
       chunk_begin = i;
-      for (int l = 0; l < kBatchLanes; ++l) {
+      for (int l = 0; l < kLanes; ++l) {
         LaneRun& run = lanes[static_cast<std::size_t>(l)];
         if (run.first != i || run.first > run.last) continue;
-        const State& start = (*b.start)[static_cast<std::size_t>(l)];
+        const State& start = b.start[static_cast<std::size_t>(l)];
         set_lane_state(x.u, x.v, x.a, x.n, l, &start);
         c.plain_state.set(l, true);
         starting = true;
@@ -502,7 +502,7 @@ template <bool kDamping, bool kMassTerm>
 
     Lanes energy{};
     if (energy_due(lanes, i)) energy = chain_energy(x, c, pending);
-    for (int l = 0; l < kBatchLanes; ++l) {
+    for (int l = 0; l < kLanes; ++l) {
       LaneRun& run = lanes[static_cast<std::size_t>(l)];
       if (!run.stepping) continue;
       check_lane_energy(run, i, energy[l], t[l], b.energy_check_interval, b.energy_growth_limit);
@@ -608,12 +608,14 @@ std::vector<RowBlock> row_blocks(const ChainArrays& x, const std::vector<ForceRo
 
 }  // namespace
 
-void simulate_chain_lanes(std::span<const AssembledScene* const> scenes,
-                          std::span<const MethodParams> methods, const RunOptions& options,
-                          std::vector<LaneBlock>& storage, std::array<State, kBatchLanes>& starts,
-                          std::array<ImplicitIntegrator, kBatchLanes>& integrators,
-                          std::array<ContactTrace, kBatchLanes>& traces,
-                          std::span<RunSummary> summaries) {
+namespace {
+
+// One sub-batch (at most kLanes runs) of the chain kernel.
+void simulate_chain_sub_batch(std::span<const AssembledScene* const> scenes,
+                              std::span<const MethodParams> methods, const RunOptions& options,
+                              std::vector<LaneBlock>& storage, LaneSpan<State> starts,
+                              LaneSpan<ImplicitIntegrator> integrators,
+                              LaneSpan<ContactTrace> traces, std::span<RunSummary> summaries) {
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
   const SecondOrderSystem& system = scenes[0]->system;  // every lane's, gaps aside
@@ -709,7 +711,7 @@ void simulate_chain_lanes(std::span<const AssembledScene* const> scenes,
   ChainCoefficients& k = b.coefficients;
   k.dt = dt;
   k.w = splat(1.0);  // idle lanes: λ = 0/1
-  b.start = &starts;
+  b.start = starts.data();
   b.energy_check_interval = options.energy_check_interval;
   b.energy_growth_limit = options.energy_growth_limit;
   for (int l = 0; l < count; ++l) {
@@ -766,6 +768,22 @@ void simulate_chain_lanes(std::span<const AssembledScene* const> scenes,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (int l = 0; l < count; ++l)
     summaries[static_cast<std::size_t>(l)].wall_time_s = seconds / count;
+}
+
+}  // namespace
+
+void simulate_chain_lanes(std::span<const AssembledScene* const> scenes,
+                          std::span<const MethodParams> methods, const RunOptions& options,
+                          std::vector<LaneBlock>& storage, std::array<State, kBatchLanes>& starts,
+                          std::array<ImplicitIntegrator, kBatchLanes>& integrators,
+                          std::array<ContactTrace, kBatchLanes>& traces,
+                          std::span<RunSummary> summaries) {
+  for_each_sub_batch(scenes.size(), [&](std::size_t first, std::size_t count) {
+    simulate_chain_sub_batch(scenes.subspan(first, count), methods.subspan(first, count), options,
+                             storage, sub_batch_part(starts, first),
+                             sub_batch_part(integrators, first), sub_batch_part(traces, first),
+                             summaries.subspan(first, count));
+  });
 }
 
 }  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

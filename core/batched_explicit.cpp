@@ -90,8 +90,8 @@ struct CdmBatch {
   CdmRows rows;
   const Tridiagonal *mass, *stiffness;
   bool within_limit;  // CentralDifference::within_stability_limit: the energy's form
-  std::array<LaneRun, kBatchLanes> lanes;
-  std::array<State, kBatchLanes>* start;  // each lane's state at its start (its t)
+  std::array<LaneRun, kLanes> lanes;
+  State* start = nullptr;  // each lane's state at its start (its t)
   // Every lane's start as CentralDifference::initialize leaves it, u₋ (Taylor) and u, and the
   // array the first step (the state at the start, not a sample) writes u one step ahead into.
   Lanes *start_previous, *start_current, *start_next;
@@ -364,7 +364,7 @@ template <bool kWithinLimit>
   };
   forward_rows(b, row_factors(b, b.uniform_begin), row);
   Lanes energy;
-  for (int l = 0; l < kBatchLanes; ++l) {
+  for (int l = 0; l < kLanes; ++l) {
     energy.set(l, kWithinLimit ? central_difference_energy(mass_first[l], stiffness_first[l],
                                                            stiffness_second[l], b.dt)
                                : 0.5 * mass_first[l] + 0.5 * stiffness_second[l]);
@@ -402,7 +402,7 @@ void run_cdm_batch(CdmBatch& b) {
           [&](int l) __attribute__((always_inline)) {
             set_cdm_lane(rows, l, b.start_current, b.start_next);
             // λ at the start does not enter central difference's step.
-            return LaneStart{.lambda = 0.0, .t = (*b.start)[static_cast<std::size_t>(l)].t};
+            return LaneStart{.lambda = 0.0, .t = b.start[static_cast<std::size_t>(l)].t};
           },
           [&](bool, const Lanes&) __attribute__((always_inline)) {
             const Lanes lambda = cdm_step_lanes(rows, uniform, velocity);
@@ -432,8 +432,7 @@ bool symmetric_uniform_off_diagonals(const Tridiagonal& a) {
 // traces.
 void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
                         const RunOptions& options, std::vector<LaneBlock>& storage,
-                        std::array<State, kBatchLanes>& starts,
-                        std::array<ContactTrace, kBatchLanes>& traces,
+                        LaneSpan<State> starts, LaneSpan<ContactTrace> traces,
                         std::span<RunSummary> summaries) {
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
@@ -455,7 +454,7 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   rows.two_dt = 2.0 * dt;
   b.mass = &system.mass;
   b.stiffness = &system.stiffness;
-  b.start = &starts;
+  b.start = starts.data();
 
   // The left-hand matrix M/Δt² (CentralDifference::initialize's, without damping:
   // explicit_batchable), so its factorisation and A⁻¹·e_c, are every lane's: one rod, one step.
@@ -612,8 +611,8 @@ template <class Rows>
 struct StageBatch {
   Rows rows;
   const Tridiagonal *mass, *stiffness;
-  std::array<LaneRun, kBatchLanes> lanes;
-  std::array<State, kBatchLanes>* start;  // each lane's state after initialize
+  std::array<LaneRun, kLanes> lanes;
+  State* start = nullptr;                 // each lane's state after initialize
   Lanes* start_next;                      // and its first force point u_p, [unknown][lane]
   LaneLoop loop;
 };
@@ -636,7 +635,7 @@ template <class Scheme>
   run_lanes(b.lanes, b.loop,
             lane_stepper(
                 [&](int l) __attribute__((always_inline)) {
-                  const State& start = (*b.start)[static_cast<std::size_t>(l)];
+                  const State& start = b.start[static_cast<std::size_t>(l)];
                   set_lane(l, &start);
                   return LaneStart{.lambda = start.lambda, .t = start.t};
                 },
@@ -657,8 +656,7 @@ template <class Scheme>
 template <class Scheme>
 void simulate_stage_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
                           const RunOptions& options, std::vector<LaneBlock>& storage,
-                          std::array<State, kBatchLanes>& starts,
-                          std::array<ContactTrace, kBatchLanes>& traces,
+                          LaneSpan<State> starts, LaneSpan<ContactTrace> traces,
                           std::span<RunSummary> summaries) {
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
@@ -677,7 +675,7 @@ void simulate_stage_batch(std::span<const RodScene> scenes, std::span<const Meth
   b.start_next = arrays.take();
   b.mass = &system.mass;
   b.stiffness = &system.stiffness;
-  b.start = &starts;
+  b.start = starts.data();
 
   TridiagonalFactorization factorization;
   const bool factored = factorization.factor(system.mass);
@@ -688,7 +686,7 @@ void simulate_stage_batch(std::span<const RodScene> scenes, std::span<const Meth
   // Every lane prepared first: initialize changes a lane's start state (the contact at the
   // start corrects a), which a later lane of the same velocity would otherwise copy
   // (prepare_lane).
-  std::array<bool, kBatchLanes> prepared{};
+  std::array<bool, kLanes> prepared{};
   for (int l = 0; l < count; ++l) {
     const auto lane = static_cast<std::size_t>(l);
     prepared[lane] =
@@ -1172,23 +1170,31 @@ void KimLanes::run(StageBatch<Rows>& b) {
 void simulate_explicit_lanes(std::span<const RodScene> scenes,
                              std::span<const MethodParams> methods, const RunOptions& options,
                              BatchStorage workspace, std::span<RunSummary> summaries) {
-  switch (explicit_batch_kind(methods[0])) {
-    case ExplicitBatchKind::central_difference:
-      simulate_cdm_batch(scenes, methods, options, workspace.blocks, workspace.starts,
-                         workspace.traces, summaries);
-      return;
-    case ExplicitBatchKind::noh_bathe:
-      simulate_stage_batch<NohBatheLanes>(scenes, methods, options, workspace.blocks,
-                                          workspace.starts, workspace.traces, summaries);
-      return;
-    case ExplicitBatchKind::kim_explicit:
-      simulate_stage_batch<KimLanes>(scenes, methods, options, workspace.blocks, workspace.starts,
-                                     workspace.traces, summaries);
-      return;
-    case ExplicitBatchKind::none:
-      break;
-  }
-  assert(false && "simulate_explicit_batch: not an explicit batch");
+  const ExplicitBatchKind kind = explicit_batch_kind(methods[0]);
+  assert(kind != ExplicitBatchKind::none && "simulate_explicit_batch: not an explicit batch");
+  for_each_sub_batch(scenes.size(), [&](std::size_t first, std::size_t count) {
+    const auto sub_scenes = scenes.subspan(first, count);
+    const auto sub_methods = methods.subspan(first, count);
+    const auto sub_summaries = summaries.subspan(first, count);
+    const LaneSpan<State> starts = sub_batch_part(workspace.starts, first);
+    const LaneSpan<ContactTrace> traces = sub_batch_part(workspace.traces, first);
+    switch (kind) {
+      case ExplicitBatchKind::central_difference:
+        simulate_cdm_batch(sub_scenes, sub_methods, options, workspace.blocks, starts, traces,
+                           sub_summaries);
+        return;
+      case ExplicitBatchKind::noh_bathe:
+        simulate_stage_batch<NohBatheLanes>(sub_scenes, sub_methods, options, workspace.blocks,
+                                            starts, traces, sub_summaries);
+        return;
+      case ExplicitBatchKind::kim_explicit:
+        simulate_stage_batch<KimLanes>(sub_scenes, sub_methods, options, workspace.blocks, starts,
+                                       traces, sub_summaries);
+        return;
+      case ExplicitBatchKind::none:
+        return;
+    }
+  });
 }
 
 }  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

@@ -334,9 +334,9 @@ struct KrBatch {
   KrRows rows;
   KrConstants constants;
   const Tridiagonal *mass, *stiffness;
-  std::array<LaneRun, kBatchLanes> lanes;
-  std::array<State, kBatchLanes>* start;
-  std::array<KrStart, kBatchLanes> kr_start;
+  std::array<LaneRun, kLanes> lanes;
+  State* start = nullptr;
+  std::array<KrStart, kLanes> kr_start;
   LaneLoop loop;
 };
 
@@ -360,7 +360,7 @@ void run_kr_alpha_batch(KrBatch& b) {
             lane_stepper(
                 [&](int l) __attribute__((always_inline)) {
                   const auto lane = static_cast<std::size_t>(l);
-                  const State& start = (*b.start)[lane];
+                  const State& start = b.start[lane];
                   set_lane(l, &start, &b.kr_start[lane]);
                   return LaneStart{.lambda = start.lambda, .t = start.t};
                 },
@@ -413,12 +413,13 @@ void set_factors(FactorRows& rows, int l, const TridiagonalFactorization& f) {
 
 }  // namespace
 
-void simulate_kr_alpha_lanes(std::span<const RodScene> scenes,
-                             std::span<const MethodParams> methods, const RunOptions& options,
-                             BatchStorage workspace, std::span<RunSummary> summaries) {
-  std::vector<LaneBlock>& storage = workspace.blocks;
-  std::array<State, kBatchLanes>& starts = workspace.starts;
-  std::array<ContactTrace, kBatchLanes>& traces = workspace.traces;
+namespace {
+
+// One sub-batch (at most kLanes runs) of KR-α.
+void simulate_kr_alpha_sub_batch(std::span<const RodScene> scenes,
+                                 std::span<const MethodParams> methods, const RunOptions& options,
+                                 std::vector<LaneBlock>& storage, LaneSpan<State> starts,
+                                 LaneSpan<ContactTrace> traces, std::span<RunSummary> summaries) {
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
   SecondOrderSystem system = assemble_rod(scenes[0]);  // every lane's, its gap set per lane
@@ -440,11 +441,11 @@ void simulate_kr_alpha_lanes(std::span<const RodScene> scenes,
   constants.dt = splat(dt);
   b.mass = &system.mass;
   b.stiffness = &system.stiffness;
-  b.start = &starts;
+  b.start = starts.data();
 
   // Every lane prepared first, then set up (the start's contact below changes only the lane's
   // own λ and KrStart, not the acceleration a later lane of the same velocity copies).
-  std::array<bool, kBatchLanes> prepared{};
+  std::array<bool, kLanes> prepared{};
   for (int l = 0; l < count; ++l) {
     const auto lane = static_cast<std::size_t>(l);
     prepared[lane] =
@@ -550,7 +551,7 @@ void simulate_kr_alpha_lanes(std::span<const RodScene> scenes,
       rows.uniform_end = n - 2;
       const Eigen::Index ref = n - 3;
       const auto same = [&](const Lanes* x, Eigen::Index i) {  // bit for bit: −0 is not 0
-        for (int l = 0; l < kBatchLanes; ++l) {
+        for (int l = 0; l < kLanes; ++l) {
           if (std::bit_cast<std::uint64_t>(x[i][l]) != std::bit_cast<std::uint64_t>(x[ref][l])) {
             return false;
           }
@@ -568,6 +569,19 @@ void simulate_kr_alpha_lanes(std::span<const RodScene> scenes,
     run_kr_alpha_batch(b);
   }
   finish_lanes(count, start, traces, summaries);
+}
+
+}  // namespace
+
+void simulate_kr_alpha_lanes(std::span<const RodScene> scenes,
+                             std::span<const MethodParams> methods, const RunOptions& options,
+                             BatchStorage workspace, std::span<RunSummary> summaries) {
+  for_each_sub_batch(scenes.size(), [&](std::size_t first, std::size_t count) {
+    simulate_kr_alpha_sub_batch(scenes.subspan(first, count), methods.subspan(first, count),
+                                options, workspace.blocks, sub_batch_part(workspace.starts, first),
+                                sub_batch_part(workspace.traces, first),
+                                summaries.subspan(first, count));
+  });
 }
 
 }  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

@@ -558,8 +558,8 @@ struct Batch {
   CompositeLanes weights;
   WilsonLanes wilson;
   HouboltLanes houbolt;  // Houbolt only
-  std::array<LaneRun, kBatchLanes> lanes;
-  std::array<State, kBatchLanes>* start;
+  std::array<LaneRun, kLanes> lanes;
+  State* start = nullptr;
   LaneLoop loop;
 };
 
@@ -586,7 +586,7 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
   // still the second step's; 3, Houbolt's step with its own (every lane that is not stepping).
   const HouboltLanes& houbolt = b.houbolt;
   Lanes *back1 = houbolt.back1, *back2 = houbolt.back2;
-  std::array<int, kBatchLanes> phase;
+  std::array<int, kLanes> phase;
   phase.fill(3);
   bool startup = false;
   const Eigen::Index contact = x.n - 1;
@@ -594,7 +594,7 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
       b.lanes, b.loop,
       lane_stepper(
           [&](int l) __attribute__((always_inline)) {
-            const State& start = (*b.start)[static_cast<std::size_t>(l)];
+            const State& start = b.start[static_cast<std::size_t>(l)];
             set_lane(x, l, &start);
             c.plain_state.set(l, true);
             if constexpr (kKind == StepKind::houbolt) {
@@ -609,7 +609,7 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
             if constexpr (kKind == StepKind::houbolt) {
               if (startup) {
                 LaneMask phase0{}, phase1{};
-                for (int l = 0; l < kBatchLanes; ++l) {
+                for (int l = 0; l < kLanes; ++l) {
                   phase0.set(l, phase[static_cast<std::size_t>(l)] == 0);
                   phase1.set(l, phase[static_cast<std::size_t>(l)] == 1);
                 }
@@ -621,7 +621,7 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
                 // The state at t is formed (with the previous step's coefficients): lanes in
                 // their second step or entering Houbolt's take this step's.
                 startup = false;
-                for (int l = 0; l < kBatchLanes; ++l) {
+                for (int l = 0; l < kLanes; ++l) {
                   int& p = phase[static_cast<std::size_t>(l)];
                   if (p == 1 || p == 2) use_houbolt_step(x, houbolt, p, l, c);
                   if (p < 3) ++p;
@@ -756,13 +756,13 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
                        (!damping || uniform_off_diagonals(C));
   const Lanes lower = effective(M.lower, K.lower, C.lower, 1);
   const Lanes upper = effective(M.upper, K.upper, C.upper, 0);
-  std::array<bool, kBatchLanes> singular{};
+  std::array<bool, kLanes> singular{};
   Lanes ratio{};
   for (Eigen::Index i = 0; i < n; ++i) {
     Lanes pivot = effective(M.diag, K.diag, C.diag, i);
     pivot = i > 0 ? pivot - lower * ratio : pivot - Lanes{};
     const Lanes inverse = splat(1.0) / pivot;
-    for (int l = 0; l < kBatchLanes; ++l) {
+    for (int l = 0; l < kLanes; ++l) {
       singular[l] = singular[l] || pivot[l] == 0.0 || !std::isfinite(pivot[l]);
     }
     store(&inverse_pivot[i], select(factored, inverse, Lanes{}));
@@ -770,7 +770,7 @@ void factor_lanes(const SecondOrderSystem& system, std::span<const MethodParams>
   }
   k.lower = lower;
   k.upper = upper;
-  for (int l = 0; l < kBatchLanes; ++l) {
+  for (int l = 0; l < kLanes; ++l) {
     if (!factored[l]) continue;
     LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
     if (singular[l] || !uniform) {
@@ -823,17 +823,13 @@ void set_lane_coefficients(int l, const ImplicitCoefficients& co, double dt, dou
 
 }  // namespace
 
-void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
-                        const RunOptions& options, BatchStorage ws,
-                        std::span<RunSummary> summaries) {
-  if (explicit_batch_kind(methods[0]) != ExplicitBatchKind::none) {
-    simulate_explicit_lanes(scenes, methods, options, ws, summaries);
-    return;
-  }
-  if (std::holds_alternative<KrAlphaParams>(methods[0])) {
-    simulate_kr_alpha_lanes(scenes, methods, options, ws, summaries);
-    return;
-  }
+namespace {
+
+// One sub-batch (at most kLanes runs) of the implicit kinds of step.
+void simulate_implicit_sub_batch(std::span<const RodScene> scenes,
+                                 std::span<const MethodParams> methods, const RunOptions& options,
+                                 std::vector<LaneBlock>& blocks, LaneSpan<State> starts,
+                                 LaneSpan<ContactTrace> traces, std::span<RunSummary> summaries) {
   const auto start = std::chrono::steady_clock::now();
   const int count = static_cast<int>(scenes.size());
   const SecondOrderSystem system = assemble_rod(scenes[0]);  // gap aside, every lane's
@@ -849,7 +845,7 @@ void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const Method
   // A second state and factorisation (Houbolt: its three factorisations and past displacements).
   const bool two_steps = kind == StepKind::composite || kind == StepKind::wilson_theta;
   const int arrays = two_steps ? 8 : houbolt ? 10 : 4;
-  LaneStorage storage(ws.blocks, arrays, n);
+  LaneStorage storage(blocks, arrays, n);
   Batch b{};
   LaneArrays& x = b.arrays;
   x.n = n;
@@ -880,7 +876,7 @@ void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const Method
     b.mid = x;
     storage.take({&b.mid.u, &b.mid.v, &b.mid.a, &b.mid.inverse_pivot});
   }
-  b.start = &ws.starts;
+  b.start = starts.data();
   b.loop = loop;
   LaneCoefficients& k = b.coefficients;
   k.gap = splat(kInf);  // unused lanes never touch a wall
@@ -911,7 +907,7 @@ void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const Method
     // same_batch: one kind of step per batch.
     assert(step_kind(method) == kind);
     LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
-    if (!prepare_lane(system, scenes, l, options, dt, summaries, ws.traces, ws.starts, run)) {
+    if (!prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, run)) {
       continue;
     }
 
@@ -965,7 +961,27 @@ void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const Method
     factor_lanes(system, methods, weights, factored, uniform_interior, k, x.inverse_pivot, b);
   }
   run_batch_any(b);
-  finish_lanes(count, start, ws.traces, summaries);
+  finish_lanes(count, start, traces, summaries);
+}
+
+}  // namespace
+
+void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
+                        const RunOptions& options, BatchStorage ws,
+                        std::span<RunSummary> summaries) {
+  if (explicit_batch_kind(methods[0]) != ExplicitBatchKind::none) {
+    simulate_explicit_lanes(scenes, methods, options, ws, summaries);
+    return;
+  }
+  if (std::holds_alternative<KrAlphaParams>(methods[0])) {
+    simulate_kr_alpha_lanes(scenes, methods, options, ws, summaries);
+    return;
+  }
+  for_each_sub_batch(scenes.size(), [&](std::size_t first, std::size_t count) {
+    simulate_implicit_sub_batch(scenes.subspan(first, count), methods.subspan(first, count),
+                                options, ws.blocks, sub_batch_part(ws.starts, first),
+                                sub_batch_part(ws.traces, first), summaries.subspan(first, count));
+  });
 }
 
 }  // namespace impactid::IMPACTID_KERNEL_NAMESPACE

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -45,8 +46,32 @@ inline namespace IMPACTID_KERNEL_NAMESPACE {
 // registers of the first kernels cost a 95 KB stack frame, lane-by-lane moves and 30-60 times
 // the time on AVX2 (docs/performance.md).
 constexpr int kRegisterLanes = IMPACTID_KERNEL_REGISTER_LANES;
-constexpr int kRegisters = kBatchLanes / kRegisterLanes;
-static_assert(kBatchLanes % kRegisterLanes == 0);
+
+// The runs a kernel steps together: 16 on x86-64-v4 (two registers), 8 on x86-64-v3 (two
+// registers too). A batch of kBatchLanes runs is stepped as kBatchLanes / kLanes sub-batches
+// (for_each_sub_batch). Why not 16 lanes in four 256-bit registers: AVX2 has 16 registers
+// against AVX-512's 32, and with four registers a lane value the step kept half its
+// instructions on the stack (docs/performance.md).
+constexpr int kLanes = IMPACTID_KERNEL_BATCH_LANES;
+constexpr int kRegisters = kLanes / kRegisterLanes;
+static_assert(kLanes % kRegisterLanes == 0 && kBatchLanes % kLanes == 0);
+
+// A sub-batch's share of a batch's per-run arrays (its start states, its traces).
+template <class T>
+using LaneSpan = std::span<T, kLanes>;
+
+// Calls run(first, count) for each sub-batch of kLanes runs out of `runs` (at most kBatchLanes),
+// with `sub(array)`: the sub-batch's part of one of the batch's per-run arrays.
+template <class Run>
+inline void for_each_sub_batch(std::size_t runs, Run&& run) {
+  for (std::size_t first = 0; first < runs; first += kLanes) {
+    run(first, std::min<std::size_t>(kLanes, runs - first));
+  }
+}
+template <class T>
+inline LaneSpan<T> sub_batch_part(std::array<T, kBatchLanes>& all, std::size_t first) {
+  return LaneSpan<T>(all.data() + first, kLanes);
+}
 using Register = double __attribute__((vector_size(sizeof(double) * kRegisterLanes), may_alias));
 using MaskRegister = std::int64_t __attribute__((vector_size(sizeof(double) * kRegisterLanes)));
 
@@ -281,7 +306,7 @@ inline void stop_unstable(LaneRun& run, std::string message) {
 }
 
 // The samples [first, last] that some lane of a batch computes (first > last: none).
-inline std::pair<long, long> lane_samples(const std::array<LaneRun, kBatchLanes>& lanes) {
+inline std::pair<long, long> lane_samples(const std::array<LaneRun, kLanes>& lanes) {
   long begin = std::numeric_limits<long>::max(), end = -1;
   for (const LaneRun& run : lanes) {
     if (run.first > run.last) continue;
@@ -293,7 +318,7 @@ inline std::pair<long, long> lane_samples(const std::array<LaneRun, kBatchLanes>
 
 // The first sample at or after `i` at which some lane starts, checks its energy or ends
 // (LONG_MAX: none).
-inline long next_lane_event(const std::array<LaneRun, kBatchLanes>& lanes, long i) {
+inline long next_lane_event(const std::array<LaneRun, kLanes>& lanes, long i) {
   long next = std::numeric_limits<long>::max();
   for (const LaneRun& run : lanes) {
     if (run.stepping) {
@@ -306,7 +331,7 @@ inline long next_lane_event(const std::array<LaneRun, kBatchLanes>& lanes, long 
 }
 
 // Whether some stepping lane checks its energy at sample i.
-inline bool energy_due(const std::array<LaneRun, kBatchLanes>& lanes, long i) {
+inline bool energy_due(const std::array<LaneRun, kLanes>& lanes, long i) {
   bool due = false;
   for (const LaneRun& run : lanes) due |= run.stepping && (i == run.last || i == run.next_check);
   return due;
