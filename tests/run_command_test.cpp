@@ -181,6 +181,10 @@ TEST(RunCommand, ExportWritesCsv) {
   long rows = 0;
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, 5);
+  // The far wall's indicators do not apply to this rod (NaN at every point): left out, and said.
+  EXPECT_EQ(header.find("impacts"), std::string::npos) << header;
+  EXPECT_NE(o.text.find("left out, NaN at every point: "), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("impacts"), std::string::npos) << o.text;
   EXPECT_NE(run("export " + scratch("missing.h5").string() + " --csv " + dir.string()).status, 0);
 }
 
