@@ -8,10 +8,10 @@
 // sparse_explicit_stage_contact.hpp), so they step by the same formulas and contact conventions;
 // on a sparse model the constraints are always a list, M is factored once per run by
 // core/sparse_factorization.hpp (entry by entry when lumped), and a stage's force acts through
-// one more solve with M instead of stored columns. This is not the seed
-// paper's ref. 17 (Kim, Engineering Structures 195 (2019) 358–372, parameter ρ_b): that scheme's
-// formulas were not available to us; this one is the same author's scheme of the same year, as
-// Kratos implements it.
+// one more solve with M instead of stored columns. This is not ref. 17 of Serfőző & Pere 2022
+// (Kim, Engineering Structures 195 (2019) 358–372, parameter ρ_b): that scheme's formulas were
+// not available to us; this one is the same author's scheme of the same year, as Kratos
+// implements it.
 //
 // The previous step's acceleration: the step starts from (u₀, v₀, a₀) with a₀ the acceleration the
 // last step computed at its predicted ũ₁ (with that stage's contact force), not the equilibrium

@@ -185,7 +185,7 @@ struct NohBatheParams {
 /// scheme for structural dynamics and various dynamic problems", International Journal for
 /// Numerical Methods in Engineering 120 (2019) 1–28, doi:10.1002/nme.6098), as implemented in
 /// Kratos (StructuralMechanicsApplication, explicit_multi_stage_kim_scheme.hpp, whose parameter
-/// `fraction_delta_time` is our p). It is not the seed paper's ref. 17 (Kim, Engineering
+/// `fraction_delta_time` is our p). It is not ref. 17 of Serfőző & Pere 2022 (Kim, Engineering
 /// Structures 195 (2019) 358–372, parameter ρ_b), whose formulas were not available to us.
 /// Two explicit stages per step, at t + pΔt and t + Δt, then a correction of the end values:
 ///   u_p = u₀ + pΔt·v₀ + (pΔt)²/2·a₀,               M·a_p = −K·u_p − C·(v₀ + pΔt·a₀),

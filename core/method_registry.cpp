@@ -337,10 +337,11 @@ const std::array<MethodDescriptor, 13> kMethods{{
      "omega*dt = Omega_crit(p) (3.745 at p = 0.54); contact enforced at both sub-steps",
      kNohBatheParameters, make_noh_bathe, noh_bathe_values, no_choices, 2},
     {MethodKind::kim_explicit, "kim-explicit",
-     "Kim two-stage explicit (Kim 2019, IJNME 120:1-28, doi:10.1002/nme.6098; not the seed's ref. "
-     "17, the rho_b scheme): stages at t + p*dt and t + dt, then a quadratic correction of the end "
-     "values; second order, period error O(Omega^4), stable up to omega*dt = Omega_crit(p) "
-     "(sqrt(6) at p = 1/2); contact enforced at both stages",
+     "Kim two-stage explicit (Kim 2019, IJNME 120:1-28, doi:10.1002/nme.6098; not the rho_b scheme "
+     "of Kim 2019, Eng. Struct. 195:358-372, ref. 17 of Serfozo & Pere 2022): stages at t + p*dt "
+     "and t + dt, then a quadratic correction of the end values; second order, period error "
+     "O(Omega^4), stable up to omega*dt = Omega_crit(p) (sqrt(6) at p = 1/2); contact enforced at "
+     "both stages",
      kKimExplicitParameters, make_kim_explicit, kim_explicit_values, no_choices, 2},
     {MethodKind::kr_alpha, "kr-alpha",
      "KR-alpha explicit (Kolay & Ricles 2014, doi:10.1002/eqe.2401): explicit displacement and "

@@ -49,6 +49,44 @@ TEST(CommandLine, BadValuesExitTwoNamingOptionAndValue) {
   expect_bad_input("simulate --no-such-option 1", "no-such-option");
 }
 
+// A word the program does not know gets the nearest it knows: a command, an option of the
+// command (also in --name=value form), a top-level option. Exit status 2, as for bad input.
+TEST(CommandLine, TyposGetTheNearestName) {
+  expect_bad_input("simulat", "impactid: simulat is not a command; did you mean simulate?");
+  expect_bad_input("expotr out.h5 --csv x",
+                   "impactid: expotr is not a command; did you mean export?");
+  expect_bad_input("spectra --omega-dt 1", "did you mean spectral?");
+  expect_bad_input("simulate --alpah 0.1",
+                   "impactid simulate: --alpah is not an option of impactid simulate; did you "
+                   "mean --alpha?");
+  expect_bad_input("simulate --method hht --alpah=-0.1 --elements 20", "did you mean --alpha?");
+  expect_bad_input("simulate --elemnts 20", "did you mean --elements?");
+  expect_bad_input("run plan.toml --thread 2",
+                   "impactid run: --thread is not an option of impactid run; did you mean "
+                   "--threads?");
+  expect_bad_input("--verison", "impactid: --verison is not an option; did you mean --version?");
+  // Nothing near: said so, without a guess.
+  const Output far = run("simulate --zzzzzzzz 1");
+  EXPECT_EQ(far.status, 2);
+  EXPECT_NE(far.text.find("impactid simulate: --zzzzzzzz is not an option of impactid simulate."),
+            std::string::npos)
+      << far.text;
+  EXPECT_EQ(far.text.find("did you mean"), std::string::npos) << far.text;
+  // Every option known, another error: CLI11's own message.
+  expect_bad_input("simulate --elements", "--elements: 1 required");
+}
+
+// `impactid` alone prints the help, as --help does, with exit status 0 (README.md, Commands).
+TEST(CommandLine, BareCommandPrintsTheHelp) {
+  const Output bare = run("");
+  EXPECT_EQ(bare.status, 0) << bare.text;
+  EXPECT_EQ(bare.text, run("--help").text);
+  for (const char* command : {"simulate", "compare", "run", "export", "methods", "merge"}) {
+    EXPECT_NE(bare.text.find(command), std::string::npos) << command << "\n" << bare.text;
+  }
+  EXPECT_EQ(bare.text.find("required"), std::string::npos) << bare.text;
+}
+
 TEST(CommandLine, HelpListsEveryOptionWithItsDefault) {
   const Output out = run("simulate --help");
   EXPECT_EQ(out.status, 0);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <string>
 
 #include "cli_support.hpp"
@@ -48,6 +49,30 @@ TEST(MethodsCommand, ListsEveryMethodWithItsParametersAndDefaults) {
   // KR-α explicit with its rho_inf, and the scalars its matrices are built from.
   EXPECT_TRUE(contains(o.text, "kr-alpha\n  KR-alpha explicit (Kolay & Ricles 2014")) << o.text;
   EXPECT_TRUE(contains(o.text, "derived: alpha_m, alpha_f, beta, gamma")) << o.text;
+}
+
+// A user reads papers, not the project's history: every summary names its source by author and
+// year or by the benchmark's equations, which the list's first line attributes; nothing refers to
+// "the seed" (the benchmark paper as the project's notes called it).
+TEST(MethodsCommand, SpeaksOfPapers) {
+  for (const char* arguments : {"methods", "methods --json"}) {
+    const auto o = run_impactid(arguments);
+    ASSERT_EQ(o.status, 0) << o.text;
+    std::string lower = o.text;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    EXPECT_FALSE(contains(lower, "seed")) << arguments << "\n" << o.text;
+  }
+  const auto o = run_impactid("methods");
+  EXPECT_EQ(o.text.rfind("Each method with its paper; \"eq. N\" is an equation of Serfozo & Pere "
+                         "2022, doi:10.1556/606.2022.00599.\n",
+                         0),
+            0u)
+      << o.text;
+  for (const MethodDescriptor& m : method_registry()) {
+    const std::string summary = m.summary;
+    EXPECT_TRUE(contains(summary, "doi:") || contains(summary, "(eq")) << m.name << ": " << summary;
+  }
 }
 
 TEST(MethodsCommand, JsonGivesTheSameList) {

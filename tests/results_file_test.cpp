@@ -471,7 +471,7 @@ void expect_same_number(double expected, const std::string& field, const std::st
   if (std::isnan(expected)) {
     EXPECT_EQ("nan", field) << what;
   } else {
-    EXPECT_EQ(expected, number(field)) << what << ": " << field;  // 17 digits: exact
+    EXPECT_EQ(expected, number(field)) << what << ": " << field;  // exact
   }
 }
 
@@ -512,10 +512,37 @@ TEST_F(ResultsFileTest, PointsCsvHasOneRowPerPointInFlatOrder) {
     expect_same_number(r.indicators[0].values[i], row[5], at + " p_max");
     expect_same_number(r.indicators[1].values[i], row[6], at + " eps_p");
   }
-  // 17 significant digits, so the exact double comes back, down to the smallest subnormal.
-  EXPECT_EQ("0.33333333333333331", rows[2][6]);
+  // The shortest text that reads back as the exact double (expect_same_number checked that),
+  // down to the smallest subnormal: 0.1, not 0.10000000000000001.
+  EXPECT_EQ("0.1", rows[1][6]);
+  EXPECT_EQ("0.3333333333333333", rows[2][6]);
   EXPECT_EQ("-0", rows[4][6]);
-  EXPECT_EQ("4.9406564584124654e-324", rows[9][6]);
+  EXPECT_EQ("5e-324", rows[9][6]);
+  EXPECT_EQ("6.02e+23", rows[10][6]);
+  EXPECT_EQ("1e-07", rows[1][1]);
+  EXPECT_EQ("0.4225", rows[1][3]);
+}
+
+// A column with no number at any point (an indicator that does not apply to the scene, a
+// parameter that no point has) is left out of points.csv and gets no matrix; export_csv names it.
+// A column NaN at some points only stays.
+TEST_F(ResultsFileTest, ColumnsThatAreNanAtEveryPointAreLeftOut) {
+  StudyResults r = grid_results();
+  r.parameters.push_back(
+      {"penalty_stiffness", "N/mm", "penalty", "", std::vector<double>(12, kNaN)});
+  r.indicators.insert(r.indicators.begin() + 1, {"impacts", "1", "impacts on the far wall", "",
+                                                 std::vector<double>(12, kNaN)});
+  const std::vector<std::string> skipped = export_csv(r, dir_ / "csv");
+  EXPECT_EQ((std::vector<std::string>{"penalty_stiffness", "impacts"}), skipped);
+  const auto rows = read_csv(dir_ / "csv" / "points.csv");
+  ASSERT_EQ(13u, rows.size());
+  EXPECT_EQ((std::vector<std::string>{"alpha", "dt[s]", "gamma", "beta", "status", "p_max[MPa]",
+                                      "eps_p"}),
+            rows[0]);
+  for (const auto& row : rows) EXPECT_EQ(7u, row.size());
+  EXPECT_FALSE(fs::exists(dir_ / "csv" / "impacts.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "csv" / "eps_p.csv"));
+  EXPECT_TRUE(export_csv(grid_results(), dir_ / "all").empty());
 }
 
 TEST_F(ResultsFileTest, TwoDimensionalExportWritesOneMatrixPerIndicator) {
@@ -551,10 +578,8 @@ TEST_F(ResultsFileTest, OneDimensionalExportWritesOnlyThePointTable) {
   export_csv(r, dir_ / "a" / "b");  // folders are created
   std::vector<fs::path> files(fs::directory_iterator(dir_ / "a" / "b"), fs::directory_iterator());
   EXPECT_EQ((std::vector<fs::path>{dir_ / "a" / "b" / "points.csv"}), files);
-  EXPECT_EQ(
-      "point,delta,status,nop_p\n0,0.5,0,3\n1,0.59999999999999998,-1,nan\n2,"
-      "0.69999999999999996,1,nan\n",
-      contents(dir_ / "a" / "b" / "points.csv"));
+  EXPECT_EQ("point,delta,status,nop_p\n0,0.5,0,3\n1,0.6,-1,nan\n2,0.7,1,nan\n",
+            contents(dir_ / "a" / "b" / "points.csv"));
 }
 
 TEST_F(ResultsFileTest, ExportRoundTripsThroughTheHdf5File) {

@@ -43,10 +43,11 @@ class History:
 
 
 def find_history_dir(results_dir, name):
-    """The folder of a list study's per-point histories: results/histories/<name>/, or the plan's
-    [output] histories (relative to the project root or to the results folder's parent)."""
+    """The folder of a list study's per-point histories: results/histories/<name>/,
+    results/<name>-histories/ (where `impactid run --output results/<name>.h5` puts them), or the
+    plan's [output] histories (relative to the project root or to the results folder's parent)."""
     results_dir = Path(results_dir)
-    candidates = [results_dir / "histories" / name]
+    candidates = [results_dir / "histories" / name, results_dir / f"{name}-histories"]
     path = results_dir / f"{name}.h5"
     if path.exists():
         try:

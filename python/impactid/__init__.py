@@ -6,7 +6,7 @@ call and the command with the same parameters give the same numbers, bit for bit
 python/README.md.
 
     import impactid
-    run = impactid.simulate(method="hht", alpha=-0.3, delta=0.45)
+    run = impactid.simulate("hht", alpha=-0.3, delta=0.45)
     run.eps_p, run.status              # indicators and status
     run.t, run.pressure, run.exact_pressure   # time histories (NumPy arrays)
     ds = impactid.run_plan("plans/hht-delta-alpha.toml", output="/tmp/h.h5")   # xarray.Dataset
@@ -23,10 +23,13 @@ reader's message (the command line's text, file:line:column: key = value: what i
 
 from __future__ import annotations
 
+import inspect
 import math
 import numbers
 import os
+import tempfile
 import threading
+import typing
 
 import tomli_w
 
@@ -182,9 +185,13 @@ def _scene(scene):
     if scene is None:
         return None, None
     if isinstance(scene, (str, os.PathLike)):
-        return os.fspath(scene), None
+        path = os.fspath(scene)
+        if path in _impactid.methods() and not os.path.exists(path):
+            raise ValueError(f"scene = {path!r}: is a method's name, not a scene file (a method is "
+                             f"given as method={path!r}, or first: simulate({path!r}))")
+        return path, None
     if isinstance(scene, dict):
-        return None, tomli_w.dumps({"scene": scene})
+        return None, tomli_w.dumps({"scene": _plain(scene)})
     raise TypeError(f"scene = {scene!r}: must be a scene file's path or a dict of [scene] keys")
 
 
@@ -193,9 +200,17 @@ def _method(method, params: dict) -> dict:
     if method is None:
         return params
     if isinstance(method, str):
+        if method not in _impactid.methods() and (method.endswith(".toml")
+                                                   or os.path.exists(method)):
+            raise ValueError(f"method = {method!r}: is not a method's name but a file; a scene "
+                             f"file is given as scene={method!r} (the first argument is the "
+                             "method)")
         given = {"name": method}
     elif isinstance(method, dict):
         given = dict(method)
+    elif isinstance(method, os.PathLike):
+        raise TypeError(f"method = {method!r}: is a path; a scene file is given as scene= (the "
+                        "first argument is the method)")
     else:
         raise TypeError(f"method = {method!r}: must be a method's name or a dict of [method] keys")
     merged = dict(params)
@@ -207,16 +222,20 @@ def _method(method, params: dict) -> dict:
     return merged
 
 
-def simulate(scene=None, method=None, *, set: dict | None = None, **params) -> Run:
+def simulate(method=None, *, scene=None, set: dict | None = None, **params) -> Run:
     """`impactid simulate`: one scene, one method; returns the Run with its time histories.
 
+    method: None (hht, the command line's default), a name (`simulate("hht")`), or a dict of
+    [method] keys ({"name": "hht", "alpha": -0.3}).
     scene: None (the paper's rod), a scene file's path, or a dict of [scene] keys.
-    method: None (hht, the command line's default), a name, or a dict of [method] keys.
     set: dotted keys of a scene of bodies (`{"body.striker.velocity": 2000}`), as --set.
-    params: any parameter of the settings table by its snake_case name (`impactid simulate
-    --help`, or impactid.parameters()): scene keys (elements=100, courant=0.5), the method's
-    (alpha=-0.3), the output's (peak_prominence=1e-6). Applied over scene and method.
+    The other keywords are the settings table's parameters, by their snake_case names (the
+    options of `impactid simulate --help`): the scene's (elements=100, courant=0.5), the
+    method's (alpha=-0.3), the output's (peak_prominence=1e-6); applied over scene and method.
+    None, their default, leaves a parameter as the scene, the method or the defaults have it.
     """
+    _check_keywords("simulate", params, _SIMULATE_KEYWORDS)
+    params = _given(params)
     scene_file, scene_text = _scene(scene)
     given = _params(_method(method, params))
     return Run(_impactid.simulate(scene_file, scene_text, "scene", _params(set or {}), given))
@@ -225,14 +244,17 @@ def simulate(scene=None, method=None, *, set: dict | None = None, **params) -> R
 def compare(scene=None, *, set: dict | None = None, **params) -> dict[str, Run]:
     """`impactid compare`: every method at its default parameters on one scene.
 
-    Returns {method name: Run} in the command's order. The parameters are the scene's and the
-    output's (a method parameter is refused, as the command has no such option).
+    Returns {method name: Run} in the command's order. The keywords are the scene's and the
+    output's parameters (a method parameter is refused, as the command has no such option);
+    None leaves one as the scene or the defaults have it.
     """
     for name in params:
         info = _PARAMETERS.get(name)
         if info is not None and info["group"] == "method":
             raise TypeError(f"compare() got the method parameter {name!r}: it runs every method "
                             "at its default parameters (use simulate)")
+    _check_keywords("compare", params, _COMPARE_KEYWORDS)
+    params = _given(params)
     scene_file, scene_text = _scene(scene)
     runs = _impactid.compare(scene_file, scene_text, "scene", _params(set or {}), _params(params))
     return {data["method"]: Run(data) for data in runs}
@@ -257,6 +279,13 @@ def spectral(method=None, *, omega_dt=(), omega_max=None, match_damping=None, **
     match_damping=XI with one omega_dt=W: instead, for each one-parameter family the parameter
     whose algorithmic damping ratio at W is XI (the dict of `--match-damping XI --json`).
     """
+    for name in params:
+        info = _PARAMETERS.get(name)
+        if info is not None and info["group"] != "method" and name not in ("courant", "mass"):
+            raise TypeError(f"spectral() got the {info['group']} parameter {name!r}: only the "
+                            "method's, courant and mass")
+    _check_keywords("spectral", params, _SPECTRAL_KEYWORDS)
+    params = _given(params)
     if isinstance(omega_dt, numbers.Real) and not isinstance(omega_dt, bool):
         omega_dt = [omega_dt]
     omegas = [_positive("omega_dt", w) for w in omega_dt]
@@ -276,11 +305,6 @@ def spectral(method=None, *, omega_dt=(), omega_max=None, match_damping=None, **
                              f"{' values' if omegas else ''}: match_damping needs exactly one "
                              "omega_dt")
         return _impactid.match_damping(target, omegas[0])
-    for name in params:
-        info = _PARAMETERS.get(name)
-        if info is not None and info["group"] != "method" and name not in ("courant", "mass"):
-            raise TypeError(f"spectral() got the {info['group']} parameter {name!r}: only the "
-                            "method's, courant and mass")
     if omega_max is not None:
         if "courant" in params or "mass" in params:
             raise ValueError(f"omega_max = {omega_max}: cannot be given with courant or mass")
@@ -288,15 +312,134 @@ def spectral(method=None, *, omega_dt=(), omega_max=None, match_damping=None, **
     return _impactid.spectral(_params(_method(method, params)), omegas, omega_max)
 
 
+# ---- signatures, from the settings table (the method registry's parameters included) -------
+
 _PARAMETERS = {p["name"]: p for p in _impactid.parameters()}
+
+
+def _annotation(info: dict):
+    if info["kind"] == "choice":
+        return typing.Optional[typing.Literal[tuple(info["choices"].split("|"))]]
+    return typing.Optional[int if info["kind"] == "integer" else float]
+
+
+def _keywords(names) -> list[inspect.Parameter]:
+    return [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None,
+                              annotation=_annotation(_PARAMETERS[name])) for name in names]
+
+
+def _parameter_lines(names) -> str:
+    lines = []
+    for name in names:
+        info = _PARAMETERS[name]
+        unit = f" [{info['unit']}]" if info["unit"] else ""
+        only = f" {{{info['methods']}}}" if info["methods"] else ""
+        lines.append(f"    {name}{unit}: {info['description']}{only}")
+    return "\n".join(lines)
+
+
+def _generate_signature(function, leading: list[inspect.Parameter], names: list[str]) -> frozenset:
+    """Gives `function` the signature `leading` + a keyword-only parameter (default None) per
+    name of the settings table, so that help() and IDEs list them (its own **params would hide
+    them), and appends their descriptions to its docstring. Returns the keywords it takes."""
+    signature = inspect.signature(function)
+    returns = signature.return_annotation
+    function.__signature__ = inspect.Signature(leading + _keywords(names),
+                                               return_annotation=returns)
+    function.__doc__ = (inspect.cleandoc(function.__doc__) + "\n\nParameters from the settings "
+                        "table (None: not given):\n" + _parameter_lines(names))
+    return frozenset(p.name for p in leading) | frozenset(names)
+
+
+def _edit_distance(a: str, b: str) -> int:
+    """Insertions, deletions, substitutions and swaps of two neighbours ("alpah" -> "alpha": 1)."""
+    d = [[i + j if i * j == 0 else 0 for j in range(len(b) + 1)] for i in range(len(a) + 1)]
+    for i in range(1, len(a) + 1):
+        for j in range(1, len(b) + 1):
+            d[i][j] = min(d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1]))
+            if i > 1 and j > 1 and a[i - 1] == b[j - 2] and a[i - 2] == b[j - 1]:
+                d[i][j] = min(d[i][j], d[i - 2][j - 2] + 1)
+    return d[len(a)][len(b)]
+
+
+def _nearest(word: str, candidates) -> list[str]:
+    """The candidates nearest to `word` if near enough to be a typo of it, by the command line's
+    rule (study/cli/cli_main.cpp): 1 edit in a word of up to 4 letters, 2 up to 8, 3 beyond; a
+    candidate that begins with the word (3 letters or more) counts as 1."""
+    limit = 1 if len(word) <= 4 else 2 if len(word) <= 8 else 3
+    distance = {c: 1 if len(word) >= 3 and c.startswith(word) else _edit_distance(word, c)
+                for c in candidates}
+    best = min(distance.values(), default=limit + 1)
+    return sorted(c for c, d in distance.items() if d == best <= limit)
+
+
+def _check_keywords(function: str, given: dict, accepted: frozenset) -> None:
+    """A keyword that is no parameter is refused as Python refuses one, with the nearest names."""
+    for name in given:
+        if name not in accepted:
+            near = _nearest(name, accepted)
+            hint = f"; did you mean {' or '.join(map(repr, near))}?" if near else ""
+            raise TypeError(f"{function}() got an unexpected keyword argument {name!r}{hint}")
+
+
+def _given(params: dict) -> dict:
+    """The keywords that were given a value (None is a keyword's default: not given)."""
+    return {name: value for name, value in params.items() if value is not None}
+
+
+def _group(*groups: str) -> list[str]:
+    return [name for name, info in _PARAMETERS.items()
+            if info["group"] in groups and name != "method"]
+
+
+_P = inspect.Parameter
+_SIMULATE_KEYWORDS = _generate_signature(simulate, [
+    _P("method", _P.POSITIONAL_OR_KEYWORD, default=None, annotation=str | dict | None),
+    _P("scene", _P.KEYWORD_ONLY, default=None, annotation=str | os.PathLike | dict | None),
+    _P("set", _P.KEYWORD_ONLY, default=None, annotation=dict | None),
+], _group("scene", "method", "output"))
+_COMPARE_KEYWORDS = _generate_signature(compare, [
+    _P("scene", _P.POSITIONAL_OR_KEYWORD, default=None, annotation=str | os.PathLike | dict | None),
+    _P("set", _P.KEYWORD_ONLY, default=None, annotation=dict | None),
+], _group("scene", "output"))
+_SPECTRAL_KEYWORDS = _generate_signature(spectral, [
+    _P("method", _P.POSITIONAL_OR_KEYWORD, default=None, annotation=str | dict | None),
+    _P("omega_dt", _P.KEYWORD_ONLY, default=()),
+    _P("omega_max", _P.KEYWORD_ONLY, default=None, annotation=float | None),
+    _P("match_damping", _P.KEYWORD_ONLY, default=None, annotation=float | None),
+], _group("method") + ["courant", "mass"])
+del _P
 
 
 # ---- plans ---------------------------------------------------------------------------------
 
 
+def _plain(value):
+    """A dict's values as TOML writes them: NumPy arrays and tuples as lists, NumPy scalars as
+    Python numbers."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if hasattr(value, "tolist") and hasattr(value, "dtype"):  # a NumPy array or scalar
+        return _plain(value.tolist())
+    return value
+
+
+def _plan_dict(plan: dict) -> dict:
+    """A plan dict with plain values; an axis given as a sequence (a list, a tuple, a NumPy
+    array: `{"alpha": np.linspace(-0.3, 0, 7)}`) is the axis of those values."""
+    plan = _plain(plan)
+    study = plan.get("study")
+    if isinstance(study, dict) and isinstance(study.get("axes"), dict):
+        study["axes"] = {name: {"values": axis} if isinstance(axis, list) else axis
+                         for name, axis in study["axes"].items()}
+    return plan
+
+
 def plan_text(plan: dict) -> str:
     """The TOML text a plan dict is run as (and stored as in its results file)."""
-    return tomli_w.dumps(plan)
+    return tomli_w.dumps(_plan_dict(plan))
 
 
 class _Interrupted(KeyboardInterrupt):
@@ -309,13 +452,17 @@ _run_lock = threading.Lock()
 
 
 def run_plan(plan, *, threads: int | None = None, output=None, resume: bool = False):
-    """`impactid run`: runs a plan and returns its results file as an xarray.Dataset.
+    """`impactid run`: runs a plan and returns its results as an xarray.Dataset.
 
-    plan: a plan file's path, or a plan as a dict (the TOML a plan file holds; its name defaults
-    to "plan", files it names are relative to the working folder).
-    threads: OpenMP threads (default: all cores, or OMP_NUM_THREADS); output: the results file
-    (default: the plan's [output] file, or results/<plan name>.h5); resume: keep the points the
-    file has, compute only the rest.
+    plan: a plan file's path, or a plan as a dict (the TOML a plan file holds, as tomllib reads
+    it; its name defaults to "plan", files it names are relative to the working folder). An
+    axis of a dict may be a list or a NumPy array of its values:
+    `{"alpha": np.linspace(-0.3, 0, 7)}` is `alpha = { values = [...] }`.
+    threads: OpenMP threads (default: all cores, or OMP_NUM_THREADS).
+    output: the results file to write. A plan file without it writes where `impactid run` does
+    (its [output] file, or results/<plan name>.h5). A dict without it, and without an [output]
+    file, writes no file: its results are only returned.
+    resume: keep the points the file has, compute only the rest (needs a file).
 
     The file is the one `impactid run` writes. Progress goes to stderr as the command's does.
     Ctrl-C (SIGINT) or SIGTERM stops the run as it stops the command: what is finished is saved,
@@ -324,20 +471,37 @@ def run_plan(plan, *, threads: int | None = None, output=None, resume: bool = Fa
     """
     if isinstance(plan, dict):
         path, text = "plan", plan_text(plan)
+        table = plan.get("output")
+        asked = output is not None or (isinstance(table, dict) and "file" in table)
     elif isinstance(plan, (str, os.PathLike)):
-        path, text = os.fspath(plan), ""
+        path, text, asked = os.fspath(plan), "", True
     else:
         raise TypeError(f"plan = {plan!r}: must be a plan file's path or a dict of its keys")
     if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int)
                                 or threads < 1):
         raise ValueError(f"threads = {threads}: must be a positive integer")
-    output = os.fspath(output) if output is not None else ""
+    if asked:
+        return _run_plan(path, text, os.fspath(output) if output is not None else "", threads,
+                         resume, kept=True)
+    if resume:
+        raise ValueError("resume = True: this plan writes no file to resume (a dict without "
+                         "output= or an [output] file); give output=")
+    _impactid.plan_output(path, text, "")  # a bad plan is refused before a folder is made
+    with tempfile.TemporaryDirectory(prefix="impactid-run-plan-") as folder:
+        return _run_plan(path, text, os.path.join(folder, "results.h5"), threads, False,
+                         kept=False)
+
+
+def _run_plan(path: str, text: str, output: str, threads, resume: bool, kept: bool):
     target = _impactid.plan_output(path, text, output)
     with _run_lock:
         status, errors = _impactid.run_plan(path, text, output, threads or 0, bool(resume))
     message = "\n".join(line.removeprefix("impactid run: ")
                         for line in errors.strip().splitlines())
     if status == 130:
+        if not kept:
+            raise _Interrupted("interrupted: no file was asked for, so nothing is kept; give "
+                               "output= to keep the finished points and resume")
         raise _Interrupted(f"interrupted: the finished points are saved in {target}; continue "
                            "with run_plan(..., resume=True)")
     if status == 2:

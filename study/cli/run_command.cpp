@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -96,35 +97,127 @@ void stamp(StudyResults& r, int threads, double wall_time_s) {
   r.date = utc_now();
 }
 
-// Times points of the plan spread evenly over it, on one thread, for --dry-run's estimate: up to
-// 16 points, or fewer once a second has passed. Spread, because cost varies along an axis (an
-// unstable point stops early; a finer mesh costs more), and three samples once estimated a
-// stability map at a third of its real time. One point at a time, through simulate(): the sweep
-// batches points on SIMD lanes, so the estimate errs on the long side.
-struct PointTiming {
-  double seconds_per_point = 0.0;
-  long sampled = 0;
-  long not_ok = 0;  // sampled points that ended unstable or failed (and so stopped early)
+// The points of the table (or those of `indices`) that ran and are not ok (unstable, failed):
+// the reused ones of a resumed file count as well as those computed now.
+long count_not_ok(const StudyResults& r) {
+  return static_cast<long>(
+      std::count_if(r.status.begin(), r.status.end(), [](int status) { return status > 0; }));
+}
+long count_not_ok(const StudyResults& r, std::span<const long> indices) {
+  return static_cast<long>(std::count_if(indices.begin(), indices.end(), [&](long i) {
+    return r.status[static_cast<std::size_t>(i)] > 0;
+  }));
+}
+
+// Where a plan's `[output] histories` go: the plan's folder, or with --output FILE the folder
+// FILE's name gives, beside it (results/x.h5 -> results/x-histories), so that --output places
+// everything a run writes.
+std::filesystem::path histories_folder(const Plan& plan, const std::string& output) {
+  if (output.empty()) return *plan.output.histories;
+  const std::filesystem::path file(output);
+  return file.parent_path() / (file.stem().string() + "-histories");
+}
+
+// --dry-run's estimate of a grid or list: a pilot, a short run of part of the plan, timed.
+//
+// The pilot is whole windows of kBatchLanes points (the sweep's unit of work), spread evenly over
+// the plan because cost varies along an axis (an unstable point stops early, a finer mesh costs
+// more), run by run_sweep on the plan's threads as the real run runs them, batched kernels
+// included, into a table that is thrown away. Timing points one at a time through simulate()
+// instead once estimated 0:08 for a sweep that took 36.8 s: the batched kernels, the threads'
+// sharing of cores and the windows' scheduling were not in the measurement.
+//
+// It runs in rounds, one window per thread and then twice as many each round, each round's
+// windows halfway between the earlier ones, until half of kPilotSeconds has passed (so about a
+// second in all) or every window has run. When one point (of the first, middle and last) takes
+// so long that a window would exceed kPilotSeconds (a large model), the pilot is instead a few
+// points one at a time, spread over the plan, until kPilotSeconds have passed; the text says
+// which.
+struct Pilot {
+  long points = 0;   ///< points the pilot ran
+  long windows = 0;  ///< windows of kBatchLanes points, or 0: points one at a time
+  long not_ok = 0;   ///< of them, unstable or failed (and so stopped early)
+  double seconds = 0.0;
 };
 
-PointTiming time_points(const PointSet& points) {
-  constexpr long kMaxSamples = 16;
-  constexpr double kBudgetSeconds = 1.0;
+constexpr double kPilotSeconds = 1.0;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Pilot one_at_a_time(const PointSet& points) {
+  constexpr long kMaxPoints = 16;
   const long n = points.size();
-  const long wanted = std::min(n, kMaxSamples);
+  const long wanted = std::min(n, kMaxPoints);
   SimulationWorkspace workspace;
-  PointTiming timing;
+  Pilot pilot;
   const auto start = std::chrono::steady_clock::now();
-  double elapsed = 0.0;
-  for (long k = 0; k < wanted && (k == 0 || elapsed < kBudgetSeconds); ++k) {
+  for (long k = 0; k < wanted && (k == 0 || pilot.seconds < kPilotSeconds); ++k) {
     const long index = wanted == 1 ? 0 : k * (n - 1) / (wanted - 1);
     const Evaluation e = evaluate(std::get<Simulation>(build(points.settings(index))), workspace);
-    ++timing.sampled;
-    if (e.summary.status != RunStatus::ok) ++timing.not_ok;
-    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++pilot.points;
+    if (e.summary.status != RunStatus::ok) ++pilot.not_ok;
+    pilot.seconds = seconds_since(start);
   }
-  timing.seconds_per_point = elapsed / static_cast<double>(timing.sampled);
-  return timing;
+  return pilot;
+}
+
+// The windows 0..count-1 in an order of which every beginning is spread over all of them: the
+// first, then those at 1/2, then at 1/4 and 3/4, ...
+std::vector<long> spread_order(long count) {
+  std::vector<long> order;
+  std::vector<bool> taken(static_cast<std::size_t>(count), false);
+  for (long parts = 1; static_cast<long>(order.size()) < count; parts *= 2) {
+    for (long k = 0; k < parts; ++k) {
+      const long w = k * count / parts;
+      if (!taken[static_cast<std::size_t>(w)]) {
+        taken[static_cast<std::size_t>(w)] = true;
+        order.push_back(w);
+      }
+    }
+  }
+  return order;
+}
+
+Pilot run_pilot(const Plan& plan, const PointSet& points, int threads) {
+  const long n = points.size();
+  {
+    // The first, middle and last points, one at a time, say whether a window is affordable (one
+    // alone could be an unstable point that stopped at once).
+    SimulationWorkspace workspace;
+    for (const long index : {0L, n / 2, n - 1}) {
+      const auto start = std::chrono::steady_clock::now();
+      evaluate(std::get<Simulation>(build(points.settings(index))), workspace);
+      if (seconds_since(start) * kBatchLanes > kPilotSeconds) return one_at_a_time(points);
+    }
+  }
+  const long total_windows = (n + kBatchLanes - 1) / kBatchLanes;
+  const std::vector<long> order = spread_order(total_windows);
+  StudyResults results = empty_results(plan, points);
+  SweepOptions options;
+  options.threads = threads;
+  Pilot pilot;
+  std::size_t next = 0;
+  for (long round = threads; next < order.size() && pilot.seconds < kPilotSeconds / 2; round *= 2) {
+    std::vector<long> windows(
+        order.begin() + static_cast<long>(next),
+        order.begin() +
+            static_cast<long>(std::min(order.size(), next + static_cast<std::size_t>(round))));
+    next += windows.size();
+    std::sort(windows.begin(), windows.end());  // a short last window of the plan comes last
+    std::vector<long> indices;
+    for (const long w : windows) {
+      for (long i = w * kBatchLanes; i < std::min(n, (w + 1) * kBatchLanes); ++i) {
+        indices.push_back(i);
+      }
+    }
+    pilot.seconds += run_sweep(points, indices, results, options).wall_time_s;
+    pilot.points += static_cast<long>(indices.size());
+    pilot.windows += static_cast<long>(windows.size());
+    pilot.not_ok += count_not_ok(results, indices);
+  }
+  return pilot;
 }
 
 // What a spectral study computes; it takes seconds, so there is no estimate to measure.
@@ -186,7 +279,9 @@ int dry_run_work_precision(const Plan& plan, const std::filesystem::path& output
   return 0;
 }
 
-int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) {
+// `output_argument`: --output as given ("" when not), which places the histories too.
+int dry_run(const Plan& plan, int threads, const std::filesystem::path& output,
+            const std::string& output_argument) {
   if (plan.kind == StudyKind::spectral) return dry_run_spectral(plan, output);
   if (plan.kind == StudyKind::work_precision) return dry_run_work_precision(plan, output);
   std::printf("plan        %s (%s study, method %s)\n", plan.path.string().c_str(),
@@ -232,20 +327,34 @@ int dry_run(const Plan& plan, int threads, const std::filesystem::path& output) 
     std::printf("coupled     %-12s = %s\n", c.name.c_str(), c.expression.text().c_str());
   }
   std::printf("points      %ld\n", points.size());
+  if (plan.output.histories) {
+    std::printf("histories   %s/point-<index>.h5\n",
+                histories_folder(plan, output_argument).string().c_str());
+  }
   if (!plan.practical.empty()) {
     std::printf("practical   %s\n", thresholds_text(plan.practical).c_str());
   }
-  const PointTiming timing = time_points(points);
-  const double t = timing.seconds_per_point;
-  std::printf(
-      "estimate    %s on %d thread(s) (%.3g s per point, measured one at a time on %ld "
-      "points spread over the plan%s)\n",
-      duration_text(t * static_cast<double>(points.size()) / threads).c_str(), threads, t,
-      timing.sampled,
-      timing.not_ok > 0 ? (", " + std::to_string(timing.not_ok) +
-                           " of them not ok and stopped early: the estimate may be short")
-                              .c_str()
-                        : "");
+  const Pilot pilot = run_pilot(plan, points, threads);
+  const double n = static_cast<double>(points.size());
+  // Points that are not ok stop early; the pilot, spread over the plan, has its share of them.
+  const std::string not_ok =
+      pilot.not_ok > 0 ? "; " + std::to_string(pilot.not_ok) + " of them not ok" : "";
+  if (pilot.windows > 0) {
+    std::printf(
+        "estimate    %s on %d thread(s), from a pilot run: %ld of the %ld points (%ld window%s "
+        "of %ld spread over the plan) run as the sweep runs them, on %d thread(s), in %.3g s%s\n",
+        duration_text(pilot.seconds * n / static_cast<double>(pilot.points)).c_str(), threads,
+        pilot.points, points.size(), pilot.windows, pilot.windows == 1 ? "" : "s",
+        static_cast<long>(kBatchLanes), threads, pilot.seconds, not_ok.c_str());
+  } else {
+    const double per_point = pilot.seconds / static_cast<double>(pilot.points);
+    std::printf(
+        "estimate    %s on %d thread(s), from a pilot run: %ld of the %ld points spread over "
+        "the plan, run one at a time in %.3g s (%.3g s per point; the sweep runs %d at a "
+        "time)%s\n",
+        duration_text(per_point * n / threads).c_str(), threads, pilot.points, points.size(),
+        pilot.seconds, per_point, threads, not_ok.c_str());
+  }
   return 0;
 }
 
@@ -401,6 +510,7 @@ int run_work_precision_plan(const Plan& plan, const RunArguments& args, const Ru
     outcome = run_work_precision(plan, results, options);
     progress.finish();
     save(results);
+    outcome.unstable = count_not_ok(results);  // the reused points' too
   } catch (const std::exception& e) {
     progress.finish();
     std::cerr << "impactid run: " << e.what() << '\n';
@@ -460,7 +570,7 @@ int run_plan(const RunArguments& args, const Runners& runners) {
     return kExitBadInput;
   }
   const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
-  if (args.dry_run) return dry_run(plan, threads, output);
+  if (args.dry_run) return dry_run(plan, threads, output, args.output);
   if (plan.kind == StudyKind::work_precision)
     return run_work_precision_plan(plan, args, runners, output);
   if (plan.kind == StudyKind::spectral) return run_spectral(plan, args, output, threads);
@@ -542,7 +652,7 @@ int run_plan(const RunArguments& args, const Runners& runners) {
       save(outcome.results, elapsed());
       computed = outcome.computed;
       reused = outcome.reused;
-      unstable = outcome.unstable;
+      unstable = count_not_ok(outcome.results);
       total = outcome.results.points_total();
       interrupted = outcome.interrupted;
       extra = "termination " + outcome.termination + "; ";
@@ -595,13 +705,14 @@ int run_plan(const RunArguments& args, const Runners& runners) {
         std::fprintf(stderr, "impactid run: practical range (%s): %s\n", range.thresholds.c_str(),
                      practical_summary(range).c_str());
       }
+      const long not_ok = count_not_ok(results, indices);
       save(std::move(results), elapsed());
       if (plan.output.histories && !outcome.interrupted) {
-        write_point_histories(points, indices, *plan.output.histories);
+        write_point_histories(points, indices, histories_folder(plan, args.output));
       }
       computed = outcome.computed;
       reused = outcome.reused;
-      unstable = outcome.unstable;
+      unstable = not_ok;
       total = static_cast<long>(indices.size());
       interrupted = outcome.interrupted;
     }
@@ -638,7 +749,8 @@ std::function<int()> add_run_command(CLI::App& app, Runners runners) {
   command
       ->add_option("--output", args->output,
                    "Results file (default: [output] file of the plan, or "
-                   "results/<plan name>.h5)")
+                   "results/<plan name>.h5); the plan's [output] histories then go beside it, "
+                   "to <FILE without .h5>-histories/")
       ->type_name("FILE");
   command->add_flag("--resume", args->resume,
                     "Keep the points already in the results file; compute only the rest");
@@ -651,7 +763,8 @@ std::function<int()> add_run_command(CLI::App& app, Runners runners) {
                    "written to <output>.shard-K-of-N.h5 also when --output is given")
       ->type_name("K/N");
   command->add_flag("--dry-run", args->dry_run,
-                    "Print the points per axis and in total, and a time estimate; run nothing");
+                    "Print the points per axis and in total, and a time estimate from a pilot "
+                    "run (a part of the plan, run and timed); write nothing");
   return [command, args, runners = std::move(runners)]() -> int {
     if (!command->parsed()) return -1;
     return run_plan(*args, runners);

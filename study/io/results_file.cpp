@@ -265,17 +265,23 @@ std::string csv_label(const std::string& name, const std::string& units) {
   return csv_field(units.empty() || units == "1" ? name : name + "[" + units + "]");
 }
 
-// 17 significant digits: enough to read back the same double. Locale-independent.
-// NaN (not done, not ok, or undefined) is written "nan", whatever its sign bit.
+// The shortest text that reads back as the same double (std::to_chars without a precision):
+// 0.1, not 0.10000000000000001. Locale-independent. NaN (not done, not ok, or undefined) is
+// written "nan", whatever its sign bit.
 void put_number(std::ostream& out, double value) {
   if (std::isnan(value)) {
     out << "nan";
     return;
   }
   char buffer[32];
-  const auto end =
-      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 17).ptr;
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
   out.write(buffer, end - buffer);
+}
+
+// A column with no number at any point (an indicator that does not apply to the scene, such as
+// far_contact_episodes without a far wall) is left out of the CSV files.
+bool all_nan(const ResultColumn& c) {
+  return std::all_of(c.values.begin(), c.values.end(), [](double v) { return std::isnan(v); });
 }
 
 // Writes <path>.tmp, then renames it over <path>.
@@ -314,9 +320,13 @@ void write_points(std::ostream& out, const StudyResults& r) {
   std::string header;
   const auto add = [&](const std::string& label) { header += (header.empty() ? "" : ",") + label; };
   for (const ResultDimension& d : r.dimensions) add(csv_label(d.name, d.units));
-  for (const ResultColumn& c : r.parameters) add(csv_label(c.name, c.units));
+  for (const ResultColumn& c : r.parameters) {
+    if (!all_nan(c)) add(csv_label(c.name, c.units));
+  }
   add(kStatus);
-  for (const ResultColumn& c : r.indicators) add(csv_label(c.name, c.units));
+  for (const ResultColumn& c : r.indicators) {
+    if (!all_nan(c)) add(csv_label(c.name, c.units));
+  }
   out << header << '\n';
 
   std::vector<std::size_t> index(r.dimensions.size(), 0);  // of the point, last axis fastest
@@ -326,11 +336,13 @@ void write_points(std::ostream& out, const StudyResults& r) {
       put_value(out, r.dimensions[d], index[d]);
     }
     for (const ResultColumn& c : r.parameters) {
+      if (all_nan(c)) continue;
       out << ',';
       put_number(out, c.values[i]);
     }
     out << ',' << r.status[i];
     for (const ResultColumn& c : r.indicators) {
+      if (all_nan(c)) continue;
       out << ',';
       put_number(out, c.values[i]);
     }
@@ -444,7 +456,8 @@ StudyResults read_results(const std::filesystem::path& path) {
   return ResultsReader(path).read();
 }
 
-void export_csv(const StudyResults& results, const std::filesystem::path& directory) {
+std::vector<std::string> export_csv(const StudyResults& results,
+                                    const std::filesystem::path& directory) {
   if (const auto problem = inconsistency(results)) {
     throw std::runtime_error(directory.string() + ": not exported: " + *problem);
   }
@@ -465,11 +478,19 @@ void export_csv(const StudyResults& results, const std::filesystem::path& direct
   }
   write_text_atomically(directory / "points.csv",
                         [&](std::ostream& out) { write_points(out, results); });
-  if (!matrices) return;
+  std::vector<std::string> skipped;
+  for (const auto* columns : {&results.parameters, &results.indicators}) {
+    for (const ResultColumn& c : *columns) {
+      if (all_nan(c)) skipped.push_back(c.name);
+    }
+  }
+  if (!matrices) return skipped;
   for (const ResultColumn& c : results.indicators) {
+    if (all_nan(c)) continue;
     write_text_atomically(directory / (c.name + ".csv"),
                           [&](std::ostream& out) { write_matrix(out, results, c); });
   }
+  return skipped;
 }
 
 }  // namespace impactid

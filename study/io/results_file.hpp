@@ -16,6 +16,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "study/studies/study_results.hpp"
 
@@ -31,9 +33,12 @@ StudyResults read_results(const std::filesystem::path& path);
 /// One CSV per dataset shape: DIR/points.csv with one row per point in flat order (dimension
 /// values, parameters, status, indicators; header cells name[units], just name when
 /// dimensionless) and, for exactly two dimensions, DIR/<indicator>.csv as a matrix with the
-/// first axis down and the second across (corner cell "<dim0>\<dim1>"). Numbers have 17
-/// significant digits (they read back exactly), NaN is written "nan". Creates DIR; each file is
-/// written as <file>.tmp and renamed. Throws std::runtime_error naming the file.
-void export_csv(const StudyResults& results, const std::filesystem::path& directory);
+/// first axis down and the second across (corner cell "<dim0>\<dim1>"). Numbers are the
+/// shortest text that reads back as the same double (std::to_chars), NaN is written "nan". A
+/// parameter or indicator column that is NaN at every point is left out (of points.csv, and its
+/// matrix is not written); returns the names of those columns. Creates DIR; each file is written
+/// as <file>.tmp and renamed. Throws std::runtime_error naming the file.
+std::vector<std::string> export_csv(const StudyResults& results,
+                                    const std::filesystem::path& directory);
 
 }  // namespace impactid
