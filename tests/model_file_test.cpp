@@ -144,6 +144,34 @@ TEST(ModelFile, RefusesABadReferenceHistory) {
   EXPECT_NE(e.summary.message.find("covers t ="), std::string::npos) << e.summary.message;
 }
 
+// `scene = "FILE"` names a scene file at the top of a plan; written under [scene] (TOML makes it
+// scene.scene) the refusal says where it belongs, and the same line at the top loads.
+TEST(ModelFile, ASceneFileNamedUnderTheSceneTableIsSentToTheTop) {
+  const fs::path scene = model_folder("misplaced_scene", kGood);
+  const std::string study =
+      "[method]\nname = \"hht\"\n[study]\nkind = \"list\"\n"
+      "points = [{ alpha = -0.1 }]\n";
+  write_file(scene.parent_path() / "good.toml",
+             "name = \"good\"\nscene = \"scene.toml\"\n" + study);
+  const Plan good = load_plan(scene.parent_path() / "good.toml");
+  ASSERT_TRUE(good.base.model);
+  EXPECT_EQ(good.base.model->model->size(), 3);
+
+  write_file(scene.parent_path() / "misplaced.toml",
+             "name = \"misplaced\"\n[scene]\nscene = \"scene.toml\"\n" + study);
+  try {
+    load_plan(scene.parent_path() / "misplaced.toml");
+    ADD_FAILURE() << "loaded";
+  } catch (const PlanError& e) {
+    const std::string m = e.what();
+    for (const char* part : {"misplaced.toml:3:", "scene.scene = \"scene.toml\"",
+                             "top-level key scene = \"scene.toml\"",
+                             "above the plan's first [table]", "not under [scene]"}) {
+      EXPECT_NE(m.find(part), std::string::npos) << part << " in " << m;
+    }
+  }
+}
+
 // A reference history in HDF5: the CSV's columns as datasets give the same indicators; a run's
 // own history file (`impactid simulate --history FILE.h5`, datasets pressure.<contact>) is a
 // reference too, against which the same run has no error; bad files are refused by name.
