@@ -12,10 +12,10 @@ from .results import text
 DPI = 150
 
 # One palette for the project. The methods and their order come from the program's registry
-# (`impactid methods --json`, or the Python module's list): method i of the registry gets PALETTE[i],
-# so a new method gets a colour without a line here. The colours are the Okabe & Ito and Tol
-# colour-blind-safe sets, chosen so that no two are alike; the few nearest pairs (Newmark's green
-# and KR-α's, HHT's blue and backward Euler's sky) sit far apart in the registry, so they fall into
+# (`impactid methods --json`, or the Python module's list): method i of the registry gets
+# PALETTE[i], so a new method gets a colour without a line here. The colours are from the Okabe &
+# Ito and Tol colour-blind-safe sets, no two alike; the nearest pairs (Newmark's green and KR-α's,
+# backward Euler's sky and Noh–Bathe's cyan) sit far apart in the registry, so they fall into
 # different panels of the small multiples (at most SERIES_PER_PANEL methods a panel).
 PALETTE = [
     "#E69F00",  # orange
@@ -29,7 +29,7 @@ PALETTE = [
     "#999933",  # olive
     "#AA4499",  # purple
     "#33BBEE",  # cyan
-    "#E31A1C",  # red
+    "#555555",  # dark grey
     "#117733",  # dark green
 ]
 SERIES_PER_PANEL = 6
@@ -112,7 +112,7 @@ def registry_index(method):
     return len(names)
 
 
-UNKNOWN_COLORS = ["#999999", "#BBBB00", "#555555"]  # a name the registry does not know
+UNKNOWN_COLORS = ["#999999", "#BBBB00"]  # a name the registry does not know
 EXACT_COLOR = "black"
 NOT_OK_COLOR = "0.15"  # near black: points that are not ok (grey hatching on maps)
 CHATTER_COLOR = "#B00000"  # not ok although the spectral analysis predicts stability
