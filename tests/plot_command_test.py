@@ -12,12 +12,15 @@ it finds Python and the figure package.
    naming it;
 4. installed (`cmake --install BUILD --component program --prefix TMP`), the program runs the
    package installed beside it, not the source tree's;
-5. installed (`--component python`), `impactid.plot` finds the package installed with it.
+5. installed (`--component python`), `impactid.plot` finds the package installed with it;
+6. the figures' colours follow the program's method list (`impactid methods --json`): one colour
+   per method, none repeated, and a different list gives different colours.
 
     tests/plot_command_test.py --impactid build/study/impactid --build-dir build
 """
 
 import argparse
+import json
 import os
 import re
 import subprocess
@@ -158,6 +161,22 @@ def main():
                        f"installed impactid.plot: exit {p.returncode}\n{p.stdout}{p.stderr}")
         else:
             print("note: no Python module in this build: its installed impactid.plot is not checked")
+
+        # 6. the colours are the program's method list's: distinct for every method, and in its order
+        figures = Path(__file__).resolve().parent.parent / "figures"
+        probe = ("import sys; sys.path.insert(0, sys.argv[1]); from impactid_figures import style; "
+                 "print(' '.join(style.registry())); print(' '.join(style.method_color(m) for m in style.registry()))")
+        p = run(["/usr/bin/python3", "-c", probe, str(figures)], tmp, dict(os.environ, IMPACTID_EXECUTABLE=impactid))
+        names, colors = (p.stdout.splitlines() + ["", ""])[:2]
+        methods = [m["name"] for m in json.loads(run([impactid, "methods", "--json"], tmp).stdout)]
+        expect(p.returncode == 0 and names.split() == methods, f"style.registry() is not the program's list: {names!r}")
+        expect(len(set(colors.split())) == len(names.split()) > 10, f"colours repeat: {names} -> {colors}")
+        fake = tmp / "fake-impactid"
+        fake.write_text('#!/bin/sh\necho \'[{"name": "kim-explicit"}, {"name": "hht"}]\'\n')
+        fake.chmod(0o755)
+        p = run(["/usr/bin/python3", "-c", probe, str(figures)], tmp, dict(os.environ, IMPACTID_EXECUTABLE=str(fake)))
+        expect(p.stdout.split("\n")[0] == "kim-explicit hht" and p.stdout.split("\n")[1].split()[0] == "#E69F00",
+               f"the colours do not follow the program's list: {p.stdout!r} {p.stderr!r}")
 
     for f in failures:
         print("FAIL", f)
