@@ -122,6 +122,11 @@ TEST(ModelFile, RefusesEveryBadInputNamingIt) {
   expect(refusal("rod_key", kGood.substr(0, kGood.find("[scene.matrices]")) + "length = 3.0\n" +
                                 kGood.substr(kGood.find("[scene.matrices]"))),
          {"length", "one-body rod"});
+  // The rod's consistent mass would be ignored on a model: refused, pointing at the model's M.
+  expect(refusal("rod_mass", kGood.substr(0, kGood.find("[scene.matrices]")) +
+                                 "mass = \"consistent\"\n" +
+                                 kGood.substr(kGood.find("[scene.matrices]"))),
+         {"scene.mass = \"consistent\"", "[scene.matrices] mass"});
 }
 
 TEST(ModelFile, RefusesABadReferenceHistory) {

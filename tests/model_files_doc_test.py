@@ -55,6 +55,8 @@ MISTAKES = [
     ("rayleigh", before_matrices("rayleigh_mass = -1.0"), {}, "must be non-negative and finite"),
     ("rod key", before_matrices("length = 3.0"), {},
      'is a key of the one-body rod: a model (kind = "matrices") has its matrices, initial state and contacts instead'),
+    ("rod mass", before_matrices('mass = "consistent"'), {},
+     "is a key of the one-body rod: a model's mass matrix is its file ([scene.matrices] mass; lump it there)"),
     ("units", replace('units = "N, m, s, kg"', "units = 3"), {}, "must be a string"),
     ("no mass", replace('mass = "M.mtx"', ""), {}, "is missing: the mass matrix file"),
     ("matrices key", replace('stiffness = "K.mtx"', 'stiffness = "K.mtx"\ndampng = "K.mtx"'), {},
