@@ -203,14 +203,15 @@ def lines_1d(r, saver, dim, keys, kind):
         if methods and len(set(methods)) > 1:
             # a list of methods: each point in its method's colour
             ax.scatter(x, y, c=[method_color(m) for m in methods], s=28, zorder=3, edgecolors="white",
-                       linewidths=0.5, label=f"{INDICATOR_SYMBOLS.get(key, key)} (ok points, in the method's colour)")
+                       linewidths=0.5, label="ok points, each in its method's colour")
         else:
             ax.plot(x, y, "-o" if kind != "list" else "o", color=method_color(text(r.attr("method", ""))), ms=4,
-                    lw=1.2, label=f"{INDICATOR_SYMBOLS.get(key, key)} (ok points)", zorder=3)
+                    lw=1.2, label="ok points", zorder=3)
         mark_not_ok(ax, x, status)
         fin = y[np.isfinite(y)]
         if key in LOG_INDICATORS and fin.size and np.all(fin > 0) and fin.max() >= 10 * fin.min():
             ax.set_yscale("log")
+            ax.yaxis.set_major_locator(mticker.LogLocator(subs=(1.0, 2.0, 5.0)))
             log_axis_plain(ax.yaxis)
         if ticks:
             ax.set_xticks(x if kind == "list" else x)
@@ -219,9 +220,18 @@ def lines_1d(r, saver, dim, keys, kind):
         ax.set_xlabel(xlabel)
         ax.set_ylabel(sym)
         ax.set_title(sym)
-        ax.legend(fontsize=7.5, framealpha=0.9)
     for ax in axes.ravel()[n:]:
         ax.set_visible(False)
+    # one key under the panels, so that no key hides a point; each entry once
+    seen = {}
+    for ax in axes.ravel()[:n]:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            seen.setdefault(label, handle)
+    ncol = max(1, min(len(seen), int(fig.get_figwidth() // 4.2)))
+    fig.legend(list(seen.values()), list(seen.keys()), loc="lower center", bbox_to_anchor=(0.5, 0.0), ncol=ncol,
+               fontsize=8, frameon=False)
+    height = 0.32 * (-(-len(seen) // ncol) + 1) + 0.2
+    fig.get_layout_engine().set(rect=(0, height / fig.get_figheight(), 1, 1 - height / fig.get_figheight()))
     fig.suptitle(title(r, "the indicators over " + ("the points" if kind == "list" else dim)))
     saver(fig, "indicators")
     return saver.written
