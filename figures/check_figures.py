@@ -15,12 +15,17 @@
    `wrote` line per expected figure, and that every PNG exists, is a PNG and is larger than a
    few kB (an empty set of axes is about 5 kB at 150 dpi; a drawn figure is far larger);
 4. runs make_figures.py on an empty folder and checks that it skips every figure, naming the
-   missing file and the command that produces it, with exit status 0.
+   missing file and the command that produces it, with exit status 0;
+5. runs `impactid plot` on every results file of step 1 (every study kind the shipped plans
+   have: grids of one, two and three axes, a choice axis, lists, optimisations, work-precision,
+   spectral, scenes of bodies, the block model) and on one time-history file of each history
+   folder, and checks that it exits with 0 and that every PNG it names is a PNG of a real figure.
 
 Exit status 0 if all holds, 1 otherwise (the failed checks are printed). Takes a few seconds.
 """
 
 import argparse
+import os
 import shutil
 import subprocess
 import sys
@@ -400,9 +405,9 @@ FIGURES = {
 }
 
 
-def run(cmd, cwd, what):
+def run(cmd, cwd, what, env=None):
     start = time.monotonic()
-    p = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=120)
+    p = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=120, env=env)
     took = time.monotonic() - start
     return p, took
 
@@ -451,7 +456,10 @@ def main():
 
         # 3. every figure whose inputs exist is drawn
         out = tmp / "figures"
-        p, took = run([PYTHON, str(MAKE_FIGURES), "--results", str(tmp / "results"), "--out", str(out)], tmp, "figures")
+        # the figures' colours come from this program's method list (figures/impactid_figures/style.py)
+        env = dict(os.environ, IMPACTID_EXECUTABLE=str(impactid))
+        p, took = run([PYTHON, str(MAKE_FIGURES), "--results", str(tmp / "results"), "--out", str(out)], tmp, "figures",
+                      env)
         print(p.stdout, end="")
         print(f"make_figures.py took {took:.1f} s")
         if p.returncode != 0:
@@ -488,6 +496,24 @@ def main():
                 failures.append(f"empty folder: the skip message does not name the file and the command: {line}")
         if list((tmp / "empty-figures").glob("*.png")):
             failures.append("empty folder: PNG files were written anyway")
+
+        # 5. impactid plot draws every results file and a history file of each folder
+        inputs = sorted((tmp / "results").glob("*.h5"))
+        inputs += [sorted(d.glob("point-*.h5"))[0] for d in sorted((tmp / "results" / "histories").glob("*"))
+                   if list(d.glob("point-*.h5"))]
+        for path in inputs:
+            folder = tmp / "plot" / (path.stem if path.parent.name == "results" else f"{path.parent.name}-{path.stem}")
+            p, took = run([str(impactid), "plot", str(path), "--out", str(folder)], tmp, "plot")
+            pngs = [Path(line[len("wrote "):]) for line in p.stdout.splitlines() if line.startswith("wrote ")]
+            if p.returncode != 0 or not pngs:
+                failures.append(f"impactid plot {path.relative_to(tmp)}: exit {p.returncode}, {len(pngs)} files\n"
+                                f"{p.stdout}{p.stderr}")
+            for png in pngs:
+                data = png.read_bytes() if png.exists() else b""
+                if not data.startswith(b"\x89PNG\r\n\x1a\n") or len(data) < MIN_BYTES:
+                    failures.append(f"impactid plot {path.name}: {png} is not a PNG of {MIN_BYTES} bytes or more "
+                                    f"({len(data)})")
+            print(f"plotted {path.relative_to(tmp)}: {len(pngs)} figures in {took:.1f} s")
     finally:
         if not args.keep:
             shutil.rmtree(tmp, ignore_errors=True)

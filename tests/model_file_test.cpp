@@ -122,6 +122,11 @@ TEST(ModelFile, RefusesEveryBadInputNamingIt) {
   expect(refusal("rod_key", kGood.substr(0, kGood.find("[scene.matrices]")) + "length = 3.0\n" +
                                 kGood.substr(kGood.find("[scene.matrices]"))),
          {"length", "one-body rod"});
+  // The rod's consistent mass would be ignored on a model: refused, pointing at the model's M.
+  expect(refusal("rod_mass", kGood.substr(0, kGood.find("[scene.matrices]")) +
+                                 "mass = \"consistent\"\n" +
+                                 kGood.substr(kGood.find("[scene.matrices]"))),
+         {"scene.mass = \"consistent\"", "[scene.matrices] mass"});
 }
 
 TEST(ModelFile, RefusesABadReferenceHistory) {
@@ -142,6 +147,34 @@ TEST(ModelFile, RefusesABadReferenceHistory) {
   const Evaluation e = evaluate(sim, ws);
   EXPECT_EQ(e.summary.status, RunStatus::failed);
   EXPECT_NE(e.summary.message.find("covers t ="), std::string::npos) << e.summary.message;
+}
+
+// `scene = "FILE"` names a scene file at the top of a plan; written under [scene] (TOML makes it
+// scene.scene) the refusal says where it belongs, and the same line at the top loads.
+TEST(ModelFile, ASceneFileNamedUnderTheSceneTableIsSentToTheTop) {
+  const fs::path scene = model_folder("misplaced_scene", kGood);
+  const std::string study =
+      "[method]\nname = \"hht\"\n[study]\nkind = \"list\"\n"
+      "points = [{ alpha = -0.1 }]\n";
+  write_file(scene.parent_path() / "good.toml",
+             "name = \"good\"\nscene = \"scene.toml\"\n" + study);
+  const Plan good = load_plan(scene.parent_path() / "good.toml");
+  ASSERT_TRUE(good.base.model);
+  EXPECT_EQ(good.base.model->model->size(), 3);
+
+  write_file(scene.parent_path() / "misplaced.toml",
+             "name = \"misplaced\"\n[scene]\nscene = \"scene.toml\"\n" + study);
+  try {
+    load_plan(scene.parent_path() / "misplaced.toml");
+    ADD_FAILURE() << "loaded";
+  } catch (const PlanError& e) {
+    const std::string m = e.what();
+    for (const char* part : {"misplaced.toml:3:", "scene.scene = \"scene.toml\"",
+                             "top-level key scene = \"scene.toml\"",
+                             "above the plan's first [table]", "not under [scene]"}) {
+      EXPECT_NE(m.find(part), std::string::npos) << part << " in " << m;
+    }
+  }
 }
 
 // A reference history in HDF5: the CSV's columns as datasets give the same indicators; a run's

@@ -11,24 +11,108 @@ from .results import text
 
 DPI = 150
 
-# One colour per method in every figure (Okabe & Ito's colour-blind-safe palette).
-METHODS = {
-    # plan name: (label, colour)
-    "cdm": ("central difference", "#E69F00"),
-    "backward-euler": ("backward Euler", "#56B4E9"),
-    "newmark": ("Newmark", "#009E73"),
-    "hht": ("HHT-α", "#0072B2"),
-    "generalized-alpha": ("generalized-α", "#CC79A7"),
-    "bathe": ("Bathe", "#44AA99"),
-    "rho-bathe": ("ρ∞-Bathe", "#882255"),
-    "tr-bdf2": ("TR-BDF2", "#332288"),
-    "houbolt": ("Houbolt", "#999933"),
-    "wilson-theta": ("Wilson-θ", "#AA4499"),
-    "noh-bathe": ("Noh–Bathe explicit", "#661100"),
-    "kim-explicit": ("Kim explicit", "#6699CC"),
-    "kr-alpha": ("KR-α explicit", "#117733"),
+# One palette for the project. The methods and their order come from the program's registry
+# (`impactid methods --json`, or the Python module's list): method i of the registry gets
+# PALETTE[i], so a new method gets a colour without a line here. The colours are from the Okabe &
+# Ito and Tol colour-blind-safe sets, no two alike; the nearest pairs (Newmark's green and KR-α's,
+# backward Euler's sky and Noh–Bathe's cyan) sit far apart in the registry, so they fall into
+# different panels of the small multiples (at most SERIES_PER_PANEL methods a panel).
+PALETTE = [
+    "#E69F00",  # orange
+    "#56B4E9",  # sky blue
+    "#009E73",  # bluish green
+    "#0072B2",  # blue
+    "#CC79A7",  # reddish purple
+    "#D55E00",  # vermillion
+    "#882255",  # wine
+    "#332288",  # indigo
+    "#999933",  # olive
+    "#AA4499",  # purple
+    "#33BBEE",  # cyan
+    "#555555",  # dark grey
+    "#117733",  # dark green
+]
+SERIES_PER_PANEL = 6
+# How a method is named in a figure: typography only (the registry's names are ASCII). A method
+# of the registry without an entry here is named by its registry name.
+LABELS = {
+    "cdm": "central difference",
+    "backward-euler": "backward Euler",
+    "newmark": "Newmark",
+    "hht": "HHT-α",
+    "generalized-alpha": "generalized-α",
+    "bathe": "Bathe",
+    "rho-bathe": "ρ∞-Bathe",
+    "tr-bdf2": "TR-BDF2",
+    "houbolt": "Houbolt",
+    "wilson-theta": "Wilson-θ",
+    "noh-bathe": "Noh–Bathe explicit",
+    "kim-explicit": "Kim explicit",
+    "kr-alpha": "KR-α explicit",
 }
-UNKNOWN_COLORS = ["#999999", "#F0E442", "#000000"]
+_registry = None
+
+
+def set_registry(names):
+    """The registry's method names in its order (the Python module passes impactid.methods())."""
+    global _registry
+    _registry = [text(n) for n in names]
+
+
+def registry():
+    """The method names of the program's registry, in its order: from the program named by
+    IMPACTID_EXECUTABLE (`impactid plot` and figures/check_figures.py set it), else the build's
+    build/study/impactid, else `impactid` on PATH. Without a program the labels' order stands in,
+    with a warning (the colours of methods added since then are then not the program's)."""
+    global _registry
+    if _registry is None:
+        import json
+        import os
+        import shutil
+        import subprocess
+        import sys
+
+        from .results import PROJECT_ROOT
+
+        candidates = [os.environ.get("IMPACTID_EXECUTABLE"), str(PROJECT_ROOT / "build" / "study" / "impactid"),
+                      shutil.which("impactid")]
+        for exe in candidates:
+            if not exe or not os.access(exe, os.X_OK):
+                continue
+            try:
+                out = subprocess.run([exe, "methods", "--json"], capture_output=True, text=True, timeout=60, check=True)
+                _registry = [m["name"] for m in json.loads(out.stdout)]
+                break
+            except (OSError, subprocess.SubprocessError, ValueError, KeyError, TypeError):
+                continue
+        if _registry is None:
+            print("impactid_figures: no impactid program found for the method list (set IMPACTID_EXECUTABLE); "
+                  "colours follow the figures' own list", file=sys.stderr)
+            _registry = list(LABELS)
+    return _registry
+
+
+def method_groups(methods):
+    """`methods` (names, in drawing order) split into panels of at most SERIES_PER_PANEL, in
+    registry order, as evenly as possible: [[indices into methods], ...]."""
+    order = sorted(range(len(methods)), key=lambda i: (registry_index(methods[i]), i))
+    panels = max(1, -(-len(order) // SERIES_PER_PANEL))
+    size = -(-len(order) // panels)
+    return [order[k:k + size] for k in range(0, len(order), size)] or [[]]
+
+
+def registry_index(method):
+    names = registry()
+    method = text(method).strip().lower()
+    if method in names:
+        return names.index(method)
+    for i, name in enumerate(names):  # a label such as "hht alpha=-0.3"
+        if method.startswith(name):
+            return i
+    return len(names)
+
+
+UNKNOWN_COLORS = ["#999999", "#BBBB00"]  # a name the registry does not know
 EXACT_COLOR = "black"
 NOT_OK_COLOR = "0.15"  # near black: points that are not ok (grey hatching on maps)
 CHATTER_COLOR = "#B00000"  # not ok although the spectral analysis predicts stability
@@ -74,13 +158,14 @@ def num(s):
 
 
 def method_info(method):
+    """(label, colour) of a method name (or of a label that starts with one)."""
     method = text(method).strip().lower()
-    if method in METHODS:
-        return METHODS[method]
-    for key, value in METHODS.items():  # a label such as "HHT-α (…)" or "hht, eq. 15"
-        if method.startswith(key):
-            return value
-    return (method, UNKNOWN_COLORS[hash(method) % len(UNKNOWN_COLORS)])
+    names = registry()
+    i = registry_index(method)
+    if i < len(names):
+        name = names[i]
+        return LABELS.get(name, name), PALETTE[i % len(PALETTE)]
+    return (method, UNKNOWN_COLORS[sum(map(ord, method)) % len(UNKNOWN_COLORS)])
 
 
 def method_color(method):

@@ -19,7 +19,7 @@ from .histories import load_histories
 from .plot import save
 from .results import Results, Skip
 from .scene import DEFAULT_SCENE, contact_text, primary_contact, results_scene, scene_text
-from .style import EXACT_COLOR, INDICATOR_SYMBOLS, method_color, method_label, num
+from .style import EXACT_COLOR, INDICATOR_SYMBOLS, method_color, method_groups, method_label, num
 
 
 def window_ylim(lines_xy, lo, hi, pad=0.08):
@@ -194,8 +194,32 @@ def history_figure(results_dir, out_dir, quantity, study="identical-dissipation"
     dt_us = float(ref.attrs.get("dt", np.median(np.diff(ref.data["t"])))) * 1e6
     windows, still = history_windows(hist, quantity, t_imp, t_rel, dt_us)
 
-    fig = plt.figure(figsize=(11 if len(windows) <= 2 else 14, 7.6), layout="constrained")
-    gs = fig.add_gridspec(2, len(windows), height_ratios=[1.15, 1])
+    # More than six methods: one block of panels per group of at most six (style.method_groups),
+    # the same windows and scales in each, so that every curve can be told from its neighbours.
+    groups = method_groups([h.method for h in hist])
+    everyone = hist
+    fig = plt.figure(figsize=(11 if len(windows) <= 2 else 14, 7.6 * len(groups)), layout="constrained")
+    outer = fig.add_gridspec(len(groups), 1)
+    letters = iter("abcdefghijklmnopqrstuvwxyz")
+    for row, group in enumerate(groups):
+        draw_history_block(fig, outer[row], [everyone[i] for i in group], windows, still, quantity, key, exact_key,
+                           ylabel, scale, ref, bodies, t_imp, t_rel, dt_us, letters,
+                           f"methods {row + 1} of {len(groups)}: " if len(groups) > 1 else "")
+    results_path = Path(results_dir) / f"{study}.h5"
+    if bodies and results_path.exists():  # a history file of a scene of bodies does not describe it
+        scene = results_scene(Results(results_path))
+    else:
+        scene = scene_text({k: ref.attrs[k] for k in DEFAULT_SCENE if k in ref.attrs} | ({"dt": ref.attrs["dt"]} if "courant" not in ref.attrs and "dt" in ref.attrs else {}))
+    fig.suptitle(f"{title} {subject}{scene_sep}{scene}")
+    return [save(fig, out_dir, name)]
+
+
+def draw_history_block(fig, cell, hist, windows, still, quantity, key, exact_key, ylabel, scale, ref, bodies,
+                       t_imp, t_rel, dt_us, letters, group_text):
+    """One block of Figs 5-6 in the grid cell `cell`: the whole run of the methods `hist` over the
+    exact solution, and the zoom windows under it; panel letters from the iterator `letters`,
+    `group_text` before the whole run's title when the methods are split into groups."""
+    gs = cell.subgridspec(2, len(windows), height_ratios=[1.15, 1])
     ax = fig.add_subplot(gs[0, :])
     zooms = [fig.add_subplot(gs[1, k]) for k in range(len(windows))]
     series = []
@@ -221,18 +245,17 @@ def history_figure(results_dir, out_dir, quantity, study="identical-dissipation"
     ax.set_xlabel("t [µs]")
     ax.set_ylabel(ylabel)
     if any(w[0] == "release" for w in windows):
-        ax.set_title("(a) the whole run; boxes: the zoomed windows")
+        ax.set_title(f"({next(letters)}) {group_text}the whole run; boxes: the zoomed windows")
     elif t_rel >= ref.t_us[-1] - 2 * dt_us:
-        ax.set_title(f"(a) the whole run, to the exact release at its last step (t = {t_rel:.1f} µs); "
+        ax.set_title(f"({next(letters)}) {group_text}the whole run, to the exact release at its last step (t = {t_rel:.1f} µs); "
                      "boxes: the zoomed windows")
     else:
-        ax.set_title("(a) the whole run, in contact to its end; boxes: the zoomed windows")
+        ax.set_title(f"({next(letters)}) {group_text}the whole run, in contact to its end; boxes: the zoomed windows")
     if still:  # say why the pressure jumps have no velocity zoom
         ax.text(0.5, 0.72, "in contact, the contact node stays at v = 0 (to round-off) through the jumps of the "
                 "exact pressure at t = " + ", ".join(f"{w:.1f}" for w, _, _ in still) + " µs: no zoom there",
                 transform=ax.transAxes, ha="center", va="bottom", fontsize=8.5, color="0.2",
                 bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor="0.6", alpha=0.92))
-    letters = "bcdefg"
     for z, (what, lo, hi, zoom_title), letter in zip(zooms, windows, letters):
         z.set_xlim(lo, hi)
         ylim, left_out = bulk_ylim(series, exact, lo, hi)
@@ -245,7 +268,7 @@ def history_figure(results_dir, out_dir, quantity, study="identical-dissipation"
                     line.set_linewidth(0.8)
             unit = ylabel[ylabel.index("[") + 1:-1]
             note = "\n".join(f"{name} leaves the frame: {num(round(a, 2))} to {num(round(b, 2))} {unit}"
-                              for name, a, b in left_out) + " (see (a))"
+                              for name, a, b in left_out) + " (see the whole run above)"
             z.text(0.98, 0.97, note, transform=z.transAxes, ha="right", va="top", fontsize=8,
                    color="0.15", zorder=6, bbox=dict(boxstyle="round,pad=0.3", facecolor="white",
                                                      edgecolor="0.6", alpha=0.92))
@@ -262,13 +285,6 @@ def history_figure(results_dir, out_dir, quantity, study="identical-dissipation"
         ax.legend(loc="upper right", framealpha=0.92)
     else:  # the velocity oscillates after the release: the empty band between 0 and −v0 before it
         ax.legend(loc="center left", bbox_to_anchor=(0.2, 0.40), framealpha=0.92, fontsize=8)
-    results_path = Path(results_dir) / f"{study}.h5"
-    if bodies and results_path.exists():  # a history file of a scene of bodies does not describe it
-        scene = results_scene(Results(results_path))
-    else:
-        scene = scene_text({k: ref.attrs[k] for k in DEFAULT_SCENE if k in ref.attrs} | ({"dt": ref.attrs["dt"]} if "courant" not in ref.attrs and "dt" in ref.attrs else {}))
-    fig.suptitle(f"{title} {subject}{scene_sep}{scene}")
-    return [save(fig, out_dir, name)]
 
 
 def fig5(results_dir, out_dir):

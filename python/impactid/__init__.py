@@ -35,6 +35,7 @@ import tomli_w
 
 from . import _impactid
 from ._results import open_results
+from ._plot import plot
 
 __all__ = [
     "Run",
@@ -44,6 +45,7 @@ __all__ = [
     "spectral",
     "run_plan",
     "open_results",
+    "plot",
     "plan_text",
     "parameters",
     "kernels",

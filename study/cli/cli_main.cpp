@@ -15,6 +15,7 @@
 #include "study/cli/merge_command.hpp"
 #include "study/cli/methods_command.hpp"
 #include "study/cli/model_export.hpp"
+#include "study/cli/plot_command.hpp"
 #include "study/cli/run_command.hpp"
 #include "study/cli/simulate_command.hpp"
 #include "study/cli/spectral_command.hpp"
@@ -127,6 +128,7 @@ int impactid_main(int argc, char** argv, const Runners& runners) {
       impactid::add_spectral_command(app), impactid::add_run_command(app, runners),
       impactid::add_export_command(app),   impactid::add_export_model_command(app),
       impactid::add_methods_command(app),  impactid::add_merge_command(app),
+      impactid::add_plot_command(app),
   };
   if (argc <= 1) {  // nothing asked: what there is to ask, as --help gives it
     std::cout << app.help();

@@ -187,6 +187,15 @@ void PlanReader::read_root() {
     } else if (e.key == "scene") {
       const toml::table& scene =
           table(node, e.key, "must be a table ([scene]) or the name of a scene file");
+      if (const toml::node* file = scene.get("scene"); file && file->is_string()) {
+        // TOML puts a key under the last [table] header above it: `scene = "FILE"` written after
+        // [scene] is scene.scene, which is no key of a scene.
+        fail(*file, "scene.scene",
+             "a scene file is named by the top-level key scene = " + written(*file) +
+                 ", on a line above the plan's first [table] header, not under [scene]: move it "
+                 "there and remove [scene] (a plan's scene is either a [scene] table or a scene "
+                 "file; docs/model-files.md)");
+      }
       if (is_scene_of_bodies(scene)) {
         plan_->base.bodies =
             read_scene_of_bodies(scene, "scene",

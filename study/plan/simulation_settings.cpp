@@ -316,6 +316,13 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
                             "is a key of the one-body rod: a model (kind = \"matrices\") has its "
                             "matrices, initial state and contacts instead"};
     }
+    // The rod's lumped or consistent mass: a model's M is its file, so anything but the default
+    // would be silently ignored.
+    if (s.scene.mass != MassMatrix::lumped) {
+      return ParameterError{"mass", to_string(s.scene.mass),
+                            "is a key of the one-body rod: a model's mass matrix is its file "
+                            "([scene.matrices] mass; lump it there)"};
+    }
     ModelScene scene = *s.model;
     if (s.courant_given) {
       // A model's Courant number is Δt·ω/2, ω the Gershgorin bound of its highest frequency
