@@ -38,8 +38,8 @@
 // end-of-step constraint leaves the contact DOF at rest on the wall, the same persistent-contact
 // limit as central difference's forward-increment multiplier, reached from the implicit side;
 // HHT's reverses the DOF's velocity and converges to another limit, which the check exposes. Why
-// extrapolate: backward Euler is first order, and on the shipped block its runs alone come within
-// 1e-2 of the reference only at Δt/256 (32 s), the extrapolated ones at Δt/64 (8 s).
+// extrapolate: backward Euler is first order, and its runs alone come as close to the reference
+// only after about two more halvings, each twice the cost of all the halvings before it.
 // The reference's estimated error, `error`, is the larger of its last change and that difference:
 // every ε measured against it is uncertain by about that much. An untrusted reference makes every
 // run measured against it `unverified` (metrics/verdict.hpp) and `impactid simulate` and `compare`
@@ -90,8 +90,8 @@ struct ModelReference {
   bool trusted() const;
   /// The largest disagreement of a trusted reference: 10 times the convergence tolerance (1e-2 at
   /// a model's default), an order looser than the reference's own change, because the check's
-  /// extrapolated limit is itself an estimate (measured on the block: 0.84 % at Δt/64 against the
-  /// central-difference reference's 0.1 % last change).
+  /// extrapolated limit is itself an estimate, of a first-order method's limit, not a converged
+  /// solution (the commit that added the check has the measurements).
   double agreement_tolerance() const { return 10.0 * options.tolerance; }
 
   /// Whether the primary contact has samples to compare with.

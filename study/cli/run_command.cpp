@@ -595,6 +595,10 @@ int run_plan(const RunArguments& args, const Runners& runners) {
         std::fprintf(stderr, "impactid run: practical range (%s): %s\n", range.thresholds.c_str(),
                      practical_summary(range).c_str());
       }
+      if (const std::string verdicts = verdict_summary(results); !verdicts.empty()) {
+        std::fprintf(stderr, "impactid run: verdicts (accurate within %s): %s\n",
+                     thresholds_text(plan.base.verdict).c_str(), verdicts.c_str());
+      }
       save(std::move(results), elapsed());
       if (plan.output.histories && !outcome.interrupted) {
         write_point_histories(points, indices, *plan.output.histories);

@@ -93,6 +93,7 @@ StudyResults empty_work_precision_results(const Plan& plan) {
        "of the run, independent of the machine; kept whatever the status",
        std::vector<double>(size, kNaN)});
   add_reference_columns(plan.base, size, r);
+  add_verdict_column(plan.base, size, r);
 
   for (std::size_t m = 0; m < wp.methods.size(); ++m) {
     r.text_attributes.emplace_back("method_label_" + std::to_string(m), wp.methods[m].label);
@@ -174,6 +175,7 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
     }
     for (const StoredIndicator& s : stored) s.column->values[i] = s.info->value(evaluation);
     store_reference_columns(results, i, evaluation);
+    store_verdict(results, i, evaluation);
     wall_min->values[i] = fastest;
     wall_max->values[i] = slowest;
     steps->values[i] = static_cast<double>(evaluation.summary.steps);
