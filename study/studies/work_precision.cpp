@@ -93,7 +93,6 @@ StudyResults empty_work_precision_results(const Plan& plan) {
        "of the run, independent of the machine; kept whatever the status",
        std::vector<double>(size, kNaN)});
   add_reference_columns(plan.base, size, r);
-  add_verdict_column(plan.base, size, r);
 
   for (std::size_t m = 0; m < wp.methods.size(); ++m) {
     r.text_attributes.emplace_back("method_label_" + std::to_string(m), wp.methods[m].label);
@@ -103,6 +102,7 @@ StudyResults empty_work_precision_results(const Plan& plan) {
       "timing",
       "wall_time_s is the minimum of `repeats` runs of each point, points one at a time on one "
       "thread");
+  add_verdict_column(plan.base, size, r);  // after the study's own attributes, as it came later
   return r;
 }
 
