@@ -64,7 +64,65 @@ bool refined_samples(const AssembledScene& scene, int k, const ReferenceOptions&
   return true;
 }
 
+// A converged solution by one method: the run refined until the primary contact's change is
+// below the tolerance, or the last one computed.
+struct Refinement {
+  std::vector<ContactSamples> contacts;  ///< empty when every halving failed
+  int refinements = 0;
+  double dt = 0.0;
+  double change = kNaN;
+  bool converged = false;
+  std::string message;
+};
+
+Refinement refine(const AssembledScene& assembled, const ReferenceOptions& options, std::size_t p) {
+  Refinement r;
+  // A halving whose run is not ok (central difference above its stability limit at the first
+  // halvings) is passed over until one is; after that, a failed run ends the refinement.
+  std::optional<std::vector<ContactSamples>> previous;
+  for (int k = 1; k <= options.max_refinements; ++k) {
+    std::vector<ContactSamples> next;
+    if (!refined_samples(assembled, k, options, next, r.message)) {
+      if (previous) return r;
+      continue;
+    }
+    r.message.clear();
+    r.refinements = k;
+    r.dt = assembled.dt / static_cast<double>(1L << k);
+    if (previous) {
+      r.change = std::max(relative_change(next[p].pressure, (*previous)[p].pressure),
+                          relative_change(next[p].velocity, (*previous)[p].velocity));
+    }
+    r.contacts = next;
+    if (previous && r.change < options.tolerance) {
+      r.converged = true;
+      return r;
+    }
+    previous = std::move(next);
+  }
+  if (r.contacts.empty()) {
+    r.refinements = options.max_refinements;
+    return r;  // every halving failed: the last one's message says why
+  }
+  r.message = "the tolerance was not reached in " + std::to_string(options.max_refinements) +
+              " halvings of the step";
+  return r;
+}
+
 }  // namespace
+
+bool ModelReference::trusted() const {
+  if (refinements < 0) return converged;  // a supplied history that covers the run
+  return converged && has_check && check_converged;
+}
+
+CheckMethod check_method_for(const MethodParams& method, const Model& model) {
+  if (kind_of(method) != MethodKind::backward_euler) {
+    return {default_params(MethodKind::backward_euler), 1};
+  }
+  if (is_diagonal(model.mass)) return {CentralDifferenceParams{}, 2};
+  return {HhtParams{.alpha = -0.3}, 2};
+}
 
 bool ModelReference::usable(int primary) const {
   const auto k = static_cast<std::size_t>(primary);
@@ -75,11 +133,20 @@ std::string ModelReference::description() const {
   if (refinements < 0) {
     return "supplied: " + scene.model->reference->source + (message.empty() ? "" : "; " + message);
   }
-  return std::string(converged ? "converged" : "not converged") + ": " +
-         to_string(kind_of(options.method)) + " at dt/" + std::to_string(1L << refinements) +
-         " = " + format_value(dt) + ", relative change " + format_value(change) +
-         " at the last halving (tolerance " + format_value(options.tolerance) + ")" +
+  const char* state = !converged ? "not converged" : trusted() ? "converged" : "not verified";
+  return std::string(state) + ": " + to_string(kind_of(options.method)) + " at dt/" +
+         std::to_string(1L << refinements) + " = " + format_value(dt) + ", relative change " +
+         format_value(change) + " at the last halving (tolerance " +
+         format_value(options.tolerance) + ")" + check_text() +
          (message.empty() ? "" : "; " + message);
+}
+
+std::string ModelReference::check_text() const {
+  if (!has_check) return "";
+  return "; checked by " + std::string(to_string(kind_of(check_method))) + " at dt/" +
+         std::to_string(1L << check_refinements) + ", extrapolated: difference " +
+         format_value(disagreement) + " (at most " + format_value(agreement_tolerance()) +
+         "), estimated error " + format_value(error);
 }
 
 ReferenceOptions model_reference_defaults(const Model& model) {
@@ -124,36 +191,59 @@ ModelReference model_reference(const ModelScene& scene, const ReferenceOptions& 
     return r;
   }
   const auto p = static_cast<std::size_t>(primary);
-  // A halving whose run is not ok (central difference above its stability limit at the first
-  // halvings) is passed over until one is; after that, a failed run ends the refinement.
+  const Refinement main = refine(assembled, options, p);
+  r.contacts = main.contacts;
+  r.refinements = main.refinements;
+  r.dt = main.dt;
+  r.change = main.change;
+  r.converged = main.converged;
+  r.message = main.message;
+  if (!r.converged) return r;
+  ReferenceOptions check_options = options;
+  const CheckMethod check = check_method_for(options.method, model);
+  check_options.method = check.method;
+  r.has_check = true;
+  r.check_method = check.method;
+  // The check's runs at Δt/2^k, k = 1, 2, …, each after the second extrapolated (Richardson, by
+  // the check method's order q: x_k + (x_k − x_{k−1})/(2^q − 1)) and compared with the
+  // reference, until they agree within the agreement tolerance or the halvings run out.
   std::optional<std::vector<ContactSamples>> previous;
-  r.converged = false;
+  std::string failure;
   for (int k = 1; k <= options.max_refinements; ++k) {
     std::vector<ContactSamples> next;
-    if (!refined_samples(assembled, k, options, next, r.message)) {
-      if (previous) return r;
+    if (!refined_samples(assembled, k, check_options, next, failure)) {
+      if (previous) break;
       continue;
     }
-    r.message.clear();
-    r.refinements = k;
-    r.dt = assembled.dt / static_cast<double>(1L << k);
+    r.check_refinements = k;
     if (previous) {
-      r.change = std::max(relative_change(next[p].pressure, (*previous)[p].pressure),
-                          relative_change(next[p].velocity, (*previous)[p].velocity));
+      const double factor = 1.0 / static_cast<double>((1L << check.order) - 1);
+      ContactSamples extrapolated = next[p];
+      for (std::size_t i = 0; i < extrapolated.pressure.size(); ++i) {
+        extrapolated.pressure[i] += factor * (next[p].pressure[i] - (*previous)[p].pressure[i]);
+        extrapolated.velocity[i] += factor * (next[p].velocity[i] - (*previous)[p].velocity[i]);
+      }
+      r.check_change = std::max(relative_change(next[p].pressure, (*previous)[p].pressure),
+                                relative_change(next[p].velocity, (*previous)[p].velocity));
+      r.disagreement = std::max(relative_change(r.contacts[p].pressure, extrapolated.pressure),
+                                relative_change(r.contacts[p].velocity, extrapolated.velocity));
+      if (r.disagreement <= r.agreement_tolerance()) {
+        r.check_converged = true;
+        break;
+      }
     }
-    r.contacts = next;
-    if (previous && r.change < options.tolerance) {
-      r.converged = true;
-      return r;
-    }
+    failure.clear();
     previous = std::move(next);
   }
-  if (r.contacts.empty()) {
-    r.refinements = options.max_refinements;
-    return r;  // every halving failed: the last one's message says why
+  r.error = std::isnan(r.disagreement) ? kNaN : std::max(r.change, r.disagreement);
+  if (!r.check_converged) {
+    r.message = "its check by " + std::string(to_string(kind_of(r.check_method))) +
+                (std::isnan(r.disagreement)
+                     ? " could not be computed: " + failure
+                     : " disagrees by " + format_value(r.disagreement) + " (more than " +
+                           format_value(r.agreement_tolerance()) + ") after " +
+                           std::to_string(r.check_refinements) + " halvings");
   }
-  r.message = "the tolerance was not reached in " + std::to_string(options.max_refinements) +
-              " halvings of the step";
   return r;
 }
 

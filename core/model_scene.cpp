@@ -1,5 +1,6 @@
 #include "core/model_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -141,6 +142,24 @@ AssembledScene assemble(const ModelScene& s) {
   sparse->constraints = std::move(constraints);
   out.sparse = std::move(sparse);
   return out;
+}
+
+ModelUnits model_units(const std::string& text) {
+  std::vector<std::string> words;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    std::string word = text.substr(start, end - start);
+    word.erase(0, word.find_first_not_of(' '));
+    word.erase(word.find_last_not_of(' ') + 1);
+    words.push_back(word);
+    start = end + 1;
+  }
+  for (const std::string& w : words) {
+    if (w.empty() || w.find_first_of(" \t") != std::string::npos) return {};
+  }
+  if (words.size() != 4) return {};
+  return {words[0], words[1], words[2], words[3]};
 }
 
 }  // namespace impactid

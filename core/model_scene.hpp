@@ -74,6 +74,19 @@ struct Model {
 /// there. O(nnz); computed when the model is read (Model::omega_bound).
 double gershgorin_omega(const SparseMatrix& mass, const SparseMatrix& stiffness);
 
+/// The units a model's reports give its quantities, from its `units` text when that names the
+/// force, length, time and mass units in this order, comma-separated ("N, mm, s, t", as the shipped
+/// models and `impactid export-model` write it): pressure force/length^2, velocity length/time,
+/// displacement length, energy force*length, time time. All empty for any other text, which stays
+/// a free description.
+struct ModelUnits {
+  std::string force, length, time, mass;
+  std::string pressure() const { return force.empty() ? "" : force + "/" + length + "^2"; }
+  std::string velocity() const { return length.empty() ? "" : length + "/" + time; }
+  std::string energy() const { return force.empty() ? "" : force + "*" + length; }
+};
+ModelUnits model_units(const std::string& text);
+
 struct ModelScene {
   std::shared_ptr<const Model> model;
   double dt = 0.0;     ///< > 0, in the model's time unit

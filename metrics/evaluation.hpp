@@ -10,6 +10,7 @@
 
 #include "core/run_record.hpp"
 #include "metrics/indicators.hpp"
+#include "metrics/verdict.hpp"
 
 namespace impactid {
 
@@ -28,6 +29,17 @@ struct Evaluation {
   /// reference described in words (empty for the rod).
   double reference_dt = std::numeric_limits<double>::quiet_NaN();
   std::string reference;
+  /// Whether the reference can be trusted: false for a converged reference that did not converge
+  /// or (a model) whose two methods disagree (core/model_reference.hpp); true for an exact one.
+  bool reference_trusted = true;
+  /// The reference's own estimated error, in eq. 18's form on the primary contact (the largest of
+  /// its pressure's and velocity's): a model's converged reference, the larger of its last
+  /// halving's change and its two methods' difference; a scene of bodies' converged one, its last
+  /// change; 0 for an exact solution; NaN for a supplied history. An ε below it is not resolved.
+  double reference_error = 0.0;
+  /// metrics/verdict.hpp, from the summary's status, the indicators, reference_trusted and the
+  /// simulation's thresholds (study/studies/evaluation.cpp sets it).
+  Verdict verdict = Verdict::failed;
 };
 
 }  // namespace impactid

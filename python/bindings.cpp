@@ -11,12 +11,14 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -124,6 +126,9 @@ py::dict run_dict(const Simulation& sim, const Evaluation& e,
   out["steps"] = e.summary.steps;
   out["planned_steps"] = e.summary.planned_steps;
   out["status"] = to_string(e.summary.status);
+  out["verdict"] = to_string(e.verdict);
+  out["verdict_reason"] =
+      verdict_reason(e.summary.status, e.indicators, e.reference_trusted, sim.verdict);
   out["message"] = e.summary.message;
   out["warning"] = e.summary.warning;
   out["contact"] = to_string(sim.run.contact.law);
@@ -171,6 +176,8 @@ py::dict run_dict(const Simulation& sim, const Evaluation& e,
   }
   out["contacts"] = contacts;
   out["reference"] = e.reference;
+  out["reference_trusted"] = e.reference_trusted;
+  out["reference_error"] = finite_or_none(e.reference_error);
   py::list history;
   for (const HistoryColumn& c :
        history_columns(sim, workspace.trace, sim.model ? &*workspace.model_reference : nullptr)) {
@@ -201,7 +208,8 @@ py::list compare(const std::optional<std::string>& scene_file,
                  const std::optional<std::string>& scene_text, const std::string& scene_source,
                  const Given& set, const Given& params) {
   const SimulationSettings base = settings_of(scene_file, scene_text, scene_source, set, params);
-  py::list out;
+  // In the command's order: by verdict, then by eps_p (metrics/verdict.hpp: ranks_before).
+  std::vector<std::tuple<Verdict, double, py::dict>> runs;
   SimulationWorkspace workspace;
   for (const MethodDescriptor& method : method_registry()) {
     SimulationSettings settings = base;
@@ -213,8 +221,13 @@ py::list compare(const std::optional<std::string>& scene_file,
       py::gil_scoped_release release;
       e = evaluate(sim, workspace);
     }
-    out.append(run_dict(sim, e, workspace));
+    runs.emplace_back(e.verdict, e.indicators.eps_p, run_dict(sim, e, workspace));
   }
+  std::stable_sort(runs.begin(), runs.end(), [](const auto& a, const auto& b) {
+    return ranks_before(std::get<0>(a), std::get<1>(a), std::get<0>(b), std::get<1>(b));
+  });
+  py::list out;
+  for (auto& run : runs) out.append(std::get<2>(run));
   return out;
 }
 

@@ -308,7 +308,8 @@ TEST(PlanErrors, UnknownKeys) {
       error_of("[output]\nfiel = \"a.h5\"\n"),
       "bad.toml:2:8: output.fiel = \"a.h5\": unknown key (output keys: file, "
       "indicators, checkpoint_seconds, histories, peak_prominence, reference_tolerance, "
-      "reference_method, reference_max_refinements, energy_growth_limit)");
+      "reference_method, reference_max_refinements, energy_growth_limit, verdict_eps_p, "
+      "verdict_nop_p, verdict_eps_v, verdict_nop_v)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\nbogus = 2\n"),
             "bad.toml:3:9: study.bogus = 2: unknown key (grid keys: kind, axes, practical)");
   EXPECT_EQ(error_of("[study]\nkind = \"grid\"\n[study.axes]\n"
@@ -516,7 +517,8 @@ courant = 1
                 "beta, gamma, rho_inf, substep_ratio, theta, p, cdm_velocity, hht_contact, "
                 "peak_prominence, "
                 "reference_tolerance, reference_method, reference_max_refinements, "
-                "energy_growth_limit)");
+                "energy_growth_limit, verdict_eps_p, verdict_nop_p, verdict_eps_v, "
+                "verdict_nop_v)");
   EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = []\n"),
             "bad.toml:3:10: study.points = []: must hold at least one point");
   EXPECT_EQ(error_of("[study]\nkind = \"list\"\npoints = [{ elements = 2.5 }]\n"),

@@ -95,7 +95,10 @@ class Run:
     """One simulation: what `impactid simulate --json` reports, and its --history columns.
 
     Attributes: method, parameters (every value the run used, derived ones included), status
-    ("ok", "unstable" or "failed"), message, warning, dt, steps, planned_steps, wall_time_s,
+    ("ok", "unstable" or "failed"), verdict (what the run is worth: "accurate", "oscillating",
+    "inaccurate", "unverified", "unstable" or "failed", metrics/verdict.hpp) and verdict_reason,
+    reference, reference_trusted and reference_error (the reference's estimated error, None
+    when unknown), message, warning, dt, steps, planned_steps, wall_time_s,
     contact; the indicators (eps_p, eps_v, nop_p, nop_v, p_max, p_max_ratio, contact_episodes,
     energy_ratio, and with a far wall far_contact_episodes, impacts, max_penetration) as
     attributes and in `indicators`. An indicator is None when the run did not finish ("ok")
@@ -150,7 +153,7 @@ class Run:
             for name, values in self.history.items()
             if name != "t"
         }
-        attrs = {"method": self.method, "status": self.status}
+        attrs = {"method": self.method, "status": self.status, "verdict": self.verdict}
         attrs.update({k: v for k, v in self.parameters.items()})
         attrs.update(self.indicators)
         return xarray.Dataset(
@@ -246,9 +249,9 @@ def simulate(method=None, *, scene=None, set: dict | None = None, **params) -> R
 def compare(scene=None, *, set: dict | None = None, **params) -> dict[str, Run]:
     """`impactid compare`: every method at its default parameters on one scene.
 
-    Returns {method name: Run} in the command's order. The keywords are the scene's and the
-    output's parameters (a method parameter is refused, as the command has no such option);
-    None leaves one as the scene or the defaults have it.
+    Returns {method name: Run} in the command's order: by verdict, then by eps_p. The keywords
+    are the scene's and the output's parameters (a method parameter is refused, as the command
+    has no such option); None leaves one as the scene or the defaults have it.
     """
     for name in params:
         info = _PARAMETERS.get(name)

@@ -706,6 +706,10 @@ int run_plan(const RunArguments& args, const Runners& runners) {
                      practical_summary(range).c_str());
       }
       const long not_ok = count_not_ok(results, indices);
+      if (const std::string verdicts = verdict_summary(results); !verdicts.empty()) {
+        std::fprintf(stderr, "impactid run: verdicts (accurate within %s): %s\n",
+                     thresholds_text(plan.base.verdict).c_str(), verdicts.c_str());
+      }
       save(std::move(results), elapsed());
       if (plan.output.histories && !outcome.interrupted) {
         write_point_histories(points, indices, histories_folder(plan, args.output));

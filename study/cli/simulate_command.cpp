@@ -1,5 +1,6 @@
 #include "study/cli/simulate_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -78,6 +79,9 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("steps").value(e.summary.steps);
   json.key("planned_steps").value(e.summary.planned_steps);
   json.key("status").value(to_string(e.summary.status));
+  json.key("verdict").value(to_string(e.verdict));
+  json.key("verdict_reason")
+      .value(verdict_reason(e.summary.status, e.indicators, e.reference_trusted, sim.verdict));
   json.key("message").value(e.summary.message);
   json.key("warning").value(e.summary.warning);
   json.key("contact").value(to_string(sim.run.contact.law));
@@ -115,6 +119,8 @@ void write_json(const Simulation& sim, const Evaluation& e) {
       primary = primary_contact_index(*sim.model);
       json.key("reference").value(e.reference);
     }
+    json.key("reference_trusted").value(e.reference_trusted);
+    json.key("reference_error").value(e.reference_error);
     json.key("primary_contact").value(contacts[static_cast<std::size_t>(primary)]);
     json.key("contacts").begin_array();
     for (std::size_t k = 0; k < contacts.size(); ++k) {
@@ -201,6 +207,9 @@ void write_text(const Simulation& sim, const Evaluation& e) {
   }
   std::printf("status      %s%s%s\n", to_string(e.summary.status),
               e.summary.message.empty() ? "" : ": ", e.summary.message.c_str());
+  std::printf(
+      "verdict     %s (%s)\n", to_string(e.verdict),
+      verdict_reason(e.summary.status, e.indicators, e.reference_trusted, sim.verdict).c_str());
   write_contact_law(sim, e);
   if (e.summary.status != RunStatus::ok) {
     // The indicators of a run that did not finish are not results (NaN in JSON and in files).
@@ -214,8 +223,20 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     for (const ModelContact& c : sim.model->model->contacts) names.push_back(c.name);
     write_contacts(names, primary_contact_index(*sim.model), true, e);
     std::printf("reference   %s\n", e.reference.c_str());
-    std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g\n",
-                e.indicators.energy_ratio, e.indicators.max_penetration);
+    std::printf("            estimated error %.3g: an eps below it is not resolved\n",
+                e.reference_error);
+    // The penetration is tracked with a list of constraints and with a law that allows one
+    // (penalty, augmented Lagrangian): a single Lagrange contact holds its constraint at every
+    // sample, and its step loop is kept free of the bookkeeping (RunSummary::max_penetration).
+    if (std::isfinite(e.indicators.max_penetration)) {
+      std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g\n",
+                  e.indicators.energy_ratio, e.indicators.max_penetration);
+    } else {
+      std::printf(
+          "energy      at t_end / initial = %.6g; penetration not tracked (a single Lagrange "
+          "contact holds its constraint at every sample)\n",
+          e.indicators.energy_ratio);
+    }
     std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
     return;
   }
@@ -310,7 +331,7 @@ std::function<int()> add_simulate_command(CLI::App& app) {
       }
       if (!options->json) std::printf("history     %s\n", options->history.c_str());
     }
-    return 0;
+    return e.reference_trusted ? 0 : kExitUnverified;
   };
 }
 
@@ -328,8 +349,14 @@ std::function<int()> add_compare_command(CLI::App& app) {
     if (!apply_scene_options(*scene, base, "compare") || !apply_options(*given, base, "compare")) {
       return kExitBadInput;
     }
-    std::printf("%-18s %-30s %-8s %9s %6s %9s %6s %8s %8s %9s\n", "method", "parameters", "status",
-                "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0", "time[ms]");
+    // Every method's run first, then the table sorted by verdict (the order of severity,
+    // metrics/verdict.hpp), then by eps_p, then in the registry's order.
+    struct Row {
+      MethodKind kind;
+      std::string params;
+      Evaluation e;
+    };
+    std::vector<Row> rows;
     SimulationWorkspace workspace;
     for (const MethodDescriptor& method : method_registry()) {
       const MethodKind kind = method.kind;
@@ -337,7 +364,7 @@ std::function<int()> add_compare_command(CLI::App& app) {
       settings.method = MethodSettings{.kind = kind};
       const auto sim = build_or_report(settings, "compare");
       if (!sim) return kExitBadInput;
-      const Evaluation e = evaluate(*sim, workspace);
+      Evaluation e = evaluate(*sim, workspace);
       std::string params;
       for (const ReportedValue& v : method.values(sim->method)) {
         if (v.derived) continue;
@@ -347,10 +374,33 @@ std::function<int()> add_compare_command(CLI::App& app) {
         params += buffer;
       }
       if (params.empty()) params = "-";
-      const Indicators& i = e.indicators;
-      std::printf("%-18s %-30s %-8s %9.4g %6g %9.4g %6g %8.4g %8.4g %9.3g\n", to_string(kind),
-                  params.c_str(), to_string(e.summary.status), i.eps_p, i.nop_p, i.eps_v, i.nop_v,
-                  i.p_max_ratio, i.energy_ratio, e.summary.wall_time_s * 1e3);
+      rows.push_back({kind, params, std::move(e)});
+    }
+    std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
+      return ranks_before(a.e.verdict, a.e.indicators.eps_p, b.e.verdict, b.e.indicators.eps_p);
+    });
+    const bool measured = base.model || base.bodies;  // against a computed reference
+    std::printf("%-18s %-30s %-8s %-11s %9s %6s %9s %6s %8s %8s %9s%s\n", "method", "parameters",
+                "status", "verdict", "eps_p", "NoP_p", "eps_v", "NoP_v", "p_max/pc", "E_end/E0",
+                "time[ms]", measured ? "   ref_err" : "");
+    bool trusted = true;
+    for (const Row& row : rows) {
+      const Indicators& i = row.e.indicators;
+      std::printf("%-18s %-30s %-8s %-11s %9.4g %6g %9.4g %6g %8.4g %8.4g %9.3g",
+                  to_string(row.kind), row.params.c_str(), to_string(row.e.summary.status),
+                  to_string(row.e.verdict), i.eps_p, i.nop_p, i.eps_v, i.nop_v, i.p_max_ratio,
+                  i.energy_ratio, row.e.summary.wall_time_s * 1e3);
+      if (measured) std::printf(" %9.3g", row.e.reference_error);
+      std::printf("\n");
+      trusted = trusted && row.e.reference_trusted;
+    }
+    std::printf("verdicts    accurate within %s\n", thresholds_text(base.verdict).c_str());
+    if (!rows.empty() && !rows.front().e.reference.empty()) {
+      std::printf("reference   %s\n", rows.front().e.reference.c_str());
+    }
+    if (!trusted) {
+      std::printf("unverified  the reference is not trusted: no verdict above is a result\n");
+      return kExitUnverified;
     }
     return 0;
   };

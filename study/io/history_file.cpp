@@ -109,12 +109,16 @@ std::vector<Column> model_history_columns(const ModelScene& scene, const Contact
   const Model& model = *scene.model;
   const auto n = static_cast<std::size_t>(trace.size());
   const std::string units = model.units.empty() ? "model units" : model.units;
+  // The scene's units when its `units` names them (core/model_scene.hpp: model_units), else none.
+  const ModelUnits u = model_units(model.units);
   std::vector<Column> columns{
-      {"t", "s", "sample time t_i = i*dt", {}},
-      {"pressure", "", "primary contact's pressure lambda/area (" + units + ")", trace.pressure},
-      {"velocity", "", "primary contact's velocity DOF (" + units + ")", trace.velocity},
-      {"displacement", "", "primary contact's velocity DOF's displacement", trace.displacement},
-      {"energy", "",
+      {"t", u.time, "sample time t_i = i*dt", {}},
+      {"pressure", u.pressure(), "primary contact's pressure lambda/area (" + units + ")",
+       trace.pressure},
+      {"velocity", u.velocity(), "primary contact's velocity DOF (" + units + ")", trace.velocity},
+      {"displacement", u.length, "primary contact's velocity DOF's displacement",
+       trace.displacement},
+      {"energy", u.energy(),
        "kinetic + strain energy (cdm within its explicit limit: its own discrete energy)",
        trace.energy},
   };
@@ -123,15 +127,16 @@ std::vector<Column> model_history_columns(const ModelScene& scene, const Contact
   const std::string description = reference.description();
   for (std::size_t k = 0; k < model.contacts.size(); ++k) {
     const std::string& name = model.contacts[k].name;
-    columns.push_back({"pressure." + name, "", "pressure lambda/area at contact " + name,
+    columns.push_back({"pressure." + name, u.pressure(), "pressure lambda/area at contact " + name,
                        trace.contact_pressure[k]});
-    columns.push_back({"velocity." + name, "", "velocity of the velocity DOF of contact " + name,
+    columns.push_back({"velocity." + name, u.velocity(),
+                       "velocity of the velocity DOF of contact " + name,
                        trace.contact_velocity[k]});
     const bool has = k < reference.contacts.size() && !reference.contacts[k].pressure.empty();
     const std::vector<double> none(n, std::numeric_limits<double>::quiet_NaN());
-    columns.push_back({"reference_pressure." + name, "", description,
+    columns.push_back({"reference_pressure." + name, u.pressure(), description,
                        has ? reference.contacts[k].pressure : none});
-    columns.push_back({"reference_velocity." + name, "", description,
+    columns.push_back({"reference_velocity." + name, u.velocity(), description,
                        has ? reference.contacts[k].velocity : none});
   }
   return columns;

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "core/simulation.hpp"
+#include "metrics/verdict.hpp"
 #include "study/formats/hdf5_file.hpp"
 
 namespace impactid {
@@ -316,6 +317,17 @@ void put_value(std::ostream& out, const ResultDimension& dimension, std::size_t 
   }
 }
 
+// An indicator's value; the verdict column (study/studies/sweep.hpp) as its word, "accurate".
+void put_indicator(std::ostream& out, const ResultColumn& c, std::size_t i) {
+  const double v = c.values[i];
+  if (c.name == kVerdictColumn && v >= 0 && v < static_cast<double>(all_verdicts().size()) &&
+      v == std::floor(v)) {
+    out << to_string(all_verdicts()[static_cast<std::size_t>(v)]);
+    return;
+  }
+  put_number(out, v);
+}
+
 void write_points(std::ostream& out, const StudyResults& r) {
   std::string header;
   const auto add = [&](const std::string& label) { header += (header.empty() ? "" : ",") + label; };
@@ -344,7 +356,7 @@ void write_points(std::ostream& out, const StudyResults& r) {
     for (const ResultColumn& c : r.indicators) {
       if (all_nan(c)) continue;
       out << ',';
-      put_number(out, c.values[i]);
+      put_indicator(out, c, i);
     }
     out << '\n';
     for (std::size_t d = index.size(); d-- > 0;) {

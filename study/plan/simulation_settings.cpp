@@ -86,6 +86,18 @@ constexpr ParameterInfo kOutputParameters[] = {
      "a run is unstable once its energy exceeds this multiple of the initial energy (default "
      "1.5, > 1)",
      "", ""},
+    {"verdict_eps_p", G::output, K::real, "",
+     "largest eps_p of an accurate run; above it the verdict is inaccurate (default 0.03, >= 0)",
+     "", ""},
+    {"verdict_nop_p", G::output, K::real, "",
+     "most pressure peaks NoP_p of an accurate run; above them oscillating (default 15, >= 0)", "",
+     ""},
+    {"verdict_eps_v", G::output, K::real, "",
+     "largest eps_v of an accurate run; above it the verdict is inaccurate (default 0.06, >= 0)",
+     "", ""},
+    {"verdict_nop_v", G::output, K::real, "",
+     "most velocity peaks NoP_v of an accurate run; above them oscillating (default 15, >= 0)", "",
+     ""},
 };
 
 // The table, built once: the method rows and choice lists come from the method registry, their
@@ -220,6 +232,14 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
     s.reference.max_refinements = static_cast<int>(v);
   } else if (name == "energy_growth_limit")
     s.run.energy_growth_limit = v;
+  else if (name == "verdict_eps_p")
+    s.verdict.eps_p = v;
+  else if (name == "verdict_nop_p")
+    s.verdict.nop_p = v;
+  else if (name == "verdict_eps_v")
+    s.verdict.eps_v = v;
+  else if (name == "verdict_nop_v")
+    s.verdict.nop_v = v;
   else if (name == "penalty_stiffness")
     s.run.contact.penalty_stiffness = v;
   else if (name == "penalty_factor")
@@ -310,6 +330,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
   if (const auto* e = std::get_if<ParameterError>(&method)) return *e;
   Simulation out{s.scene,      std::nullopt, std::nullopt, std::get<MethodParams>(method),
                  s.indicators, s.run,        s.reference};
+  out.verdict = s.verdict;
   if (s.model) {
     if (!s.rod_keys.empty()) {
       return ParameterError{s.rod_keys.front().first, format_value(s.rod_keys.front().second),
@@ -387,11 +408,16 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     return ParameterError{"energy_growth_limit", format_value(out.run.energy_growth_limit),
                           "must be > 1"};
   }
+  if (auto e = validate(out.verdict)) return *e;
   return out;
 }
 
 std::optional<double> numeric_value(const Simulation& sim, std::string_view name) {
   if (const auto contact = contact_value(sim.run.contact, name)) return *contact;
+  if (name == "verdict_eps_p") return sim.verdict.eps_p;
+  if (name == "verdict_nop_p") return sim.verdict.nop_p;
+  if (name == "verdict_eps_v") return sim.verdict.eps_v;
+  if (name == "verdict_nop_v") return sim.verdict.nop_v;
   if (sim.model) {
     if (name == "dt") return sim.model->dt;
     if (name == "courant") return sim.model->dt * sim.model->model->omega_bound / 2.0;

@@ -23,6 +23,7 @@
 #include "core/scene.hpp"
 #include "core/simulation.hpp"
 #include "metrics/indicators.hpp"
+#include "metrics/verdict.hpp"
 
 namespace impactid {
 
@@ -61,6 +62,7 @@ struct SimulationSettings {
   IndicatorOptions indicators;
   RunOptions run;
   ReferenceSettings reference;
+  VerdictThresholds verdict;  ///< verdict_eps_p, verdict_nop_p, verdict_eps_v, verdict_nop_v
 };
 
 /// A complete, validated simulation.
@@ -75,6 +77,7 @@ struct Simulation {
   IndicatorOptions indicators;
   RunOptions run;
   ReferenceSettings reference;
+  VerdictThresholds verdict;  ///< how evaluate() judges the run (metrics/verdict.hpp)
 };
 
 enum class ParameterGroup { scene, method, output };

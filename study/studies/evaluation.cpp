@@ -33,6 +33,9 @@ Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
   out.reference_refinements = reference->refinements;
   out.reference_change = reference->change;
   out.reference = reference->description();
+  out.reference_trusted = reference->converged;
+  out.reference_error = reference->refinements == 0 ? 0.0 : reference->change;
+  out.verdict = judge(out.summary.status, out.indicators, out.reference_trusted, sim.verdict);
   return out;
 }
 
@@ -60,6 +63,9 @@ Evaluation evaluate_model(const Simulation& sim, SimulationWorkspace& workspace)
   out.reference_change = reference->change;
   out.reference_dt = reference->dt;
   out.reference = reference->description();
+  out.reference_trusted = reference->trusted();
+  out.reference_error = reference->error;
+  out.verdict = judge(out.summary.status, out.indicators, out.reference_trusted, sim.verdict);
   return out;
 }
 
@@ -113,6 +119,7 @@ Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
   Evaluation out;
   out.summary = simulate(sim.scene, sim.method, sim.run, workspace);
   out.indicators = evaluate_indicators(sim.scene, workspace.trace, out.summary, sim.indicators);
+  out.verdict = judge(out.summary.status, out.indicators, true, sim.verdict);
   return out;
 }
 
@@ -171,7 +178,10 @@ void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWork
                         std::span(options).subspan(begin, n),
                         std::span(indicators).subspan(begin, n));
   }
-  for (std::size_t k = 0; k < count; ++k) out[k].indicators = indicators[k];
+  for (std::size_t k = 0; k < count; ++k) {
+    out[k].indicators = indicators[k];
+    out[k].verdict = judge(summaries[k].status, indicators[k], true, simulations[k].verdict);
+  }
 }
 
 }  // namespace impactid

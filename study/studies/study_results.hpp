@@ -12,6 +12,12 @@ namespace impactid {
 
 inline constexpr int kStatusNotDone = -1;  ///< then 0, 1, 2 = RunStatus ok, unstable, failed
 
+/// The name of the verdict column (metrics/verdict.hpp): an indicator column whose values are the
+/// Verdict codes 0 accurate … 5 failed (their order in all_verdicts()), NaN for a point not done;
+/// the root attribute `verdict_thresholds` records the thresholds (the plan's [output]).
+/// Grid, list and work-precision studies have it (study/studies/sweep.hpp: add_verdict_column).
+inline constexpr const char* kVerdictColumn = "verdict";
+
 struct ResultDimension {
   std::string name;  ///< also the dataset name
   std::string units;

@@ -99,6 +99,12 @@ void add_reference_columns(const SimulationSettings& base, std::size_t size, Stu
     r.indicators.push_back({"reference_dt", "s", "reference_dt",
                             "time step of the converged reference; NaN for a supplied history",
                             std::vector<double>(size, kNaN)});
+    r.indicators.push_back(
+        {"reference_error", "1", "reference_error",
+         "estimated error of the converged reference: the larger of its last change and its "
+         "difference from the check method's converged solution, eq. 18's form on the primary "
+         "contact (core/model_reference.hpp); NaN for a supplied history",
+         std::vector<double>(size, kNaN)});
     const Model& model = *base.model->model;
     r.text_attributes.emplace_back("model_units", model.units);
     r.text_attributes.emplace_back("model_files", model.source);
@@ -111,7 +117,45 @@ void store_reference_columns(StudyResults& results, std::size_t i, const Evaluat
     if (column.name == "reference_refinements") column.values[i] = evaluation.reference_refinements;
     if (column.name == "reference_change") column.values[i] = evaluation.reference_change;
     if (column.name == "reference_dt") column.values[i] = evaluation.reference_dt;
+    if (column.name == "reference_error") column.values[i] = evaluation.reference_error;
   }
+}
+
+void add_verdict_column(const SimulationSettings& base, std::size_t size, StudyResults& r) {
+  std::string codes;
+  for (std::size_t k = 0; k < all_verdicts().size(); ++k) {
+    codes += (k ? ", " : "") + std::to_string(k) + " " + to_string(all_verdicts()[k]);
+  }
+  r.indicators.push_back(
+      {kVerdictColumn, "1", "verdict of the run (metrics/verdict.hpp)",
+       codes +
+           "; NaN not done. From the status, the primary contact's eps_p, nop_p, eps_v, nop_v "
+           "and whether the reference is trusted, with the thresholds " +
+           thresholds_text(base.verdict),
+       std::vector<double>(size, kNaN)});
+  r.text_attributes.emplace_back("verdict_thresholds", thresholds_text(base.verdict));
+}
+
+void store_verdict(StudyResults& results, std::size_t i, const Evaluation& evaluation) {
+  if (ResultColumn* column = results.find_column(kVerdictColumn)) {
+    column->values[i] = static_cast<double>(evaluation.verdict);
+  }
+}
+
+std::string verdict_summary(const StudyResults& results) {
+  const ResultColumn* column = results.find_column(kVerdictColumn);
+  if (!column) return "";
+  std::vector<long> counts(all_verdicts().size(), 0);
+  for (const double v : column->values) {
+    if (v >= 0 && v < static_cast<double>(counts.size())) ++counts[static_cast<std::size_t>(v)];
+  }
+  std::string out;
+  for (std::size_t k = 0; k < counts.size(); ++k) {
+    if (counts[k] == 0) continue;
+    out +=
+        (out.empty() ? "" : ", ") + std::to_string(counts[k]) + " " + to_string(all_verdicts()[k]);
+  }
+  return out;
 }
 
 StudyResults empty_results(const Plan& plan, const PointSet& points) {
@@ -151,6 +195,7 @@ StudyResults empty_results(const Plan& plan, const PointSet& points, std::size_t
         {name, info->units, name, info->definition, std::vector<double>(size, kNaN)});
   }
   add_reference_columns(plan.base, size, r);
+  add_verdict_column(plan.base, size, r);
   // A scene of several contacts: each contact's indicators beside the primary's, as
   // "<indicator>.<contact>" (the contacts are the same at every point: axes change numbers only).
   const std::vector<std::string> contacts = contact_names(plan.base);
@@ -188,6 +233,7 @@ void store_point_row(StudyResults& results, std::size_t row, const PointSet& poi
     }
   }
   store_reference_columns(results, i, evaluation);
+  store_verdict(results, i, evaluation);
   const std::vector<std::string> contacts = contact_names(simulation);
   for (ResultColumn& column : results.indicators) {
     if (const IndicatorInfo* info = find_indicator(column.name)) {
@@ -195,6 +241,7 @@ void store_point_row(StudyResults& results, std::size_t row, const PointSet& poi
       continue;
     }
     if (column.name.starts_with("reference_")) continue;  // store_reference_columns
+    if (column.name == kVerdictColumn) continue;          // store_verdict
     // "<indicator>.<contact>" of a scene of bodies (empty_results).
     const std::size_t dot = column.name.find('.');
     const std::string contact = column.name.substr(dot + 1);

@@ -70,6 +70,17 @@ void add_reference_columns(const SimulationSettings& base, std::size_t size, Stu
 /// Stores point i's reference into those columns.
 void store_reference_columns(StudyResults& results, std::size_t i, const Evaluation& evaluation);
 
+/// Adds the verdict column (kVerdictColumn) and its attribute. Shared with the work-precision
+/// study.
+void add_verdict_column(const SimulationSettings& base, std::size_t size, StudyResults& r);
+/// Stores point i's verdict into that column (nothing when the table has none: a file of an
+/// impactid without verdicts, resumed).
+void store_verdict(StudyResults& results, std::size_t i, const Evaluation& evaluation);
+
+/// "12 accurate, 3 oscillating, 1 unverified": how many done points have each verdict, in order
+/// of severity, those with none left out; "" when the table has no verdict column.
+std::string verdict_summary(const StudyResults& results);
+
 /// Stores one evaluated point (status, varied parameters, β, γ, indicators) at `index`.
 void store_point(StudyResults& results, const PointSet& points, long index,
                  const Simulation& simulation, const Evaluation& evaluation);

@@ -102,6 +102,7 @@ StudyResults empty_work_precision_results(const Plan& plan) {
       "timing",
       "wall_time_s is the minimum of `repeats` runs of each point, points one at a time on one "
       "thread");
+  add_verdict_column(plan.base, size, r);  // after the study's own attributes, as it came later
   return r;
 }
 
@@ -174,6 +175,7 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
     }
     for (const StoredIndicator& s : stored) s.column->values[i] = s.info->value(evaluation);
     store_reference_columns(results, i, evaluation);
+    store_verdict(results, i, evaluation);
     wall_min->values[i] = fastest;
     wall_max->values[i] = slowest;
     steps->values[i] = static_cast<double>(evaluation.summary.steps);
