@@ -86,8 +86,13 @@ struct SimulationWorkspace {
   /// evaluation.cpp): a sweep over method parameters keeps one scene, whose reference is then
   /// computed once per thread.
   std::optional<SceneReference> reference;
-  /// The same for a user's model (study/studies/evaluation.cpp).
+  /// The same for a user's model (study/studies/evaluation.cpp): the last one used.
   std::optional<ModelReference> model_reference;
+  /// The ones used before it, most recent last (at most kEarlierModelReferences): a
+  /// work-precision study alternates between its Courant numbers' references, and a model's
+  /// reference with its check by a second method costs seconds.
+  std::vector<ModelReference> earlier_model_references;
+  static constexpr std::size_t kEarlierModelReferences = 8;
 };
 
 /// Runs scene and method (both must be valid: see validate()): simulate(assemble(scene), …), the

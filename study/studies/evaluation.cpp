@@ -1,5 +1,6 @@
 #include "study/studies/evaluation.hpp"
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <vector>
@@ -47,7 +48,25 @@ Evaluation evaluate_model(const Simulation& sim, SimulationWorkspace& workspace)
   const ReferenceOptions options = reference_options(sim);
   std::optional<ModelReference>& reference = workspace.model_reference;
   if (!reference || !(reference->scene == scene) || !(reference->options == options)) {
-    reference = model_reference(scene, options);
+    // One computed earlier by this workspace, else a new one; the last one goes to the earlier.
+    std::vector<ModelReference>& earlier = workspace.earlier_model_references;
+    const auto found = std::find_if(earlier.begin(), earlier.end(), [&](const ModelReference& r) {
+      return r.scene == scene && r.options == options;
+    });
+    std::optional<ModelReference> next;
+    if (found != earlier.end()) {
+      next = std::move(*found);
+      earlier.erase(found);
+    } else {
+      next = model_reference(scene, options);
+    }
+    if (reference) {
+      if (earlier.size() == SimulationWorkspace::kEarlierModelReferences) {
+        earlier.erase(earlier.begin());
+      }
+      earlier.push_back(std::move(*reference));
+    }
+    reference = std::move(next);
   }
   const int primary = primary_contact_index(scene);
   out.contacts.resize(scene.model->contacts.size());
