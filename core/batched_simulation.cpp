@@ -663,7 +663,7 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
           }));
 }
 
-// One function (with its target versions) per step kind: in one function holding every kind's
+// One function per step kind: in one function holding every kind's
 // loops, GCC optimised the composite and α_m loops worse (measured: bathe 1.97 → 2.95 ns and
 // generalized-α 0.55 → 0.92 ns per dof-step once Wilson-θ's kind was added beside them).
 void run_composite_batch(Batch& b) {  // both sub-steps have α_m = 0

@@ -358,7 +358,7 @@ inline void check_lane_energy(LaneRun& run, long i, double energy, double t, int
 
 // Calls kernel.template operator()<kDamping, kMassTerm>() with the run's flags as constants: a
 // kernel's four versions, each free of the branches of the terms it does not have. The kernel
-// lambda must be always_inline too, so that it is compiled into the calling target version.
+// lambda must be always_inline too, so that it is compiled into the kernel that calls it.
 template <class Kernel>
 [[gnu::always_inline]] inline void with_kernel_flags(bool damping, bool mass_term,
                                                      Kernel&& kernel) {
