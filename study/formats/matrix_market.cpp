@@ -162,6 +162,11 @@ Eigen::SparseMatrix<double> read_matrix_market(std::istream& in, const std::stri
   }
   const long rows = r.count((*size)[0], "the row count");
   const long cols = r.count((*size)[1], "the column count");
+  // A model's matrix has at least one unknown; an empty one is a truncated or mistaken file.
+  if (rows == 0 || cols == 0) {
+    r.fail("a matrix of " + std::to_string(rows) + " x " + std::to_string(cols) +
+           " has no entries; a model's matrix needs at least one row and one column");
+  }
   if (rows > kMaxDimension || cols > kMaxDimension) {
     r.fail("a matrix of " + std::to_string(rows) + " x " + std::to_string(cols) +
            " is beyond the " + std::to_string(kMaxDimension) + " rows and columns read here");
