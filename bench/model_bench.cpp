@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "core/model_scene.hpp"
-#include "core/simulation.hpp"
-#include "core/sparse_factorization.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/sparse_factorization.hpp"
+#include "core/run/simulation.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
 

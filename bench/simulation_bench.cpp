@@ -12,13 +12,13 @@
 #include <variant>
 #include <vector>
 
-#include "core/batched_chain.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/function_versions.hpp"
-#include "core/method_registry.hpp"
-#include "core/scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
+#include "core/batch/batched_chain.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/common/function_versions.hpp"
+#include "core/methods/method_registry.hpp"
+#include "core/model/scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/run/simulation.hpp"
 #include "sparse_reference.hpp"
 #include "study/studies/evaluation.hpp"
 
@@ -101,8 +101,9 @@ BENCHMARK(BM_SceneRun)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
 // The same scenes through the batched kernels, kBatchLanes HHT runs with α = −0.5·(l + 1)/
 // kBatchLanes in lane l (δ = −α): the paper's scene through the rod's kernel
-// (core/batched_simulation.hpp), the others through the chain kernel (core/batched_chain.hpp).
-// Counter ns/dof-step: per lane, over the samples each lane stepped.
+// (core/batch/batched_simulation.hpp), the others through the chain kernel
+// (core/batch/batched_chain.hpp). Counter ns/dof-step: per lane, over the samples each lane
+// stepped.
 void BM_SceneBatchedRun(benchmark::State& state) {
   const int index = static_cast<int>(state.range(0));
   const Scene scene = benchmark_scene(index);
@@ -138,8 +139,8 @@ BENCHMARK(BM_SceneBatchedRun)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
 // Every method of the registry with its defaults on the default scene (201 dof, 1222 steps),
 // on the path a sweep takes it: kBatchLanes runs of it through the rod's batched kernel where
-// it is batchable (core/batched_simulation.hpp), one run through simulate() otherwise. Arg: its
-// index in method_registry(). Counters: ns/dof-step per run (per lane, over the samples each
+// it is batchable (core/batch/batched_simulation.hpp), one run through simulate() otherwise. Arg:
+// its index in method_registry(). Counters: ns/dof-step per run (per lane, over the samples each
 // run stepped: a run that ends unstable early counts the samples it stepped), stages,
 // batched. bench/report prints each method's time per dof-step and its ratio to HHT's per
 // stage.
@@ -309,7 +310,7 @@ void BM_Sweep(benchmark::State& state) {
 }
 BENCHMARK(BM_Sweep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The batched kernel (core/batched_simulation.hpp): kBatchLanes HHT runs of the default scene
+// The batched kernel (core/batch/batched_simulation.hpp): kBatchLanes HHT runs of the default scene
 // with α = −0.5·(l + 1)/kBatchLanes in lane l, from −0.03 to −0.5 (δ = −α), set-up and
 // stepping, no indicators.
 // Time per run = time / lanes (a lane that stops early still costs its lane until the batch
@@ -414,7 +415,7 @@ void BM_Clock(benchmark::State& state) {
 }
 BENCHMARK(BM_Clock)->Unit(benchmark::kMillisecond);
 
-// The kernels' own arithmetic ceiling at the level that runs (core/kernel_level.hpp):
+// The kernels' own arithmetic ceiling at the level that runs (core/common/kernel_level.hpp):
 // independent chains a = a·m + c on the level's registers, once with a separate multiply and add
 // (as -ffp-contract=off issues a·m + c) and once fused, as the kernels issue their multiply-adds.
 // x86-64-v4: 16 chains of 8 doubles (AVX-512 has 32 registers); x86-64-v3: 12 chains of 4

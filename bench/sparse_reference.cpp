@@ -3,7 +3,7 @@
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 
-#include "core/second_order_system.hpp"
+#include "core/model/second_order_system.hpp"
 
 namespace impactid {
 namespace {

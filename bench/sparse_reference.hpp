@@ -6,8 +6,8 @@
 
 #include <vector>
 
-#include "core/method.hpp"
-#include "core/rod_scene.hpp"
+#include "core/methods/method.hpp"
+#include "core/model/rod_scene.hpp"
 
 namespace impactid {
 

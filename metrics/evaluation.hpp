@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/run_record.hpp"
+#include "core/common/run_record.hpp"
 #include "metrics/indicators.hpp"
 #include "metrics/verdict.hpp"
 
@@ -19,10 +19,10 @@ struct Evaluation {
   Indicators indicators;  ///< with a scene of bodies: its primary contact's
   /// A scene of bodies: every contact's indicators, in scene_contacts() order; empty for the rod.
   std::vector<ContactIndicators> contacts;
-  /// A scene of bodies: its reference (core/scene_reference.hpp), 0 for the exact solution or
-  /// k for a converged one at h/2^k and Δt/2^k, and the relative change at its last halving (NaN
-  /// for the exact one). A model (core/model_reference.hpp): −1 for a supplied history, k for a
-  /// converged solution at Δt/2^k. NaN for the rod.
+  /// A scene of bodies: its reference (core/reference/scene_reference.hpp), 0 for the exact
+  /// solution or k for a converged one at h/2^k and Δt/2^k, and the relative change at its last
+  /// halving (NaN for the exact one). A model (core/reference/model_reference.hpp): −1 for a
+  /// supplied history, k for a converged solution at Δt/2^k. NaN for the rod.
   double reference_refinements = std::numeric_limits<double>::quiet_NaN();
   double reference_change = std::numeric_limits<double>::quiet_NaN();
   /// A model: its reference's step (NaN for a supplied history or another scene), and the
@@ -30,7 +30,8 @@ struct Evaluation {
   double reference_dt = std::numeric_limits<double>::quiet_NaN();
   std::string reference;
   /// Whether the reference can be trusted: false for a converged reference that did not converge
-  /// or (a model) whose two methods disagree (core/model_reference.hpp); true for an exact one.
+  /// or (a model) whose two methods disagree (core/reference/model_reference.hpp); true for an
+  /// exact one.
   bool reference_trusted = true;
   /// The reference's own estimated error, in eq. 18's form on the primary contact (the largest of
   /// its pressure's and velocity's): a model's converged reference, the larger of its last

@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/exact_solution.hpp"
+#include "core/reference/exact_solution.hpp"
 #include "metrics/peak_count.hpp"
 #include "metrics/relative_error.hpp"
 

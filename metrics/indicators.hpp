@@ -6,10 +6,10 @@
 
 #include <span>
 
-#include "core/rod_scene.hpp"
-#include "core/run_record.hpp"
-#include "core/scene.hpp"
-#include "core/scene_reference.hpp"
+#include "core/common/run_record.hpp"
+#include "core/model/rod_scene.hpp"
+#include "core/model/scene.hpp"
+#include "core/reference/scene_reference.hpp"
 
 namespace impactid {
 
@@ -18,8 +18,8 @@ struct IndicatorOptions {
   /// (velocity). See peak_count.hpp for the rule and why. > 0.
   double peak_prominence = 1e-6;
   /// A scene of bodies with damping is measured against a converged numerical solution
-  /// (core/scene_reference.hpp), refined until its primary contact's pressure and velocity
-  /// change by less than this between two halvings of the mesh and the step. > 0.
+  /// (core/reference/scene_reference.hpp), refined until its primary contact's pressure and
+  /// velocity change by less than this between two halvings of the mesh and the step. > 0.
   double reference_tolerance = 1e-2;
 };
 
@@ -58,7 +58,7 @@ void evaluate_indicators(const RodScene& scene, std::span<const ContactTrace* co
                          std::span<const RunSummary> summaries,
                          std::span<const IndicatorOptions> options, std::span<Indicators> out);
 
-/// One contact's indicators in a scene of bodies (core/scene.hpp): the paper's indicators at
+/// One contact's indicators in a scene of bodies (core/model/scene.hpp): the paper's indicators at
 /// that contact, against the exact reference. All NaN when the run is not ok.
 struct ContactIndicators {
   double eps_p;             ///< eq. 18 for the contact's pressure
@@ -71,20 +71,20 @@ struct ContactIndicators {
 };
 
 /// The indicators of a run of a scene of bodies (simulate(AssembledScene)) against `reference`,
-/// the scene's reference at the run's samples (core/scene_reference.hpp: the exact solution, or a
-/// converged one): every contact's into `contacts` (one per contact, scene_contacts() order),
-/// and the primary contact's returned as Indicators
-/// (energy_ratio and max_penetration, the largest violation of any constraint, as for the rod;
-/// far_contact_episodes and impacts NaN: they describe the rod's two walls). Peak prominences
-/// are fractions of ρ·c·V for the pressure of a contact (its segment's ρ·c) and of V for the
-/// velocity, with V the largest initial |velocity| of a body.
+/// the scene's reference at the run's samples (core/reference/scene_reference.hpp: the exact
+/// solution, or a converged one): every contact's into `contacts` (one per contact,
+/// scene_contacts() order), and the primary contact's returned as Indicators (energy_ratio and
+/// max_penetration, the largest violation of any constraint, as for the rod; far_contact_episodes
+/// and impacts NaN: they describe the rod's two walls). Peak prominences are fractions of ρ·c·V for
+/// the pressure of a contact (its segment's ρ·c) and of V for the velocity, with V the largest
+/// initial |velocity| of a body.
 Indicators evaluate_indicators(const Scene& scene, const SceneReference& reference,
                                const ContactTrace& trace, const RunSummary& summary,
                                const IndicatorOptions& options,
                                std::span<ContactIndicators> contacts);
 
-/// The same for a user's model (core/model_scene.hpp) against its reference samples
-/// (core/model_reference.hpp; a contact without samples gets NaN), `primary` the primary
+/// The same for a user's model (core/model/model_scene.hpp) against its reference samples
+/// (core/reference/model_reference.hpp; a contact without samples gets NaN), `primary` the primary
 /// contact's index. A model knows no ρ·c: a contact's pressure scale (peak prominence, p_max_ratio)
 /// is the largest |pressure| of its reference, its velocity scale the largest |velocity| of its
 /// reference (for the paper's rod with the exact solution as reference: ρ·c·v0 and v0, as above).

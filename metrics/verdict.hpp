@@ -7,8 +7,9 @@
 //   failed       the run is `failed` (the method could not start, or nothing to measure against)
 //   unstable     the run is `unstable` (non-finite values, or the energy grew past its bound)
 //   unverified   the run is `ok`, but its reference is not trusted (a converged reference that did
-//                not converge, or two reference methods that disagree: core/model_reference.hpp),
-//                or a thresholded indicator has no value (NaN): its numbers cannot be judged
+//                not converge, or two reference methods that disagree:
+//                core/reference/model_reference.hpp), or a thresholded indicator has no value
+//                (NaN): its numbers cannot be judged
 //   inaccurate   ε_p > eps_p or ε_v > eps_v (eq. 18), whatever the peaks
 //   oscillating  the errors within their thresholds, but NoP_p > nop_p or NoP_v > nop_v
 //   accurate     every threshold met
@@ -28,8 +29,8 @@
 #include <string>
 #include <string_view>
 
-#include "core/parameter_error.hpp"
-#include "core/run_record.hpp"
+#include "core/common/parameter_error.hpp"
+#include "core/common/run_record.hpp"
 #include "metrics/indicators.hpp"
 
 namespace impactid {

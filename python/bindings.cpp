@@ -22,9 +22,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/kernel_level.hpp"
-#include "core/model_reference.hpp"
-#include "core/scene_assembly.hpp"
+#include "core/common/kernel_level.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/reference/model_reference.hpp"
 #include "metrics/indicator_table.hpp"
 #include "study/cli/command_line.hpp"
 #include "study/cli/run_command.hpp"
@@ -397,7 +397,7 @@ PYBIND11_MODULE(_impactid, m) {
   using namespace impactid::python;
   m.doc() = "impactid's C++ core; use the impactid package, not this module";
   // A kernel level the processor lacks (IMPACTID_KERNELS) is refused at import, as the program
-  // refuses it at start (core/kernel_level.hpp).
+  // refuses it at start (core/common/kernel_level.hpp).
   if (const KernelSelection& kernels = kernel_selection(); !kernels.error.empty()) {
     throw std::runtime_error("impactid: " + kernels.error);
   }

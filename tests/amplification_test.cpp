@@ -1,9 +1,9 @@
-// Spectral analysis (core/amplification.hpp) against references that do not come from it:
+// Spectral analysis (core/spectral/amplification.hpp) against references that do not come from it:
 // closed forms of the literature (Hilber, Hughes & Taylor 1977; Chung & Hulbert 1993), closed
 // forms derived by hand or by series expansion of the characteristic polynomial (derivations
 // in the comments), Eigen's dense generalized eigensolver for the rod's modes, and the
 // integrators themselves stepped mode by mode.
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <limits>
 #include <vector>
 
-#include "core/central_difference.hpp"
-#include "core/implicit_integrator.hpp"
+#include "core/methods/central_difference.hpp"
+#include "core/methods/implicit_integrator.hpp"
 #include "test_support.hpp"
 
 namespace impactid {

@@ -5,8 +5,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "core/implicit_integrator.hpp"
-#include "core/method.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/methods/method.hpp"
 #include "test_support.hpp"
 
 namespace impactid {

@@ -1,7 +1,7 @@
 // simulate_chain_batch(): on scenes of several bodies every lane gives simulate()'s numbers bit
 // for bit (issue 18: batched lanes bit-identical to simulate on multi-body scenes), whatever the
 // other lanes do; and which runs may share a batch.
-#include "core/batched_chain.hpp"
+#include "core/batch/batched_chain.hpp"
 
 #include <gtest/gtest.h>
 

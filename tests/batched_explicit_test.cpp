@@ -1,8 +1,8 @@
-// The explicit methods on the rod's batched kernel (core/batched_explicit.hpp): every lane gives
-// simulate()'s numbers bit for bit, whatever the other lanes do (a lane that goes unstable among
-// stable ones, lanes that start and end at other samples, batches smaller than kBatchLanes);
+// The explicit methods on the rod's batched kernel (core/batch/batched_explicit.hpp): every lane
+// gives simulate()'s numbers bit for bit, whatever the other lanes do (a lane that goes unstable
+// among stable ones, lanes that start and end at other samples, batches smaller than kBatchLanes);
 // and which runs may share a batch.
-#include "core/batched_explicit.hpp"
+#include "core/batch/batched_explicit.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "batched_runs.hpp"
-#include "core/batched_simulation.hpp"
+#include "core/batch/batched_simulation.hpp"
 
 namespace impactid {
 namespace {

@@ -1,8 +1,8 @@
-// KR-α on the rod's batched kernel (core/batched_kr_alpha.hpp): every lane gives simulate()'s
+// KR-α on the rod's batched kernel (core/batch/batched_kr_alpha.hpp): every lane gives simulate()'s
 // numbers bit for bit, whatever the other lanes do (lanes with their own ρ∞, gap, velocity and end
 // time, lanes in contact at the start, lanes that stop on the energy bound among lanes that run on,
 // batches smaller than kBatchLanes); and which runs may share a batch.
-#include "core/batched_kr_alpha.hpp"
+#include "core/batch/batched_kr_alpha.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "batched_runs.hpp"
-#include "core/batched_simulation.hpp"
+#include "core/batch/batched_simulation.hpp"
 
 namespace impactid {
 namespace {
@@ -113,7 +113,7 @@ TEST(BatchedKrAlpha, LanesInContactAtTheStart) {
 // A batch of one; a lane that starts after the others; run options honoured lane by lane (energy
 // checks at every sample, no free flight skipped); invalid options fail every lane as simulate()
 // does. (KR-α's half-step energy does not grow on the rod, so no lane stops on the bound: the
-// loop that stops lanes is core/batch_lanes.hpp's, shared with the kernels whose tests do.)
+// loop that stops lanes is core/batch/batch_lanes.hpp's, shared with the kernels whose tests do.)
 TEST(BatchedKrAlpha, PartialBatchesAndRunOptions) {
   expect_batch_equals_scalar({{"alone", RodScene{}, KrAlphaParams{}}});
   RodScene late;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/batched_simulation.hpp"
+#include "core/batch/batched_simulation.hpp"
 #include "same_run.hpp"
 
 namespace impactid::testing {

@@ -1,7 +1,7 @@
 // simulate_batch(): every lane gives simulate()'s numbers bit for bit (issue 3: a plan point and
 // `impactid simulate` agree exactly, and sweeps run points in batches), whatever the other lanes
 // do; and which runs may share a batch.
-#include "core/batched_simulation.hpp"
+#include "core/batch/batched_simulation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -115,7 +115,7 @@ TEST(BatchedSimulation, RunOptionsAreHonouredLaneByLane) {
   EXPECT_EQ(overflow[1].status, RunStatus::ok);
 }
 
-// The batch stops stepping once no lane steps or will start (core/batched_simulation.cpp), but
+// The batch stops stepping once no lane steps or will start (core/batch/rod_kernel.cpp), but
 // not before a lane that starts late: here the first lane is unstable before the second lane's
 // free flight ends, and the second still runs, as alone.
 TEST(BatchedSimulation, ALaneStartingAfterTheOthersEndedStillRuns) {
@@ -134,8 +134,8 @@ TEST(BatchedSimulation, ALaneStartingAfterTheOthersEndedStillRuns) {
       << "the first lane ends before the others start";
 }
 
-// The composite schemes (core/bathe_composite.hpp: two implicit sub-steps a step, the first over
-// γ·Δt) in a full batch: Bathe, TR-BDF2 and ρ∞-Bathe over ρ∞ and γ (γ per lane), lanes that go
+// The composite schemes (core/methods/bathe_composite.hpp: two implicit sub-steps a step, the first
+// over γ·Δt) in a full batch: Bathe, TR-BDF2 and ρ∞-Bathe over ρ∞ and γ (γ per lane), lanes that go
 // unstable (the trapezoidal first sub-step chatters: ρ∞ = 1, 0.3), other gaps, velocities and
 // end times.
 TEST(BatchedSimulation, CompositeLanesEqualTheScalarRunBitForBit) {
@@ -221,9 +221,9 @@ TEST(BatchedSimulation, CompositeLanesOnDampedRodsAndWithRunOptions) {
   EXPECT_EQ(overflow[2].status, RunStatus::ok) << overflow[2].message;
 }
 
-// Wilson-θ (core/wilson_theta.hpp: one extended step over θ·Δt, the interpolation back to Δt,
-// the wall's constraint at the samples through a shifted gap) in a full batch: θ per lane, lanes
-// that go unstable at different samples (on the paper's scene every θ does, REPRODUCTION.md)
+// Wilson-θ (core/methods/wilson_theta.hpp: one extended step over θ·Δt, the interpolation back to
+// Δt, the wall's constraint at the samples through a shifted gap) in a full batch: θ per lane,
+// lanes that go unstable at different samples (on the paper's scene every θ does, REPRODUCTION.md)
 // among lanes that end ok (runs that end in the contact before the energy has grown, a rod moving
 // away; a lifted energy bound is a run option, the same for a batch: the next test), other gaps,
 // velocities and end times.
@@ -334,7 +334,7 @@ TEST(BatchedSimulation, WilsonThetaLanesOnOtherRodsAndWithRunOptions) {
       RunOptions{.energy_growth_limit = 1e300, .energy_check_interval = 100'000});
 }
 
-// Houbolt (core/houbolt.hpp: a three-step method started by a cubic on the initial velocity
+// Houbolt (core/methods/houbolt.hpp: a three-step method started by a cubic on the initial velocity
 // and acceleration, two start-up steps with their own effective matrices, the contact at the
 // samples) in a full batch: lanes that start stepping at different samples (free flights of
 // different lengths, each lane's start-up then at its own samples), other gaps, velocities and

@@ -1,9 +1,10 @@
-// The Bathe family (core/bathe_composite.hpp, core/method.hpp): second order measured by halving
-// Δt against the exact modal solution; ρ∞-Bathe with ρ∞ = 1 and γ = ½ is the trapezoidal rule
-// applied twice with Δt/2; ρ(Ω) tends to the ρ∞ asked for, never exceeds 1, and the period error
-// is O(Ω²); the default γ₀ gives equal effective matrices; the Signorini conditions hold at every
-// sample and at every sub-step of a rod hitting the wall; the scheme runs every kind of scene.
-#include "core/bathe_composite.hpp"
+// The Bathe family (core/methods/bathe_composite.hpp, core/methods/method.hpp): second order
+// measured by halving Δt against the exact modal solution; ρ∞-Bathe with ρ∞ = 1 and γ = ½ is the
+// trapezoidal rule applied twice with Δt/2; ρ(Ω) tends to the ρ∞ asked for, never exceeds 1, and
+// the period error is O(Ω²); the default γ₀ gives equal effective matrices; the Signorini
+// conditions hold at every sample and at every sub-step of a rod hitting the wall; the scheme runs
+// every kind of scene.
+#include "core/methods/bathe_composite.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,14 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "core/amplification.hpp"
-#include "core/batched_chain.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/exact_solution.hpp"
-#include "core/implicit_integrator.hpp"
-#include "core/rod_scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
+#include "core/batch/batched_chain.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/model/rod_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/reference/exact_solution.hpp"
+#include "core/run/simulation.hpp"
+#include "core/spectral/amplification.hpp"
 #include "test_support.hpp"
 
 namespace impactid {

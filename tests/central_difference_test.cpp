@@ -1,7 +1,7 @@
 // Central difference with Carpenter's forward-increment multiplier (eqs 3–7): the step contract,
 // the discrete equation of motion with contact and damping, the measured order, and the exact
 // contact pressure of the lumped rod at Courant number 1.
-#include "core/central_difference.hpp"
+#include "core/methods/central_difference.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <cmath>
 #include <vector>
 
-#include "core/implicit_integrator.hpp"  // consistent_acceleration
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
+#include "core/methods/implicit_integrator.hpp"  // consistent_acceleration
+#include "core/model/scene_assembly.hpp"
+#include "core/run/simulation.hpp"
 #include "test_support.hpp"
 
 namespace impactid {

@@ -1,7 +1,7 @@
 // The exact solution of several bodies, against RodImpactExact (one rod and its walls), the closed
 // forms of collinear rod impact (Graff 1975 ch. 2, Goldsmith 1960 ch. 4) worked out here by hand,
 // and the conservation of momentum and energy.
-#include "core/chain_exact.hpp"
+#include "core/reference/chain_exact.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/exact_solution.hpp"
-#include "core/scene.hpp"
+#include "core/model/scene.hpp"
+#include "core/reference/exact_solution.hpp"
 
 namespace impactid {
 namespace {

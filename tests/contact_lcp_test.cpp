@@ -1,6 +1,6 @@
 // The multi-contact complementarity solver against brute-force enumeration of the active sets on
 // random small problems, and the termination cases.
-#include "core/contact_lcp.hpp"
+#include "core/algebra/contact_lcp.hpp"
 
 #include <gtest/gtest.h>
 

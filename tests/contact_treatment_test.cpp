@@ -1,10 +1,10 @@
-// The contact laws (core/contact_treatment.hpp): the penalty law holds at every sample and
+// The contact laws (core/contact/contact_treatment.hpp): the penalty law holds at every sample and
 // converges to the Lagrange solution at first order in 1/k; the augmented Lagrangian converges to
 // it within its tolerance and counts its iterations; central difference's explicit penalty shrinks
 // the stable step as the bound says, and a step above it is flagged, while KR-α's penalty, solved
 // with its forward increment, stays stable whatever k and the step; several bodies and two walls
 // keep λ >= 0 under every law; bad settings are refused by name.
-#include "core/contact_treatment.hpp"
+#include "core/contact/contact_treatment.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
+#include "core/model/scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/run/simulation.hpp"
 #include "test_support.hpp"
 
 namespace impactid {
@@ -79,8 +79,8 @@ TEST(ContactTreatment, PenaltyConvergesToLagrangeAtFirstOrderInOneOverK) {
 
 // KR-α's penalty is the spring of the displacement its equilibrium's force moves: the multiplier
 // reported with sample i is k·max(0, u_c − gap) of sample i + 1 (as its Lagrange multiplier holds
-// that sample on the wall, core/kr_alpha.hpp), λ >= 0. The spring is solved with the forward
-// increment, so no step is too large for it: with k = 10⁴·K_cc (an explicit spring's stable
+// that sample on the wall, core/methods/kr_alpha.hpp), λ >= 0. The spring is solved with the
+// forward increment, so no step is too large for it: with k = 10⁴·K_cc (an explicit spring's stable
 // Courant number would be √(2/(2 + 10⁴)) = 0.014) the runs at Courant 0.5 and 4, dissipative and
 // not, are ok, with no stable step reported or warning, and the energy never above its start.
 TEST(ContactTreatment, KrAlphaPenaltyIsTheSpringOfTheNextSampleAtAnyStep) {

@@ -11,8 +11,8 @@
 #include <complex>
 #include <filesystem>
 
-#include "core/amplification.hpp"
-#include "core/implicit_integrator.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/spectral/amplification.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/point_set.hpp"
 #include "test_support.hpp"
@@ -24,7 +24,7 @@ double xi(const MethodParams& params, double omega_dt) {
   return spectral_properties(params, omega_dt).damping_ratio;
 }
 
-// ξ̄ measured independently of core/amplification: one step of ImplicitIntegrator on
+// ξ̄ measured independently of core/spectral/amplification: one step of ImplicitIntegrator on
 // ü + u = 0 from each unit state (u, Δt·v, Δt²·a) gives the amplification matrix column by
 // column; its complex pair a ± ib gives ξ̄ = −ln(a² + b²)/(2·atan2(b, a)).
 double stepped_damping_ratio(const MethodParams& params, double dt) {

@@ -1,5 +1,5 @@
 // The d'Alembert solution of the rod impact, against values worked out from its definition.
-#include "core/exact_solution.hpp"
+#include "core/reference/exact_solution.hpp"
 
 #include <gtest/gtest.h>
 

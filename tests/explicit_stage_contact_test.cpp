@@ -1,11 +1,11 @@
 // Penalty and augmented-Lagrangian contact of the explicit multi-stage schemes
-// (core/explicit_stage_contact.hpp: Noh–Bathe, Kim's two-stage scheme): the penalty force is the
-// spring of the sample's penetration at every sample, on one wall, two walls and a chain of
+// (core/contact/explicit_stage_contact.hpp: Noh–Bathe, Kim's two-stage scheme): the penalty force
+// is the spring of the sample's penetration at every sample, on one wall, two walls and a chain of
 // bodies, and λ >= 0; its penetration shrinks as 1/√k (what k → ∞ gives an explicit penalty);
 // the augmented Lagrangian
 // reaches it within its tolerance and counts its iterations; the springs shrink the stable step as
 // the bound says, and a step above it is flagged before the run.
-#include "core/explicit_stage_contact.hpp"
+#include "core/contact/explicit_stage_contact.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "core/kim_explicit.hpp"
-#include "core/noh_bathe.hpp"
-#include "core/scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
+#include "core/methods/kim_explicit.hpp"
+#include "core/methods/noh_bathe.hpp"
+#include "core/model/scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/run/simulation.hpp"
 #include "signorini_check.hpp"
 #include "test_support.hpp"
 
@@ -212,8 +212,8 @@ TEST(ExplicitStageContact, AugmentedLagrangianConvergesToLagrange) {
                                                       .augmented_tolerance = 1e-9,
                                                       .augmented_max_iterations = 1000}));
     ASSERT_EQ(r.summary.status, RunStatus::ok) << name << r.summary.message;
-    // Kim's p = ⅓ chatters on the wall (core/method.hpp: hundreds of contact episodes), and each
-    // impact magnifies the iterations' residue: 1.2e-6 of ρcv0 measured.
+    // Kim's p = ⅓ chatters on the wall (core/methods/method.hpp: hundreds of contact episodes), and
+    // each impact magnifies the iterations' residue: 1.2e-6 of ρcv0 measured.
     const double bound = name == "kim-explicit p=1/3" ? 1e-5 : 1e-6;
     EXPECT_LT(testing::max_abs_difference(r.trace.pressure, lagrange.trace.pressure),
               bound * rho_c_v0)

@@ -1,7 +1,7 @@
-// What the tests of the explicit steppers with a state of their own (core/noh_bathe.hpp,
-// core/kim_explicit.hpp, core/kr_alpha.hpp) measure the same way: the one-step matrix of a unit
-// oscillator, column by column, for the amplification-matrix checks; and the errors of the first
-// elastic mode under step halving, for the convergence orders. Each stepper has
+// What the tests of the explicit steppers with a state of their own (core/methods/noh_bathe.hpp,
+// core/methods/kim_explicit.hpp, core/methods/kr_alpha.hpp) measure the same way: the one-step
+// matrix of a unit oscillator, column by column, for the amplification-matrix checks; and the
+// errors of the first elastic mode under step halving, for the convergence orders. Each stepper has
 // initialize(system, coefficients, dt, state) and step(system, state).
 #pragma once
 
@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/second_order_system.hpp"
-#include "core/state.hpp"
+#include "core/common/state.hpp"
+#include "core/model/second_order_system.hpp"
 #include "test_support.hpp"
 
 namespace impactid::testing {

@@ -255,7 +255,7 @@ std::vector<std::pair<const char*, double>> named(const Indicators& i) {
 }
 
 // The indicators an ok run may leave undefined, and why; computed from the scene, independently
-// of the indicator code (the exact solution of core/exact_solution.hpp, restated).
+// of the indicator code (the exact solution of core/reference/exact_solution.hpp, restated).
 struct ExpectedNaN {
   bool eps_p, eps_v, p_max_ratio, energy_ratio;
 };

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/method.hpp"
+#include "core/methods/method.hpp"
 #include "test_support.hpp"
 
 namespace impactid {

@@ -1,12 +1,12 @@
-// Houbolt's method (core/houbolt.hpp): second order measured by halving Δt against the exact
-// modal solution, with and without damping; the start-up keeps the local error of Houbolt's own
-// cubic (O(Δt⁴) in u, O(Δt³) in v); every step satisfies Houbolt's difference formulas (and the
+// Houbolt's method (core/methods/houbolt.hpp): second order measured by halving Δt against the
+// exact modal solution, with and without damping; the start-up keeps the local error of Houbolt's
+// own cubic (O(Δt⁴) in u, O(Δt³) in v); every step satisfies Houbolt's difference formulas (and the
 // start's) and the equation of motion, checked with dense matrices; the spectral analysis
 // against closed forms (period error 11/24·Ω², ρ∞ = 0, ρ ~ Ω^(−2/3), ξ̄ ~ Ω³/2) and against the
 // stepper itself; a free mass leaves the wall at most at 5/6 of its speed; the Signorini
 // conditions at every step on the paper's rod, between two walls, on a scene of bodies and on
 // sparse models; the rod batched (tests/batched_simulation_test.cpp), scenes of bodies not.
-#include "core/houbolt.hpp"
+#include "core/methods/houbolt.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,14 +17,14 @@
 #include <limits>
 #include <vector>
 
-#include "core/amplification.hpp"
-#include "core/batched_chain.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/implicit_integrator.hpp"
-#include "core/model_scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
-#include "core/sparse_integrators.hpp"
+#include "core/batch/batched_chain.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/methods/sparse_integrators.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/run/simulation.hpp"
+#include "core/spectral/amplification.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -102,7 +102,7 @@ TEST(Houbolt, StartUpKeepsTheLocalErrorOfTheCubic) {
   }
 }
 
-// Every step against the formulas as Houbolt wrote them (not as core/houbolt.hpp rearranges
+// Every step against the formulas as Houbolt wrote them (not as core/methods/houbolt.hpp rearranges
 // them), and the equation of motion M·a + C·v + K·u = 0 at every step, with dense matrices.
 TEST(Houbolt, StepsSatisfyHouboltsFormulasAndTheEquationOfMotion) {
   const SecondOrderSystem system = damped_free_rod(0.02);

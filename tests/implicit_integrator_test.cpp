@@ -1,7 +1,7 @@
 // The implicit kernel shared by backward Euler, Newmark, HHT-α and generalized-α: measured
 // convergence orders against the exact modal solution, the discrete equation of motion it claims
 // to solve (checked with dense matrices), the contact complementarity, and restartability.
-#include "core/implicit_integrator.hpp"
+#include "core/methods/implicit_integrator.hpp"
 
 #include <gtest/gtest.h>
 

@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/exact_solution.hpp"
-#include "core/simulation.hpp"
+#include "core/reference/exact_solution.hpp"
+#include "core/run/simulation.hpp"
 
 namespace impactid {
 namespace {

@@ -1,9 +1,9 @@
-// The kernel level (core/kernel_level.hpp): the one chosen is the highest that the processor
+// The kernel level (core/common/kernel_level.hpp): the one chosen is the highest that the processor
 // supports and the build has, read here from /proc/cpuinfo (the kernel's word, not libgcc's
 // feature test the selection uses); IMPACTID_KERNELS forces a level, and refuses one the processor
 // or the build lacks. That every level gives the same numbers is checked by the batched tests run
 // again at each level (tests/CMakeLists.txt: kernel_levels.*) and by kernel_levels_test.py.
-#include "core/kernel_level.hpp"
+#include "core/common/kernel_level.hpp"
 
 #include <gtest/gtest.h>
 

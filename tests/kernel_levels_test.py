@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Every kernel level the processor supports writes the same results files, bit for bit.
 
-Runs each plan given with IMPACTID_KERNELS forced to each level (core/kernel_level.hpp) that
+Runs each plan given with IMPACTID_KERNELS forced to each level (core/common/kernel_level.hpp) that
 this processor and build have (`impactid --version` refuses the others), and compares every
 level's file with the baseline level's (every run through the scalar stepper) by
 scripts/compare-results. The plans are chosen to reach every batched kernel: the rod's

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The kernel level objects (core/kernel_target.hpp) hold no function that another object may
+"""The kernel level objects (core/batch/kernel_target.hpp) hold no function that another object may
 also define with the level's instructions.
 
 A kernel file is compiled once per level with that level's target. A function that the linker

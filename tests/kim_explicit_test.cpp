@@ -1,13 +1,13 @@
-// Kim's two-stage explicit scheme (core/kim_explicit.hpp, KimExplicitParams in core/method.hpp):
-// its weights against the ones Kratos writes (explicit_multi_stage_kim_scheme.hpp) and against
-// quadrature of a quadratic acceleration; second order measured by halving Δt against the exact
-// modal solution, with and without damping; the amplification matrix against the stepper itself;
-// ρ(Ω → 0) = 1, no Ω² period error, ξ̄ ≈ (3p − 1)/(144(1 − p))·Ω³; the stability limit Ω_crit(p)
-// against a scan of ρ; p < ⅓ growing at small Ω; a run above the limit flagged and stopped; a run
-// split in two equals one run (the state carries a₀); the Signorini conditions at every sample,
-// stage and force point on the paper's rod, between two walls and in a scene of bodies;
-// refusals, the registry and the command line.
-#include "core/kim_explicit.hpp"
+// Kim's two-stage explicit scheme (core/methods/kim_explicit.hpp, KimExplicitParams in
+// core/methods/method.hpp): its weights against the ones Kratos writes
+// (explicit_multi_stage_kim_scheme.hpp) and against quadrature of a quadratic acceleration; second
+// order measured by halving Δt against the exact modal solution, with and without damping; the
+// amplification matrix against the stepper itself; ρ(Ω → 0) = 1, no Ω² period error, ξ̄ ≈ (3p −
+// 1)/(144(1 − p))·Ω³; the stability limit Ω_crit(p) against a scan of ρ; p < ⅓ growing at small Ω;
+// a run above the limit flagged and stopped; a run split in two equals one run (the state carries
+// a₀); the Signorini conditions at every sample, stage and force point on the paper's rod, between
+// two walls and in a scene of bodies; refusals, the registry and the command line.
+#include "core/methods/kim_explicit.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,13 +19,13 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "core/amplification.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/method_registry.hpp"
-#include "core/model_scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/scene_reference.hpp"
-#include "core/simulation.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/methods/method_registry.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/reference/scene_reference.hpp"
+#include "core/run/simulation.hpp"
+#include "core/spectral/amplification.hpp"
 #include "explicit_stepper_checks.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"

@@ -1,12 +1,12 @@
-// The KR-α explicit method (core/kr_alpha.hpp, KrAlphaParams in core/method.hpp): second order
-// measured by halving Δt against the exact modal solution, with and without damping; its scalars
-// against Chung & Hulbert's; the amplification matrix against the stepper itself (one dof) and
-// against a dense evaluation of α1, α2, α3 on the rod (the tridiagonal solves are those matrices);
-// its characteristic polynomial equal to generalized-α's; ρ <= 1 over Ω ∈ [1e-4, 1e8], ρ → 1 as
-// Ω → 0 and ρ → ρ∞ as Ω → ∞, ρ∞ = 1 non-dissipative, period error O(Ω²); the plain energy on the
-// paper's rod; the Signorini conditions at every sample on the paper's rod, between two walls
+// The KR-α explicit method (core/methods/kr_alpha.hpp, KrAlphaParams in core/methods/method.hpp):
+// second order measured by halving Δt against the exact modal solution, with and without damping;
+// its scalars against Chung & Hulbert's; the amplification matrix against the stepper itself (one
+// dof) and against a dense evaluation of α1, α2, α3 on the rod (the tridiagonal solves are those
+// matrices); its characteristic polynomial equal to generalized-α's; ρ <= 1 over Ω ∈ [1e-4, 1e8], ρ
+// → 1 as Ω → 0 and ρ → ρ∞ as Ω → ∞, ρ∞ = 1 non-dissipative, period error O(Ω²); the plain energy on
+// the paper's rod; the Signorini conditions at every sample on the paper's rod, between two walls
 // and in a scene of bodies; refusals (range of ρ∞, keys, sparse models) and the command line.
-#include "core/kr_alpha.hpp"
+#include "core/methods/kr_alpha.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,14 +20,14 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "core/amplification.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/method_registry.hpp"
-#include "core/model_scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/scene_reference.hpp"
-#include "core/simulation.hpp"
-#include "core/sparse_system.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/methods/method_registry.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/model/sparse_system.hpp"
+#include "core/reference/scene_reference.hpp"
+#include "core/run/simulation.hpp"
+#include "core/spectral/amplification.hpp"
 #include "explicit_stepper_checks.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"
@@ -73,10 +73,10 @@ TEST(KrAlpha, IsSecondOrderWithAndWithoutDamping) {
   }
 }
 
-// Why the stepper starts from v̂₀ = v₀ − γΔt·α1·a₀ and reports v̂ + γΔt·α1·a (core/kr_alpha.hpp):
-// the formulas read literally, from the physical v₀ and reporting v̂, converge at first order
-// only. Measured here on one undamped dof (ω = 3, u₀ = 1, v₀ = 0.7, T = 1), with the scalar
-// recurrence, against the stepper's second order on the same problem.
+// Why the stepper starts from v̂₀ = v₀ − γΔt·α1·a₀ and reports v̂ + γΔt·α1·a
+// (core/methods/kr_alpha.hpp): the formulas read literally, from the physical v₀ and reporting v̂,
+// converge at first order only. Measured here on one undamped dof (ω = 3, u₀ = 1, v₀ = 0.7, T = 1),
+// with the scalar recurrence, against the stepper's second order on the same problem.
 TEST(KrAlpha, TheLiteralStartIsFirstOrder) {
   const double omega = 3.0, v0 = 0.7;
   const double exact_u = std::cos(omega) + v0 / omega * std::sin(omega);
@@ -337,7 +337,8 @@ TEST(KrAlpha, SignoriniConditionsHoldAtEverySampleOfThePapersRod) {
     ASSERT_LE(run.trace.displacement[i], rod.gap) << i;
   }
   EXPECT_GT(*std::max_element(run.trace.pressure.begin(), run.trace.pressure.end()), 0.0);
-  // A sweep batches it (core/batched_kr_alpha.hpp; tests/batched_kr_alpha_test.cpp: bit for bit).
+  // A sweep batches it (core/batch/batched_kr_alpha.hpp; tests/batched_kr_alpha_test.cpp: bit for
+  // bit).
   EXPECT_TRUE(batchable(rod, KrAlphaParams{}, RunOptions{}));
   // Skipping the rigid free flight starts the method later from the same rigid motion.
   const testing::Run skipped = testing::run(rod, KrAlphaParams{}, RunOptions{});
@@ -457,7 +458,7 @@ TEST(KrAlpha, RunsOnAModelOfSparseMatrices) {
 
 // The contact operator of a constraint list, s·G·W with W = D⁻¹·M·E⁻¹·D·M⁻¹·Gᵀ, is symmetric
 // for every damping, not only C = a0·M + a1·K: D and E are combinations of M and the one matrix
-// γΔt·C + βΔt²·K, so W = E⁻¹·Gᵀ (core/kr_alpha.hpp). The identity on dense matrices with a
+// γΔt·C + βΔt²·K, so W = E⁻¹·Gᵀ (core/methods/kr_alpha.hpp). The identity on dense matrices with a
 // consistent mass and a dashpot at one end (C not in the span of M and K), at three ρ∞; then
 // KR-α through simulate() on a model with that dashpot and two walls on the same body (their
 // constraints coupled: G·E⁻¹·Gᵀ has off-diagonal entries), on the tridiagonal path and, with a

@@ -1,7 +1,7 @@
-// The method registry (core/method_registry.hpp): every method is registered once under its
+// The method registry (core/methods/method_registry.hpp): every method is registered once under its
 // name; the parameters it takes build its parameter struct and are reported back unchanged; its
 // defaults are default_params()'; a key it does not take is refused with the methods that do.
-#include "core/method_registry.hpp"
+#include "core/methods/method_registry.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Method parameters: validation, the coefficient formulas of eqs 13 and 15 and of Chung &
 // Hulbert, and the string names shared by the CLI, plan files and HDF5.
-#include "core/method.hpp"
+#include "core/methods/method.hpp"
 
 #include <gtest/gtest.h>
 

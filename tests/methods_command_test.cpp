@@ -7,7 +7,7 @@
 #include <string>
 
 #include "cli_support.hpp"
-#include "core/method_registry.hpp"
+#include "core/methods/method_registry.hpp"
 
 namespace impactid {
 namespace {

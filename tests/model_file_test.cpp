@@ -9,10 +9,10 @@
 #include <iterator>
 #include <string>
 
-#include "core/exact_solution.hpp"
-#include "core/model_reference.hpp"
-#include "core/simulation.hpp"
-#include "core/sparse_integrators.hpp"
+#include "core/methods/sparse_integrators.hpp"
+#include "core/reference/exact_solution.hpp"
+#include "core/run/references.hpp"
+#include "core/run/simulation.hpp"
 #include "same_run.hpp"
 #include "study/cli/model_export.hpp"
 #include "study/formats/hdf5_file.hpp"

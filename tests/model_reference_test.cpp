@@ -1,17 +1,16 @@
-// A user's model measured against a converged reference (core/model_reference.hpp), on issue 34's
-// kind of model: three DOFs of one's own, a wall on the last. The reference is checked by a
-// second method of another family and is trusted only when both converge and agree; its estimated
-// error is reported beside every ε; an untrusted reference makes the verdict `unverified` and
-// `simulate` and `compare` exit with status 3; a penetration that is not tracked is said so, not
-// printed as nan; the history's units are the scene's.
-#include "core/model_reference.hpp"
-
+// A user's model measured against a converged reference (core/reference/model_reference.hpp), on
+// issue 34's kind of model: three DOFs of one's own, a wall on the last. The reference is checked
+// by a second method of another family and is trusted only when both converge and agree; its
+// estimated error is reported beside every ε; an untrusted reference makes the verdict `unverified`
+// and `simulate` and `compare` exit with status 3; a penetration that is not tracked is said so,
+// not printed as nan; the history's units are the scene's.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
 #include "cli_support.hpp"
+#include "core/run/references.hpp"
 #include "study/io/history_file.hpp"
 #include "study/plan/plan.hpp"
 #include "study/studies/evaluation.hpp"

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/implicit_integrator.hpp"
-#include "core/method.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/methods/method.hpp"
 #include "test_support.hpp"
 
 namespace impactid {

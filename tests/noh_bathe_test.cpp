@@ -1,12 +1,13 @@
-// The Noh–Bathe explicit scheme (core/noh_bathe.hpp, NohBatheParams in core/method.hpp): second
-// order measured by halving Δt against the exact modal solution, with and without damping; the
-// velocity weights; the amplification matrix against the stepper itself and against the closed
-// forms (det, trace, ρ = √det where complex, period error −(3p−2)²/24·Ω², ξ̄ ≈ (1−p)²(2p−1)Ω³/8);
-// the stability limit Ω_crit(p) from a scan of ρ and at both sides of it, p < ½ unstable at every
-// Ω; a run above the limit flagged before it starts and stopped `unstable`; the Signorini
-// conditions at every sample and sub-step on the paper's rod, between two walls and in a scene of
-// bodies; refusals (range of p, keys, other contact laws, sparse models) and the command line.
-#include "core/noh_bathe.hpp"
+// The Noh–Bathe explicit scheme (core/methods/noh_bathe.hpp, NohBatheParams in
+// core/methods/method.hpp): second order measured by halving Δt against the exact modal solution,
+// with and without damping; the velocity weights; the amplification matrix against the stepper
+// itself and against the closed forms (det, trace, ρ = √det where complex, period error
+// −(3p−2)²/24·Ω², ξ̄ ≈ (1−p)²(2p−1)Ω³/8); the stability limit Ω_crit(p) from a scan of ρ and at both
+// sides of it, p < ½ unstable at every Ω; a run above the limit flagged before it starts and
+// stopped `unstable`; the Signorini conditions at every sample and sub-step on the paper's rod,
+// between two walls and in a scene of bodies; refusals (range of p, keys, other contact laws,
+// sparse models) and the command line.
+#include "core/methods/noh_bathe.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,13 +19,13 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "core/amplification.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/method_registry.hpp"
-#include "core/model_scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/scene_reference.hpp"
-#include "core/simulation.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/methods/method_registry.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/reference/scene_reference.hpp"
+#include "core/run/simulation.hpp"
+#include "core/spectral/amplification.hpp"
 #include "explicit_stepper_checks.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"

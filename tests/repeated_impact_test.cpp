@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "core/exact_solution.hpp"
-#include "core/simulation.hpp"
-#include "core/two_wall_contact.hpp"
+#include "core/algebra/two_wall_contact.hpp"
+#include "core/reference/exact_solution.hpp"
+#include "core/run/simulation.hpp"
 #include "metrics/indicators.hpp"
 #include "test_support.hpp"
 

@@ -1,5 +1,5 @@
 // The rod scene: its derived quantities, its validation and the assembled matrices.
-#include "core/rod_scene.hpp"
+#include "core/model/rod_scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/second_order_system.hpp"
+#include "core/model/second_order_system.hpp"
 
 namespace impactid {
 namespace {

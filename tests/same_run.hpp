@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/run_record.hpp"
+#include "core/common/run_record.hpp"
 
 namespace impactid::testing {
 

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "core/chain_exact.hpp"
-#include "core/scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/scene_reference.hpp"
-#include "core/simulation.hpp"
+#include "core/model/scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/reference/chain_exact.hpp"
+#include "core/run/references.hpp"
+#include "core/run/simulation.hpp"
 #include "metrics/indicators.hpp"
 
 namespace impactid {

@@ -1,13 +1,13 @@
 // Scenes of several bodies: validation messages, derived quantities (the one-body shorthand gives
 // the rod's), the contact list, and the assembled system's structure.
-#include "core/scene.hpp"
+#include "core/model/scene.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/scene_assembly.hpp"
-#include "core/second_order_system.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/model/second_order_system.hpp"
 
 namespace impactid {
 namespace {

@@ -12,13 +12,13 @@
 #include <limits>
 #include <type_traits>
 
-#include "core/implicit_integrator.hpp"  // consistent_acceleration
-#include "core/rod_scene.hpp"
-#include "core/run_record.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/second_order_system.hpp"
-#include "core/sparse_system.hpp"
-#include "core/state.hpp"
+#include "core/common/run_record.hpp"
+#include "core/common/state.hpp"
+#include "core/methods/implicit_integrator.hpp"  // consistent_acceleration
+#include "core/model/rod_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/model/second_order_system.hpp"
+#include "core/model/sparse_system.hpp"
 
 namespace impactid::testing {
 

@@ -1,6 +1,6 @@
 // simulate(): rigid free flight, the Signorini conditions at every sample for every method, the
 // `unstable` outcome of unstable parameters, and the bookkeeping of the run summary and trace.
-#include "core/simulation.hpp"
+#include "core/run/simulation.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The explicit schemes with stages or model-based matrices on a user's sparse model (Noh–Bathe and
-// Kim's scheme, core/noh_bathe.hpp and core/kim_explicit.hpp with
-// core/sparse_explicit_stage_contact.hpp; KR-α, core/sparse_kr_alpha.hpp):
+// Kim's scheme, core/methods/noh_bathe.hpp and core/methods/kim_explicit.hpp with
+// core/contact/sparse_explicit_stage_contact.hpp; KR-α, core/methods/sparse_kr_alpha.hpp):
 // - the paper's rod as a model of its own tridiagonal matrices (examples/rod), run once by the
 //   tridiagonal path and once as a sparse model, gives the same run to round-off, for each method
 //   and each contact law it takes, with a lumped and a consistent mass, with and without damping;
@@ -18,13 +18,13 @@
 #include <string>
 #include <vector>
 
-#include "core/kim_explicit.hpp"
-#include "core/model_scene.hpp"
-#include "core/noh_bathe.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
-#include "core/sparse_kr_alpha.hpp"
-#include "core/stable_step.hpp"
+#include "core/contact/stable_step.hpp"
+#include "core/methods/kim_explicit.hpp"
+#include "core/methods/noh_bathe.hpp"
+#include "core/methods/sparse_kr_alpha.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/run/simulation.hpp"
 #include "signorini_check.hpp"
 #include "study/formats/matrix_market.hpp"
 #include "study/plan/plan.hpp"
@@ -223,9 +223,9 @@ enum class Complementary { next_substep, sample_or_next_substep, next_sample };
 
 // The steppers themselves on the block: λ >= 0 and the gaps at every sample, and for the stage
 // schemes at every stage (Lagrange: the constraints hold at every point of the time grid,
-// core/noh_bathe.hpp and core/kim_explicit.hpp), and each sample's multiplier complementary to
-// the gap its header names, checked with the test's own arithmetic. `sample_gap` bounds the
-// samples' gaps (below: Kim's scheme with a consistent mass).
+// core/methods/noh_bathe.hpp and core/methods/kim_explicit.hpp), and each sample's multiplier
+// complementary to the gap its header names, checked with the test's own arithmetic. `sample_gap`
+// bounds the samples' gaps (below: Kim's scheme with a consistent mass).
 template <class Stepper, class Coefficients>
 void expect_signorini_on_the_block(const AssembledScene& scene, const Coefficients& coefficients,
                                    Complementary complementary, double sample_gap,
@@ -295,7 +295,7 @@ TEST(SparseExplicit, SignoriniConditionsHoldAtEverySampleAndStageOfTheBlock) {
       // move the sample by s_u·M⁻¹·Gᵀ·μ (s_u = 0 at p = ½). With a lumped mass each pushes only
       // its own DOF, away from its wall; a consistent M⁻¹ has entries of both signs, so one
       // contact's push can move a neighbouring sample node toward its wall: measured 3.2e-4 of
-      // the gap at p = ⅓ (core/kim_explicit.cpp). The next force point still holds exactly.
+      // the gap at p = ⅓ (core/methods/kim_explicit.cpp). The next force point still holds exactly.
       const double sample_gap = consistent && p < 0.5 ? 1e-3 * gap : 1e-9 * gap;
       expect_signorini_on_the_block<SparseKimExplicit>(
           scene, kim_explicit_coefficients({.p = p}), Complementary::sample_or_next_substep,

@@ -1,21 +1,21 @@
-// The sparse path of a user's model (core/sparse_*.hpp, core/model_scene.hpp): the factorisation
-// and its refusals, a two-DOF model against its closed-form solution, the sparse integrators
-// against the tridiagonal ones on the paper's rod, the contact solver on many constraints, and
-// the refusal of central difference with a consistent mass.
+// The sparse path of a user's model (core/sparse_*.hpp, core/model/model_scene.hpp): the
+// factorisation and its refusals, a two-DOF model against its closed-form solution, the sparse
+// integrators against the tridiagonal ones on the paper's rod, the contact solver on many
+// constraints, and the refusal of central difference with a consistent mass.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <random>
 
-#include "core/central_difference.hpp"
-#include "core/contact_lcp.hpp"
-#include "core/implicit_integrator.hpp"
-#include "core/model_scene.hpp"
-#include "core/second_order_system.hpp"
-#include "core/simulation.hpp"
-#include "core/sparse_factorization.hpp"
-#include "core/sparse_integrators.hpp"
+#include "core/algebra/contact_lcp.hpp"
+#include "core/methods/central_difference.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/methods/sparse_integrators.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/second_order_system.hpp"
+#include "core/model/sparse_factorization.hpp"
+#include "core/run/simulation.hpp"
 
 namespace impactid {
 namespace {
@@ -324,9 +324,10 @@ TEST(ModelScene, ChoosesTheTridiagonalPathForAChainAndTheSparseOneOtherwise) {
   EXPECT_LE(run.max_penetration, 1e-12);
 }
 
-// The penalty and augmented-Lagrangian laws on a sparse model (core/sparse_integrators.hpp): the
-// same numbers as the tridiagonal integrator's constraint list with the same springs, and the
-// penalty's force is the spring of the step's end, λ = k·max(0, g), at every step.
+// The penalty and augmented-Lagrangian laws on a sparse model
+// (core/methods/sparse_integrators.hpp): the same numbers as the tridiagonal integrator's
+// constraint list with the same springs, and the penalty's force is the spring of the step's end, λ
+// = k·max(0, g), at every step.
 TEST(SparseImplicitIntegrator, PenaltyAndAugmentedLagrangianAsTheChainIntegrator) {
   const TwoMasses model;
   const SparseSystem system = model.system();

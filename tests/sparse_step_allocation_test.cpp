@@ -10,15 +10,15 @@
 #include <filesystem>
 #include <new>
 
-#include "core/houbolt.hpp"
-#include "core/kim_explicit.hpp"
-#include "core/kr_alpha.hpp"
-#include "core/model_scene.hpp"
-#include "core/noh_bathe.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/sparse_integrators.hpp"
-#include "core/sparse_kr_alpha.hpp"
-#include "core/wilson_theta.hpp"
+#include "core/methods/houbolt.hpp"
+#include "core/methods/kim_explicit.hpp"
+#include "core/methods/kr_alpha.hpp"
+#include "core/methods/noh_bathe.hpp"
+#include "core/methods/sparse_integrators.hpp"
+#include "core/methods/sparse_kr_alpha.hpp"
+#include "core/methods/wilson_theta.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/scene_assembly.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
 

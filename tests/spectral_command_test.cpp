@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 
 namespace impactid {
 namespace {

@@ -14,7 +14,7 @@
 #include <fstream>
 #include <memory>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 #include "study/formats/hdf5_file.hpp"
 #include "test_files.hpp"
 
@@ -99,7 +99,7 @@ TEST(SpectralStudy, DeltaMinimisingThePeriodErrorIsEquation19AsOmegaGoesToZero) 
   for (std::size_t a = 0; a < s.alpha.size(); ++a) {
     // hht_delta_minimizing_period_error resolves delta to about 4e-6 as Omega -> 0.
     EXPECT_NEAR(r.delta_min_period_error_limit[a], -1.5 * s.alpha[a], 1e-5) << s.alpha[a];
-    // At Omega = 1 it moves, but by less than 0.05 (core/amplification.hpp).
+    // At Omega = 1 it moves, but by less than 0.05 (core/spectral/amplification.hpp).
     EXPECT_NEAR(r.delta_min_period_error[a], -1.5 * s.alpha[a], 0.05) << s.alpha[a];
   }
 }

@@ -1,7 +1,7 @@
 // Stability maps of the rod impact: method parameters × Courant number, each run over a long
 // horizon through the users' path (SimulationSettings → assign → build → evaluate), classified
 // `ok` or `unstable` by the run's own energy bound, and set beside two predictions of
-// core/amplification.hpp.
+// core/spectral/amplification.hpp.
 //
 // 1. The plain one: is_stable(params, rod_max_omega_dt(mass, C)), ρ <= 1 over the scan
 //    Ω ∈ [1e-4, Ω_max].
@@ -31,7 +31,7 @@
 //     without the bound, with histories: the energy must have crossed the bound by the last
 //     release and not grown after it;
 //   - central difference at exactly Ω_max = 2 (Courant 1, lumped): a double eigenvalue −1, linear
-//     growth that ρ = 1 does not show (core/central_difference.hpp);
+//     growth that ρ = 1 does not show (core/methods/central_difference.hpp);
 //   - HHT just below δ = −α: ρ > 1 only in a band of small Ω, below the free rod's lowest mode
 //     (which grows with C), so after the release the rod has no growing mode at all;
 //   - or a growing mode, too slow for the horizon (N < N_detect).
@@ -46,7 +46,7 @@
 #include <variant>
 #include <vector>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 #include "study/plan/simulation_settings.hpp"
 #include "study/studies/evaluation.hpp"
 

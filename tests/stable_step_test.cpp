@@ -1,7 +1,7 @@
-// The explicit limit's Gershgorin bound (core/stable_step.hpp): exact for the uniform lumped rod,
-// an upper bound on a graded mesh, the same for a system given as sparse matrices, and no limit
-// certified without a diagonal mass.
-#include "core/stable_step.hpp"
+// The explicit limit's Gershgorin bound (core/contact/stable_step.hpp): exact for the uniform
+// lumped rod, an upper bound on a graded mesh, the same for a system given as sparse matrices, and
+// no limit certified without a diagonal mass.
+#include "core/contact/stable_step.hpp"
 
 #include <gtest/gtest.h>
 

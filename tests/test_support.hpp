@@ -11,11 +11,11 @@
 #include <limits>
 #include <vector>
 
-#include "core/implicit_integrator.hpp"
-#include "core/rod_scene.hpp"
-#include "core/second_order_system.hpp"
-#include "core/simulation.hpp"
-#include "core/state.hpp"
+#include "core/common/state.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/model/rod_scene.hpp"
+#include "core/model/second_order_system.hpp"
+#include "core/run/simulation.hpp"
 
 namespace impactid::testing {
 

@@ -1,5 +1,5 @@
 // Tridiagonal storage and the Thomas factorisation, checked against Eigen's dense algebra.
-#include "core/tridiagonal.hpp"
+#include "core/algebra/tridiagonal.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
-// Wilson-θ (core/wilson_theta.hpp): second order measured by halving Δt against the exact modal
-// solution, with and without damping, for several θ; every step is Wilson's update from an
+// Wilson-θ (core/methods/wilson_theta.hpp): second order measured by halving Δt against the exact
+// modal solution, with and without damping, for several θ; every step is Wilson's update from an
 // equilibrium at t + θΔt (dense matrices); the spectral analysis against closed forms (period
 // error (6θ² − 6θ + 1)/24·Ω², ρ∞ the largest root of the limit's cubic, −1 at θ = (1 + √3)/2),
 // unconditional stability from (1 + √3)/2 on and not below; a free mass stopped by the wall at
 // t + Δt leaves at up to twice its speed (why it chatters); the Signorini conditions at every
 // sample t + Δt (not at t + θΔt) on the paper's rod, between two walls, on a scene of bodies and
 // on sparse models; never batched.
-#include "core/wilson_theta.hpp"
+#include "core/methods/wilson_theta.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,14 +19,14 @@
 #include <type_traits>
 #include <vector>
 
-#include "core/amplification.hpp"
-#include "core/batched_chain.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/implicit_integrator.hpp"
-#include "core/model_scene.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/simulation.hpp"
-#include "core/sparse_integrators.hpp"
+#include "core/batch/batched_chain.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/methods/implicit_integrator.hpp"
+#include "core/methods/sparse_integrators.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/run/simulation.hpp"
+#include "core/spectral/amplification.hpp"
 #include "signorini_check.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -113,7 +113,7 @@ TEST(WilsonTheta, EachStepIsWilsonsUpdateFromAnEquilibriumAtThetaDt) {
 }
 
 // The largest root modulus of the limit's characteristic polynomial (derived from the matrix of
-// core/wilson_theta.hpp's update with Ω → ∞, by hand):
+// core/methods/wilson_theta.hpp's update with Ω → ∞, by hand):
 //   θ³λ³ + (1 + 3θ + 3θ² − 3θ³)λ² + (3θ³ − 6θ² + 4)λ − (θ − 1)³ = 0.
 // At λ = −1 it is −2(4θ³ − 6θ² + 1) = −2(2θ − 1)(2θ² − 2θ − 1), zero at θ = (1 + √3)/2.
 double limit_rho(double theta) {
@@ -311,7 +311,8 @@ TEST(WilsonTheta, SignoriniConditionsHoldBetweenTwoWallsAndInAsceneOfBodies) {
 
 // Steps Wilson-θ under a contact law and checks at every sample t + Δt: λ >= 0, and for the
 // penalty λ = k·max(0, g(u_{n+1})), the spring of the sample's own penetration (the extended
-// step's spring is k/θ³, core/wilson_theta.hpp). Returns the pushing (constraint, sample) pairs.
+// step's spring is k/θ³, core/methods/wilson_theta.hpp). Returns the pushing (constraint, sample)
+// pairs.
 template <class Integrator, class System>
 long check_law_at_samples(const System& system, State s, double dt, long steps,
                           const ContactPenalties& contact, double theta, double force_scale) {

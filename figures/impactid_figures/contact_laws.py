@@ -1,4 +1,4 @@
-"""The contact laws compared (core/contact_treatment.hpp): ε_p, NoP_p and the largest penetration
+"""The contact laws compared (core/contact/contact_treatment.hpp): ε_p, NoP_p and the largest penetration
 of Lagrange multipliers, penalty springs and the augmented Lagrangian against the penalty
 stiffness factor k / (E·A/h), one line per law.
 

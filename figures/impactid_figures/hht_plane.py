@@ -88,7 +88,7 @@ def hht_lines(ax, x, y, paper_stage=True, paper_stage_label=None):
 
 def predicted_stable(results_dir, alpha, delta):
     """HHT stability over (alpha, delta) as the spectral study predicts it: the `stable` map of
-    spectral.h5 at the nearest grid point (it is computed by core/amplification.hpp, not by a
+    spectral.h5 at the nearest grid point (it is computed by core/spectral/amplification.hpp, not by a
     simulation), or, without that file, the closed form δ ≥ −α. Returns (map[a, d], source)."""
     try:
         _, s = load_spectral(results_dir)

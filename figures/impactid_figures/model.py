@@ -160,7 +160,7 @@ def mass_is_diagonal(r):
 
 def model_reference_text(r):
     """What a user model's indicators are measured against, from the reference_* columns: its
-    converged numerical solution (core/model_reference.hpp: central difference when M is diagonal,
+    converged numerical solution (core/reference/model_reference.hpp: central difference when M is diagonal,
     else HHT-α), at Δt/2^k, or the reference history supplied with the model."""
     how = {True: "central-difference", False: "HHT-α (α = −0.3)"}.get(mass_is_diagonal(r), "numerical")
     if not r.has("reference_refinements"):  # a work-precision study: a reference for each point's Δt

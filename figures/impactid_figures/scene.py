@@ -100,7 +100,7 @@ def scene_bodies(scene):
 
 
 def scene_contacts(scene):
-    """The contacts of a scene of bodies, left to right, as core/scene.cpp names them:
+    """The contacts of a scene of bodies, left to right, as core/model/scene.cpp names them:
     [(name, gap, dotted keys of the gap)] with 'wall_left', '<left>-<right>' and 'wall_right'."""
     bodies = scene_bodies(scene)
     walls = scene.get("wall", {})

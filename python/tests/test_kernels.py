@@ -1,5 +1,5 @@
 """impactid.kernels(): which batched kernels run, as `impactid --version` says; a level the
-processor lacks, forced with IMPACTID_KERNELS, is refused at import (core/kernel_level.hpp)."""
+processor lacks, forced with IMPACTID_KERNELS, is refused at import (core/common/kernel_level.hpp)."""
 
 import subprocess
 import sys

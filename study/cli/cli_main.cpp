@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/kernel_level.hpp"
+#include "core/common/kernel_level.hpp"
 #include "study/cli/command_line.hpp"
 #include "study/cli/merge_command.hpp"
 #include "study/cli/methods_command.hpp"
@@ -118,7 +118,7 @@ int impactid_main(int argc, char** argv, const Runners& runners) {
                                         impactid::kGitRevision + ")\nkernels " +
                                         describe_kernel_selection());
   // A level the processor lacks would fault at its first instruction: refused before anything
-  // runs (IMPACTID_KERNELS, core/kernel_level.hpp).
+  // runs (IMPACTID_KERNELS, core/common/kernel_level.hpp).
   if (const KernelSelection& kernels = kernel_selection(); !kernels.error.empty()) {
     std::cerr << "impactid: " << kernels.error << '\n';
     return impactid::kExitBadInput;

@@ -16,8 +16,8 @@ inline constexpr int kExitBadInput = 2;
 /// Exit status for a failure while working (I/O, a results file that cannot be written).
 inline constexpr int kExitFailure = 1;
 /// Exit status of `simulate` and `compare` when a run's reference is not trusted (verdict
-/// `unverified` for want of a trusted reference: core/model_reference.hpp), so that a script
-/// does not take an unjudged number for a result.
+/// `unverified` for want of a trusted reference: core/reference/model_reference.hpp), so that a
+/// script does not take an unjudged number for a result.
 inline constexpr int kExitUnverified = 3;
 
 /// "youngs_modulus" -> "--youngs-modulus"

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "core/method_registry.hpp"
+#include "core/methods/method_registry.hpp"
 #include "study/formats/json_writer.hpp"
 
 namespace impactid {

@@ -1,6 +1,6 @@
-// `impactid methods`: every time-stepping method of the registry (core/method_registry.hpp) with
-// its summary, the parameters it takes (their defaults, ranges and meaning) and the coefficients
-// it derives from them. Text, or --json for scripts and the Python front.
+// `impactid methods`: every time-stepping method of the registry (core/methods/method_registry.hpp)
+// with its summary, the parameters it takes (their defaults, ranges and meaning) and the
+// coefficients it derives from them. Text, or --json for scripts and the Python front.
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -5,9 +5,9 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "core/exact_solution.hpp"
-#include "core/scene_assembly.hpp"
-#include "core/scene_reference.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/reference/exact_solution.hpp"
+#include "core/run/references.hpp"
 #include "study/cli/command_line.hpp"
 
 namespace impactid {

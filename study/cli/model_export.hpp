@@ -2,8 +2,9 @@
 // user's model (study/plan/model_file.hpp) — M, K and C as Matrix Market files, a scene file of
 // kind "matrices" with its contacts, initial velocity, step and end time, and, when the scene has
 // an exact solution, that solution at the run's samples as the model's reference history. The
-// exported model runs the built-in scene's operations (core/model_scene.hpp), so a plan on it gives
-// the built-in scene's numbers: the path from a user's files to a results file, proved end to end.
+// exported model runs the built-in scene's operations (core/model/model_scene.hpp), so a plan on it
+// gives the built-in scene's numbers: the path from a user's files to a results file, proved end to
+// end.
 //
 // Numbers are written with 17 significant digits: they read back to the same doubles.
 //

@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 #include "study/cli/command_line.hpp"
 #include "study/formats/json_writer.hpp"
 #include "study/studies/damping_match.hpp"

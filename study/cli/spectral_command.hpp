@@ -1,6 +1,6 @@
 // `impactid spectral`: the spectral analysis of one method on the undamped oscillator
-// (core/amplification.hpp) — ρ∞, the Ω → 0 period-error coefficient, stability up to Ω_max,
-// and ρ, ξ̄ and the period error at given Ω = ω·Δt (--omega-dt); for HHT also the δ that
+// (core/spectral/amplification.hpp) — ρ∞, the Ω → 0 period-error coefficient, stability up to
+// Ω_max, and ρ, ξ̄ and the period error at given Ω = ω·Δt (--omega-dt); for HHT also the δ that
 // minimises the period error at its α. Text or --json.
 //
 // `impactid spectral --match-damping XI --omega-dt W`: for each one-parameter family of

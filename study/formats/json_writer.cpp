@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/parameter_error.hpp"
+#include "core/common/parameter_error.hpp"
 
 namespace impactid {
 

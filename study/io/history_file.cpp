@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "core/chain_exact.hpp"
-#include "core/exact_solution.hpp"
-#include "core/scene_reference.hpp"
+#include "core/reference/chain_exact.hpp"
+#include "core/reference/exact_solution.hpp"
+#include "core/run/references.hpp"
 #include "study/formats/hdf5_file.hpp"
 
 namespace impactid {
@@ -103,13 +103,15 @@ std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrac
 
 // A user's model: the primary contact's samples under the rod's column names, then every
 // contact's, with the reference's samples as reference_pressure.<contact>, … (no exact solution:
-// a model's reference is supplied or converged, core/model_reference.hpp). Units are the model's.
+// a model's reference is supplied or converged, core/reference/model_reference.hpp). Units are the
+// model's.
 std::vector<Column> model_history_columns(const ModelScene& scene, const ContactTrace& trace,
                                           const ModelReference& reference) {
   const Model& model = *scene.model;
   const auto n = static_cast<std::size_t>(trace.size());
   const std::string units = model.units.empty() ? "model units" : model.units;
-  // The scene's units when its `units` names them (core/model_scene.hpp: model_units), else none.
+  // The scene's units when its `units` names them (core/model/model_scene.hpp: model_units), else
+  // none.
   const ModelUnits u = model_units(model.units);
   std::vector<Column> columns{
       {"t", u.time, "sample time t_i = i*dt", {}},

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/simulation.hpp"
+#include "core/run/simulation.hpp"
 #include "study/plan/simulation_settings.hpp"
 
 namespace impactid {

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/simulation.hpp"
+#include "core/run/simulation.hpp"
 #include "metrics/verdict.hpp"
 #include "study/formats/hdf5_file.hpp"
 

@@ -9,7 +9,7 @@
 #include <set>
 #include <sstream>
 
-#include "core/sparse_factorization.hpp"
+#include "core/model/sparse_factorization.hpp"
 #include "study/formats/hdf5_file.hpp"
 #include "study/formats/matrix_market.hpp"
 #include "study/plan/toml_reading.hpp"
@@ -57,7 +57,7 @@ Asymmetry asymmetry(const SparseMatrix& a) {
 
 class ModelReader : public toml_reading::TableReader {
  public:
-  ModelReader(const SceneTableFail& fail, std::string prefix, std::filesystem::path directory)
+  ModelReader(const TableFail& fail, std::string prefix, std::filesystem::path directory)
       : TableReader(fail), prefix_(std::move(prefix)), directory_(std::move(directory)) {}
 
   std::filesystem::path path(const toml::node& node, const std::string& key) const {
@@ -402,7 +402,7 @@ bool is_model_scene_key(const std::string& key) {
 }
 
 ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
-                            const std::filesystem::path& directory, const SceneTableFail& fail) {
+                            const std::filesystem::path& directory, const TableFail& fail) {
   const ModelReader r(fail, prefix, directory);
   auto model = std::make_shared<Model>();
   ModelScene out;

@@ -17,7 +17,7 @@
 #include <filesystem>
 #include <string>
 
-#include "core/model_scene.hpp"
+#include "core/model/model_scene.hpp"
 #include "study/plan/scene_file.hpp"
 
 namespace impactid {
@@ -32,6 +32,6 @@ bool is_model_scene_key(const std::string& key);
 /// ("scene"), `directory` the folder its paths are relative to. `fail` must throw. dt, t_end and
 /// the Rayleigh factors are left to the caller (they are sweepable parameters).
 ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
-                            const std::filesystem::path& directory, const SceneTableFail& fail);
+                            const std::filesystem::path& directory, const TableFail& fail);
 
 }  // namespace impactid

@@ -1,7 +1,7 @@
 // Plan files: what users launch. A TOML file (toml++ 3.3) with sections [scene], [method],
 // [study] and [output]; every key is documented in plans/README.md. A study is a grid, a list
 // or an optimisation of simulations, or a spectral study of the integrators themselves (no
-// simulation: amplification-matrix curves, core/amplification.hpp).
+// simulation: amplification-matrix curves, core/spectral/amplification.hpp).
 //
 // load_plan() checks everything before anything runs — unknown keys, wrong types, values out
 // of range, parameters the method does not take, and every point of a grid or list — and
@@ -81,7 +81,8 @@ struct SpectralMethod {
 };
 
 /// `kind = "spectral"`: the spectral properties of the integrators on ü + ω²u = 0
-/// (core/amplification.hpp), written by study/studies/spectral_study.hpp; no simulation runs.
+/// (core/spectral/amplification.hpp), written by study/studies/spectral_study.hpp; no simulation
+/// runs.
 struct SpectralStudy {
   std::vector<double> omega_dt;         ///< Ω = ω·Δt, each > 0 and finite, no value twice
   std::vector<SpectralMethod> methods;  ///< at least one

@@ -18,7 +18,7 @@
 #include <string_view>
 #include <variant>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 #include "metrics/indicator_table.hpp"
 #include "study/plan/model_file.hpp"
 #include "study/plan/plan.hpp"

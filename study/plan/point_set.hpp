@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/parameter_error.hpp"
+#include "core/common/parameter_error.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
 

@@ -112,7 +112,7 @@ bool is_scene_of_bodies(const toml::table& scene) {
 }
 
 Scene read_scene_of_bodies(const toml::table& table, const std::string& prefix,
-                           const SceneTableFail& fail) {
+                           const TableFail& fail) {
   const Reader r(fail);
   Scene scene;
   std::optional<double> first_gap;

@@ -30,17 +30,12 @@
 
 #include <toml++/toml.h>
 
-#include <functional>
 #include <string>
 
-#include "core/scene.hpp"
+#include "core/model/scene.hpp"
+#include "study/plan/table_fail.hpp"
 
 namespace impactid {
-
-/// How the reader reports a bad value: throws, naming the node's position, the dotted key and
-/// what is wrong.
-using SceneTableFail =
-    std::function<void(const toml::node& node, const std::string& key, const std::string& what)>;
 
 /// Whether a [scene] table describes a scene of bodies (it has `body` or `wall`).
 bool is_scene_of_bodies(const toml::table& scene);
@@ -53,6 +48,6 @@ bool is_scene_of_bodies_key(const std::string& key);
 /// dotted key for messages ("scene"). Keys it does not own are left to the caller. Range checks
 /// are validate()'s; this checks structure and types. `fail` must throw.
 Scene read_scene_of_bodies(const toml::table& scene, const std::string& prefix,
-                           const SceneTableFail& fail);
+                           const TableFail& fail);
 
 }  // namespace impactid

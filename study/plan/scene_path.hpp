@@ -11,9 +11,9 @@
 #include <optional>
 #include <string_view>
 
-#include "core/parameter_error.hpp"
-#include "core/scene.hpp"
-#include "study/plan/simulation_settings.hpp"
+#include "core/common/parameter_error.hpp"
+#include "core/model/scene.hpp"
+#include "study/plan/parameter_value.hpp"
 
 namespace impactid {
 

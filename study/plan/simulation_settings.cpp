@@ -8,7 +8,7 @@
 #include <string>
 #include <type_traits>
 
-#include "core/model_reference.hpp"
+#include "core/reference/model_reference.hpp"
 #include "study/plan/scene_path.hpp"
 
 namespace impactid {
@@ -18,7 +18,7 @@ using G = ParameterGroup;
 using K = ParameterKind;
 
 // The scene's keys (the one-body rod's, and those every scene takes), then the method and its
-// parameters (from core/method_registry.hpp), then the output's.
+// parameters (from core/methods/method_registry.hpp), then the output's.
 constexpr ParameterInfo kSceneParameters[] = {
 
     {"length", G::scene, K::real, "mm", "rod length L (default 20, > 0)", "", ""},
@@ -347,7 +347,7 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     ModelScene scene = *s.model;
     if (s.courant_given) {
       // A model's Courant number is Δt·ω/2, ω the Gershgorin bound of its highest frequency
-      // (core/model_scene.hpp: gershgorin_omega).
+      // (core/model/model_scene.hpp: gershgorin_omega).
       if (!(s.scene.courant > 0.0 && std::isfinite(s.scene.courant))) {
         return ParameterError{"courant", format_value(s.scene.courant),
                               "must be positive and finite"};
@@ -366,7 +366,8 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     scene.rayleigh_stiffness = s.scene.rayleigh_stiffness;
     if (auto e = validate(scene)) return *e;
     out.model = std::move(scene);
-    // A model's converged reference has its own default tolerance (core/model_reference.hpp).
+    // A model's converged reference has its own default tolerance
+    // (core/reference/model_reference.hpp).
     if (!s.reference_tolerance_given) {
       out.indicators.reference_tolerance = model_reference_defaults(*out.model->model).tolerance;
     }

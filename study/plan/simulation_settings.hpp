@@ -15,21 +15,22 @@
 #include <variant>
 #include <vector>
 
-#include "core/method.hpp"
-#include "core/method_registry.hpp"
-#include "core/model_scene.hpp"
-#include "core/parameter_error.hpp"
-#include "core/rod_scene.hpp"
-#include "core/scene.hpp"
-#include "core/simulation.hpp"
+#include "core/common/parameter_error.hpp"
+#include "core/methods/method.hpp"
+#include "core/methods/method_registry.hpp"
+#include "core/model/model_scene.hpp"
+#include "core/model/rod_scene.hpp"
+#include "core/model/scene.hpp"
+#include "core/run/simulation.hpp"
 #include "metrics/indicators.hpp"
 #include "metrics/verdict.hpp"
+#include "study/plan/parameter_value.hpp"
 
 namespace impactid {
 
 /// How a converged reference is computed (a scene of bodies with damping, a user's model; the
 /// rod's reference is exact). Unset fields take the scene kind's defaults
-/// (core/scene_reference.hpp, core/model_reference.hpp); the tolerance is
+/// (core/reference/scene_reference.hpp, core/reference/model_reference.hpp); the tolerance is
 /// IndicatorOptions::reference_tolerance.
 struct ReferenceSettings {
   std::optional<MethodKind> method;  ///< at its default parameters
@@ -37,7 +38,7 @@ struct ReferenceSettings {
 };
 
 /// Method parameters as given; unset ones take the method's defaults in build()
-/// (core/method_registry.hpp: which method takes which key).
+/// (core/methods/method_registry.hpp: which method takes which key).
 struct MethodSettings {
   MethodKind kind = MethodKind::hht;
   MethodArguments given;
@@ -96,8 +97,6 @@ struct ParameterInfo {
 /// Every parameter, in the order --help lists them.
 std::span<const ParameterInfo> parameter_table();
 const ParameterInfo* find_parameter(std::string_view name);
-
-using ParameterValue = std::variant<double, std::string>;
 
 /// Sets one parameter. Errors: unknown name, wrong kind, non-integral integer, unknown choice,
 /// courant together with dt. Range checks happen in build(). Keys of a scene of bodies are

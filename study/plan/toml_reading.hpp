@@ -1,6 +1,6 @@
 // Reading TOML tables with errors at the bad key: what the scene readers
 // (study/plan/scene_file.cpp, study/plan/model_file.cpp) share. Every error goes through a
-// SceneTableFail, which throws with the node's position, the dotted key and what is wrong.
+// TableFail, which throws with the node's position, the dotted key and what is wrong.
 #pragma once
 
 #include <toml++/toml.h>
@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "study/plan/scene_file.hpp"
+#include "study/plan/table_fail.hpp"
 
 namespace impactid::toml_reading {
 
@@ -36,7 +36,7 @@ inline std::string list(const std::vector<std::string>& names) {
 
 class TableReader {
  public:
-  explicit TableReader(const SceneTableFail& fail) : fail_(fail) {}
+  explicit TableReader(const TableFail& fail) : fail_(fail) {}
 
   [[noreturn]] void fail(const toml::node& node, const std::string& key,
                          const std::string& what) const {
@@ -77,7 +77,7 @@ class TableReader {
   }
 
  private:
-  const SceneTableFail& fail_;
+  const TableFail& fail_;
 };
 
 }  // namespace impactid::toml_reading

@@ -6,7 +6,7 @@
 
 #include <optional>
 
-#include "core/parameter_error.hpp"
+#include "core/common/parameter_error.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
 

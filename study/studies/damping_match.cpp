@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 
 namespace impactid {
 namespace {

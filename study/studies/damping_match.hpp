@@ -4,7 +4,7 @@
 // doi:10.1556/606.2022.00599) precise: equal ξ̄ at the Ω of the mesh's highest mode
 // (rod_max_omega_dt), the mode whose spurious oscillation the damping is there to remove.
 //
-// ξ̄ comes from spectral_properties() (core/amplification.hpp); this module only searches.
+// ξ̄ comes from spectral_properties() (core/spectral/amplification.hpp); this module only searches.
 // Pure functions, thread-safe; nothing throws.
 #pragma once
 
@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/method.hpp"
+#include "core/methods/method.hpp"
 
 namespace impactid {
 

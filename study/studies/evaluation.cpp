@@ -5,8 +5,8 @@
 #include <optional>
 #include <vector>
 
-#include "core/model_reference.hpp"
-#include "core/scene_assembly.hpp"
+#include "core/model/scene_assembly.hpp"
+#include "core/run/references.hpp"
 
 namespace impactid {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/batched_chain.hpp"
-#include "core/batched_simulation.hpp"
-#include "core/simulation.hpp"
+#include "core/batch/batched_chain.hpp"
+#include "core/batch/batched_simulation.hpp"
+#include "core/run/simulation.hpp"
 #include "metrics/evaluation.hpp"
 #include "study/plan/simulation_settings.hpp"
 
@@ -29,10 +29,10 @@ struct BatchEvaluationWorkspace {
 };
 
 /// Whether `next` can join a batch that starts with `first`: the rod's scene through its kernel
-/// (core/batched_simulation.hpp: both batchable, the same rod, time step and run options, both
-/// single-step methods, both composite schemes or both one explicit method), a scene of bodies
+/// (core/batch/batched_simulation.hpp: both batchable, the same rod, time step and run options,
+/// both single-step methods, both composite schemes or both one explicit method), a scene of bodies
 /// through the chain kernel
-/// (core/batched_chain.hpp: the same assembled system, time step and run options).
+/// (core/batch/batched_chain.hpp: the same assembled system, time step and run options).
 bool batchable_together(const Simulation& first, const Simulation& next);
 
 /// evaluate() for 1..kBatchLanes simulations at once, each batchable_together with the first:

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "core/parameter_error.hpp"
+#include "core/common/parameter_error.hpp"
 
 namespace impactid {
 namespace {

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "core/batched_simulation.hpp"
+#include "core/batch/batched_simulation.hpp"
 #include "study/studies/study_results.hpp"
 
 namespace impactid {

@@ -11,7 +11,7 @@ SpectralReport spectral_report(const Simulation& simulation, std::optional<doubl
     r.omega_max = *omega_max;
     r.omega_max_from = "omega-max";
   } else if (scene_given) {
-    // The highest mode of the rod at this Courant number (core/amplification.hpp).
+    // The highest mode of the rod at this Courant number (core/spectral/amplification.hpp).
     r.omega_max = rod_max_omega_dt(simulation.scene.mass, simulation.scene.courant);
     r.omega_max_from = "courant";
   }

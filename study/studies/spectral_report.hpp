@@ -1,7 +1,7 @@
-// One method's spectral analysis on the undamped oscillator ü + ω²u = 0 (core/amplification.hpp),
-// as `impactid spectral` prints it and `impactid.spectral()` returns it (python/): ρ∞, the
-// Ω → 0 period-error coefficient, stability up to Ω_max, ρ, ξ̄ and the period error at given
-// Ω = ω·Δt, and for HHT the δ that minimises the period error at its α.
+// One method's spectral analysis on the undamped oscillator ü + ω²u = 0
+// (core/spectral/amplification.hpp), as `impactid spectral` prints it and `impactid.spectral()`
+// returns it (python/): ρ∞, the Ω → 0 period-error coefficient, stability up to Ω_max, ρ, ξ̄ and the
+// period error at given Ω = ω·Δt, and for HHT the δ that minimises the period error at its α.
 #pragma once
 
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 #include "study/plan/simulation_settings.hpp"
 
 namespace impactid {

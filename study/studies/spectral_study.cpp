@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "core/amplification.hpp"
+#include "core/spectral/amplification.hpp"
 #include "study/formats/hdf5_file.hpp"
 
 namespace impactid {

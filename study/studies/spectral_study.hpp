@@ -3,8 +3,8 @@
 // relative period error — with ρ∞ and the Ω → 0 period-error coefficient per method, the HHT δ
 // that minimises the period error as a function of α (the check behind the paper's eq. 19,
 // δ = −1.5α; Serfőző & Pere 2022, sec. 4.2, doi:10.1556/606.2022.00599), and the HHT stability
-// map over (α, δ). Every number comes from core/amplification.hpp; this module only lays out
-// the computation and the file.
+// map over (α, δ). Every number comes from core/spectral/amplification.hpp; this module only lays
+// out the computation and the file.
 //
 // The file (format "impactid-spectral-1") is documented in results/README.md; the figure
 // scripts rely on its dataset names.
@@ -53,7 +53,7 @@ SpectralResults compute_spectral_study(const SpectralStudy& study, int threads);
 /// --dry-run estimate: A × D × the samples of one stability scan.
 long stability_map_evaluations(const SpectralStudy& study);
 
-/// Max ρ over the Ω samples is_stable() scans (core/amplification.hpp: from
+/// Max ρ over the Ω samples is_stable() scans (core/spectral/amplification.hpp: from
 /// kStabilityScanMinOmega to omega_max, kStabilityScanSamplesPerDecade per decade), for any
 /// method; NaN for invalid input.
 double stability_scan_max_rho(const MethodParams& params, double omega_max);

@@ -76,8 +76,8 @@ void add_reference_columns(const SimulationSettings& base, std::size_t size, Stu
   if (base.bodies) {
     r.indicators.push_back(
         {"reference_refinements", "1", "reference_refinements",
-         "0: the exact solution of the chain (core/chain_exact.hpp); k >= 1: "
-         "a converged numerical solution at h/2^k and dt/2^k (core/scene_reference.hpp)",
+         "0: the exact solution of the chain (core/reference/chain_exact.hpp); k >= 1: "
+         "a converged numerical solution at h/2^k and dt/2^k (core/reference/scene_reference.hpp)",
          std::vector<double>(size, kNaN)});
     r.indicators.push_back({"reference_change", "1", "reference_change",
                             "relative change of the converged reference's primary contact at its "
@@ -90,7 +90,7 @@ void add_reference_columns(const SimulationSettings& base, std::size_t size, Stu
     r.indicators.push_back(
         {"reference_refinements", "1", "reference_refinements",
          "-1: the reference history supplied with the model; k >= 1: a converged numerical "
-         "solution at dt/2^k (core/model_reference.hpp)",
+         "solution at dt/2^k (core/reference/model_reference.hpp)",
          std::vector<double>(size, kNaN)});
     r.indicators.push_back({"reference_change", "1", "reference_change",
                             "relative change of the converged reference's primary contact at its "
@@ -103,7 +103,7 @@ void add_reference_columns(const SimulationSettings& base, std::size_t size, Stu
         {"reference_error", "1", "reference_error",
          "estimated error of the converged reference: the larger of its last change and its "
          "difference from the check method's converged solution, eq. 18's form on the primary "
-         "contact (core/model_reference.hpp); NaN for a supplied history",
+         "contact (core/reference/model_reference.hpp); NaN for a supplied history",
          std::vector<double>(size, kNaN)});
     const Model& model = *base.model->model;
     r.text_attributes.emplace_back("model_units", model.units);

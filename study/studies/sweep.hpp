@@ -8,7 +8,7 @@
 // runs them: consecutive points of the window that can share a batch (implicit methods, central
 // difference, Noh–Bathe or Kim's scheme on the same single-wall rod and time step, no histories:
 // study/studies/evaluation.hpp) run together through the SIMD kernels of
-// core/batched_simulation.hpp, and each point of a batch reports the
+// core/batch/batched_simulation.hpp, and each point of a batch reports the
 // batch's wall time divided by its points.
 //
 // Determinism: a point's numbers depend only on its index (the batched kernel gives simulate()'s

@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "core/scene_assembly.hpp"
+#include "core/model/scene_assembly.hpp"
 #include "metrics/indicator_table.hpp"
 #include "study/studies/evaluation.hpp"
 #include "study/studies/sweep.hpp"

@@ -1,0 +1,141 @@
+// Which runs the batched kernels take, and which share a batch: level-independent, so compiled
+// once (the kernels themselves are compiled per level: core/batch/kernel_target.hpp). Declared in
+// core/batch/batched_simulation.hpp, core/batch/batched_explicit.hpp,
+// core/batch/batched_kr_alpha.hpp and core/batch/batched_chain.hpp beside the kernels they
+// describe.
+#include <variant>
+
+#include "core/algebra/contact_lcp.hpp"
+#include "core/batch/batch_kernels.hpp"
+#include "core/batch/batched_chain.hpp"
+#include "core/batch/batched_explicit.hpp"
+#include "core/batch/batched_kr_alpha.hpp"
+#include "core/batch/batched_simulation.hpp"
+
+namespace impactid {
+namespace {
+
+bool same_tridiagonal(const Tridiagonal& a, const Tridiagonal& b) {
+  return a.lower == b.lower && a.diag == b.diag && a.upper == b.upper;
+}
+
+}  // namespace
+
+bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
+  // Fields the kernel does not know make a scene unbatchable (simulate() runs it): here the far
+  // wall. A new RodScene field belongs in this check or in same_batch. The kernel steps the
+  // single-step implicit family, the composite schemes, Wilson-θ and Houbolt, and (
+  // core/batch/batched_explicit.hpp) the explicit methods it knows, and KR-α
+  // (core/batch/batched_kr_alpha.hpp), with Lagrange multipliers (not the penalty or
+  // augmented-Lagrangian contact laws).
+  return (is_single_step_implicit(method) || is_composite(method) ||
+          std::holds_alternative<WilsonThetaParams>(method) ||
+          std::holds_alternative<HouboltParams>(method) || explicit_batchable(scene, method) ||
+          kr_alpha_batchable(scene, method)) &&
+         !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
+}
+
+bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,
+                const RodScene& b, const MethodParams& method_b, const RunOptions& options_b) {
+  // A batch steps one kind of step: the single-step family's, the composite schemes',
+  // Wilson-θ's or Houbolt's (each lane its own method and parameters within it, γ and θ too).
+  if (batch_step_kind(method_a) != batch_step_kind(method_b)) return false;
+  // An explicit method's batch (core/batch/batched_explicit.hpp) steps that method only.
+  if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
+  // So does KR-α's (core/batch/batched_kr_alpha.hpp).
+  if (std::holds_alternative<KrAlphaParams>(method_a) !=
+      std::holds_alternative<KrAlphaParams>(method_b)) {
+    return false;
+  }
+  // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
+  // are per lane.
+  const bool same_rod =
+      a.length == b.length && a.elements == b.elements && a.youngs_modulus == b.youngs_modulus &&
+      a.density == b.density && a.area == b.area && a.mass == b.mass &&
+      a.rayleigh_mass == b.rayleigh_mass && a.rayleigh_stiffness == b.rayleigh_stiffness;
+  const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
+                            options_a.energy_check_interval == options_b.energy_check_interval &&
+                            options_a.record_history == options_b.record_history &&
+                            options_a.skip_free_flight == options_b.skip_free_flight;
+  return same_rod && same_options && derive(a).time_step == derive(b).time_step;
+}
+
+ExplicitBatchKind explicit_batch_kind(const MethodParams& method) {
+  if (std::holds_alternative<CentralDifferenceParams>(method)) {
+    return ExplicitBatchKind::central_difference;
+  }
+  if (std::holds_alternative<NohBatheParams>(method)) return ExplicitBatchKind::noh_bathe;
+  if (std::holds_alternative<KimExplicitParams>(method)) return ExplicitBatchKind::kim_explicit;
+  return ExplicitBatchKind::none;
+}
+
+bool explicit_batchable(const RodScene& scene, const MethodParams& method) {
+  switch (explicit_batch_kind(method)) {
+    case ExplicitBatchKind::central_difference:
+      // Damping adds terms to the step and to the left-hand matrix (per velocity variant) that
+      // the kernel does not have: damped central difference runs through simulate().
+      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+    case ExplicitBatchKind::noh_bathe:
+      // Damping adds a product with C to each sub-step: damped runs go through simulate().
+      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+    case ExplicitBatchKind::kim_explicit:
+      // Likewise a product with C to each stage.
+      return scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+    case ExplicitBatchKind::none:
+      return false;
+  }
+  return false;
+}
+
+bool kr_alpha_batchable(const RodScene& scene, const MethodParams& method) {
+  // Damping adds a product with C to each half of the right-hand side: damped runs go through
+  // simulate().
+  return std::holds_alternative<KrAlphaParams>(method) && scene.rayleigh_mass == 0.0 &&
+         scene.rayleigh_stiffness == 0.0;
+}
+
+bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
+                     const RunOptions& options) {
+  const SecondOrderSystem& system = scene.system;
+  if (!is_single_step_implicit(method) || options.record_history ||
+      options.contact.law != ContactLaw::lagrange || !system.has_constraint_list() ||
+      system.has_contact() || system.has_far_contact() || !scene.contact_columns ||
+      system.size() < 3 || scene.probes.size() != system.constraints.size() ||
+      system.constraints.size() > static_cast<std::size_t>(kMaxConstraints)) {
+    return false;
+  }
+  // A wall's node is put on the wall at the end of a step: the kernel keeps the first and the
+  // last row's state plain for that (the others are deferred).
+  const Eigen::Index last = system.size() - 1;
+  for (const Constraint& c : system.constraints) {
+    if (c.plus < 0 && c.minus != 0) return false;
+    if (c.minus < 0 && c.plus != last) return false;
+  }
+  return true;
+}
+
+bool same_chain_batch(const AssembledScene& a, const RunOptions& options_a, const AssembledScene& b,
+                      const RunOptions& options_b) {
+  const SecondOrderSystem& s = a.system;
+  const SecondOrderSystem& t = b.system;
+  if (s.size() != t.size() || s.constraints.size() != t.constraints.size() ||
+      a.probes.size() != b.probes.size()) {
+    return false;
+  }
+  for (std::size_t k = 0; k < s.constraints.size(); ++k) {
+    if (s.constraints[k].plus != t.constraints[k].plus ||
+        s.constraints[k].minus != t.constraints[k].minus || a.probes[k].area != b.probes[k].area ||
+        a.probes[k].velocity_dof != b.probes[k].velocity_dof) {
+      return false;
+    }
+  }
+  const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
+                            options_a.energy_check_interval == options_b.energy_check_interval &&
+                            options_a.record_history == options_b.record_history &&
+                            options_a.skip_free_flight == options_b.skip_free_flight;
+  return same_options && a.dt == b.dt && a.rigid_flight == b.rigid_flight &&
+         same_tridiagonal(s.mass, t.mass) && same_tridiagonal(s.stiffness, t.stiffness) &&
+         same_tridiagonal(s.damping, t.damping);
+}
+
+}  // namespace impactid

@@ -1,0 +1,142 @@
+// How a unilateral contact g = u[plus] − u[minus] − gap <= 0 is enforced: by a Lagrange
+// multiplier (the paper's, and the default), by a penalty force, or by an augmented Lagrangian.
+// Every method enforces the constraint where its Lagrange multiplier does (core/methods/method.hpp:
+// the end of the step, and the end of each sub-step for the composite schemes; central difference
+// at t + Δt through its forward-increment force at t), and each law changes only the step's
+// complementarity problem, g = p − D·μ (p the contact-free penetration, D the Delassus matrix,
+// μ = w·λ the weighted forces; core/algebra/contact_lcp.hpp):
+// - **lagrange**: g <= 0, μ >= 0, μ·g = 0. The gap holds exactly, λ >= 0.
+// - **penalty**: λ = k·max(0, g), the force of a spring of stiffness k that acts once the node
+//   penetrates. For the implicit methods it is the same problem with D + diag(1/(w·k)) (the
+//   spring solved with the step, so the step stays unconditionally stable); the penetration is
+//   then λ/k. For central difference it is the explicit force λ_t = k·max(0, g(u_t)) at t, the
+//   penalty of explicit codes, and for the explicit multi-stage schemes (Noh–Bathe, Kim's) each
+//   stage's at the displacement its equilibrium is taken at
+//   (core/contact/explicit_stage_contact.hpp): the spring raises the highest frequency, so the
+//   stable step shrinks with k (core/contact/stable_step.hpp computes it, and the run reports it).
+//   KR-α's springs are solved with its forward increment, as the implicit methods' with their step:
+//   it stays unconditionally stable (core/methods/kr_alpha.hpp says why its spring cannot be
+//   explicit).
+// - **augmented-lagrangian**: Uzawa's iterations on the penalty problem of every method, the
+//   explicit ones' forward increments included: μ_{j+1} solves the penalty problem around μ_j, (D +
+//   C)·μ = p + C·μ_j with C = diag(1/(w·k)), from μ_0 = 0 (the penalty solution) until the largest
+//   penetration is at most `augmented_tolerance` times the largest contact-free one, or
+//   `augmented_max_iterations` are done. μ converges to the Lagrange multiplier: its error shrinks
+//   by 1/(1 + w·k·d) per iteration for a single contact (d = D's entry), so a stiffer k converges
+//   faster. The iterations are counted in the run summary.
+//
+// The penalty stiffness k [N/mm] is `penalty_stiffness` when given, otherwise `penalty_factor`
+// times the contact dof's stiffness K_cc (for a constraint between two bodies, the smaller of its
+// two dofs'). Default factor 1: k = K_cc = E·A/h for the rod, the stiffness of the element at the
+// wall. Why 1: the penetration under the rod's pressure ρ·c·v0·A is then h·v0/c (0.93 % of an
+// element on the paper's scene), and central difference's stable Courant number with the spring
+// at the wall is √(2/(2 + factor)) = 0.82, above the default 0.5: the default penalty runs
+// stable with every default method. A factor of 100 gives 0.0093 % of h and Courant 0.14.
+//
+// Thread safety: values and pure functions.
+#pragma once
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/algebra/two_wall_contact.hpp"
+#include "core/common/parameter_error.hpp"
+#include "core/model/second_order_system.hpp"
+#include "core/model/sparse_system.hpp"
+
+namespace impactid {
+
+enum class ContactLaw { lagrange, penalty, augmented_lagrangian };
+/// "lagrange", "penalty", "augmented-lagrangian": the names on the command line, in plans (the
+/// `contact` key and axis) and in HDF5 attributes.
+const char* to_string(ContactLaw law);
+std::optional<ContactLaw> contact_law_from_string(const std::string& name);
+
+struct ContactTreatment {
+  ContactLaw law = ContactLaw::lagrange;
+  /// [N/mm] penalty stiffness k of every contact (penalty, augmented-lagrangian); > 0. Unset: k is
+  /// penalty_factor times each contact dof's stiffness.
+  std::optional<double> penalty_stiffness;
+  double penalty_factor = 1.0;  ///< > 0; used when penalty_stiffness is unset
+  /// augmented-lagrangian: stop once the largest penetration is at most this fraction of the
+  /// step's largest contact-free penetration; in (0, 1).
+  double augmented_tolerance = 1e-6;
+  int augmented_max_iterations = 100;  ///< augmented-lagrangian: iterations per step at most; >= 1
+
+  bool operator==(const ContactTreatment&) const = default;
+};
+
+/// The first invalid field (penalty_stiffness, penalty_factor, augmented_tolerance,
+/// augmented_max_iterations), or nothing.
+std::optional<ParameterError> validate(const ContactTreatment& treatment);
+
+/// [N/mm] the spring k of a contact whose dof has stiffness K_cc: penalty_stiffness if given,
+/// otherwise penalty_factor·K_cc.
+double penalty_stiffness(const ContactTreatment& treatment, double dof_stiffness);
+
+/// A treatment resolved for one system: the law and each constraint's penalty stiffness k [N/mm]
+/// (unused for lagrange). What the integrators' initialize() take.
+struct ContactPenalties {
+  ContactLaw law = ContactLaw::lagrange;
+  double main = 0.0;           ///< the named wall's (SecondOrderSystem::contact_dof)
+  double far = 0.0;            ///< the named far wall's
+  std::vector<double> listed;  ///< one per SecondOrderSystem::constraints entry
+  double tolerance = 1e-6;
+  int max_iterations = 100;
+
+  bool lagrange() const { return law == ContactLaw::lagrange; }
+};
+
+ContactPenalties resolve_contact(const ContactTreatment& treatment,
+                                 const SecondOrderSystem& system);
+/// The same for a model of sparse matrices: its constraint list (main and far unused).
+ContactPenalties resolve_contact(const ContactTreatment& treatment, const SparseSystem& system);
+
+/// Iterations of one step's contact solve (augmented-lagrangian; 0 for the others).
+struct ContactIterations {
+  int iterations = 0;
+  bool converged = true;
+};
+
+/// Uzawa's iterations (augmented-lagrangian) on a problem of m contacts: `solve_penalized(shift,
+/// mu)` must write to mu the solution of the penalty problem whose contact-free penetrations are
+/// p + shift (shift_k = μ_j,k·compliance_k), `penetration(mu, k)` the penetration g_k that mu
+/// leaves. `mu` holds the last iterate; `shift` (m entries) is scratch. No allocation.
+template <class SolvePenalized, class Penetration>
+ContactIterations augmented_lagrangian(int m, const double* compliance, double largest_free,
+                                       const ContactPenalties& penalties, double* mu, double* shift,
+                                       SolvePenalized&& solve_penalized,
+                                       Penetration&& penetration) {
+  ContactIterations out;
+  for (int k = 0; k < m; ++k) shift[k] = 0.0;
+  const double bound = penalties.tolerance * largest_free;
+  for (out.iterations = 1;; ++out.iterations) {
+    solve_penalized(shift, mu);
+    double worst = 0.0;
+    for (int k = 0; k < m; ++k) worst = std::max(worst, penetration(mu, k));
+    if (worst <= bound) return out;
+    if (out.iterations == penalties.max_iterations) {
+      out.converged = false;
+      return out;
+    }
+    for (int k = 0; k < m; ++k) shift[k] = mu[k] * compliance[k];
+  }
+}
+
+/// One contact's weighted force under a law other than Lagrange's, from its contact-free
+/// penetration p > 0, the penetration d a unit weighted force removes, and its compliance
+/// 1/(w·k): p/(d + compliance) for the penalty, Uzawa's iterations (counted in `iterations`) for
+/// the augmented Lagrangian.
+double single_contact_force(double p, double d, double compliance,
+                            const ContactPenalties& penalties, ContactIterations& iterations);
+
+/// The two walls' problem (core/algebra/two_wall_contact.hpp) under a law other than Lagrange's,
+/// with each wall's compliance added to its diagonal.
+TwoWallForces two_wall_contact_forces(double p_main, double p_far, double d_main, double d_far,
+                                      double c_main_far, double c_far_main, double main_compliance,
+                                      double far_compliance, const ContactPenalties& penalties,
+                                      ContactIterations& iterations);
+
+}  // namespace impactid

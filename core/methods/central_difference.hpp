@@ -1,0 +1,107 @@
+// Central difference with Carpenter's forward-increment Lagrange multiplier (Carpenter, Taylor
+// & Katona 1991, doi:10.1002/nme.1620320107; paper eqs 3–7): the multiplier λ_t is the force
+// at t that puts the contact dof exactly on the wall at t + Δt when the contact-free update
+// would penetrate it, and zero otherwise.
+//
+// Update at t (velocity variants of CdmVelocity):
+//   central:  (M/Δt² + C/(2Δt))·u₊ = M·(2u − u₋)/Δt² + C·u₋/(2Δt) − K·u − G^T·λ_t   (eq. 5)
+//   backward:  M/Δt²·u₊          = M·(2u − u₋)/Δt² − C·(u − u₋)/Δt − K·u − G^T·λ_t (eq. 7)
+// The left-hand matrix is diagonal for a lumped mass without stiffness damping, tridiagonal
+// otherwise; it is factored once. Stable for Courant numbers below 1 (lumped, undamped): the
+// highest mode of the lumped rod has Ω = ω·Δt = 2·Courant, and at exactly Ω = 2 its repeated
+// eigenvalue −1 grows linearly.
+//
+// With a far wall the same forward-increment multiplier acts at node 0 too (λ_0 >= 0, force +λ_0),
+// and both come from the 2×2 problem of core/algebra/two_wall_contact.hpp. With a lumped mass and
+// no stiffness damping the left-hand matrix is diagonal, the two ends do not interact within a
+// step, and this is Carpenter's multiplier at each end independently.
+//
+// With a list of constraints (scenes of several bodies) the forward-increment multipliers of every
+// constraint come together from the complementarity problem of core/algebra/contact_lcp.hpp, with
+// the left-hand matrix's columns A⁻¹·G_kᵀ factored in initialize(): the constraints hold at t + Δt
+// and their multipliers are reported at t, as for the single wall.
+//
+// Thread safety: one object per thread.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "core/algebra/tridiagonal.hpp"
+#include "core/common/state.hpp"
+#include "core/contact/constraint_list_law.hpp"
+#include "core/contact/contact_treatment.hpp"
+#include "core/methods/method.hpp"
+#include "core/model/second_order_system.hpp"
+
+namespace impactid {
+
+/// Central difference's own energy at t + Δt/2 from u_t and u_{t+Δt}, with
+/// w = (u_{t+Δt} − u_t)/Δt and m = (u_t + u_{t+Δt})/2, given the quadratic forms wᵀMw, wᵀKw and
+/// mᵀKm:
+///   E = |½·wᵀ(M − Δt²/4·K)·w| + ½·mᵀK·m.
+/// Without the absolute value this is the energy the undamped, contact-free scheme conserves
+/// exactly (it equals ½·wᵀMw + ½·u_tᵀK·u_{t+Δt}); the plain ½vᵀMv + ½uᵀKu of the reported
+/// central velocity is not conserved, and misleads at the "magic" time step: with a lumped mass at
+/// Courant 1 the rod's highest mode has Ω = ωΔt = 2 exactly, its repeated eigenvalue −1 makes it
+/// grow linearly, u_k = (A + B·k)·(−1)^k, once contact release excites it, and the plain energy
+/// grows quadratically (13.9 times the initial by t = 2 ms on the paper's scene) while the nodal
+/// displacements stay d'Alembert's. That mode lies in the null space of M − Δt²/4·K and its
+/// midpoint m is constant, so E stays bounded. Above the limit (Ω > 2) M − Δt²/4·K is indefinite
+/// and the conserved form could stay constant while both parts grow geometrically with opposite
+/// signs: the absolute value makes each part count, so an unstable mode still raises E.
+double central_difference_energy(double mass_w, double stiffness_w, double stiffness_m, double dt);
+
+class CentralDifference {
+ public:
+  /// Factors the left-hand matrix and starts from `initial` at t₀ with u₋ = u₀ − Δt·v₀ +
+  /// ½Δt²·a₀ (a₀ must be consistent). Returns false if the matrix is singular.
+  /// `contact` says how the constraints are enforced (core/contact/contact_treatment.hpp):
+  /// Lagrange's forward increment (default), the explicit penalty force k·max(0, g(u_t)) at t, or
+  /// Uzawa's iterations on the forward increment's penalty problem.
+  bool initialize(const SecondOrderSystem& system, CdmVelocity velocity, double dt,
+                  const State& initial, const ContactPenalties& contact = {});
+
+  /// Computes λ_t and u_{t+Δt} and fills `at_t` with the state at the current time t
+  /// (u, the velocity of the chosen variant, a = (u₊ − 2u + u₋)/Δt², λ_t, t), then moves on
+  /// to t + Δt. The state at t is only complete once u_{t+Δt} is known, hence this shape.
+  /// Returns true if λ_t > 0 (the main wall's; a far wall's λ_0 at t is at_t.far_lambda).
+  bool step(const SecondOrderSystem& system, State& at_t);
+
+  /// The energy the step loop's `unstable` test and the history's energy column use for the
+  /// state `at_t` the last step() filled in: within the explicit limit certified by
+  /// core/contact/stable_step.hpp, the method's own energy at t + Δt/2 (central_difference_energy
+  /// of u_t and u_{t+Δt}); otherwise the plain ½vᵀMv + ½uᵀKu of `at_t`, which reacts sooner to a
+  /// mode that grows geometrically (central_difference_energy's absolute value lags it by up to 11
+  /// check intervals at Courant 1.0001). O(n), no allocation.
+  double energy(const SecondOrderSystem& system, const State& at_t);
+  /// Whether Δt is within the explicit limit (core/contact/stable_step.hpp) on this system, with
+  /// the penalty's springs.
+  bool within_stability_limit() const { return within_limit_; }
+  /// The largest step certified stable (core/contact/stable_step.hpp: 2/ω_bound) [s], with the
+  /// penalty's springs; 0 when none can be certified (a mass that is not diagonal).
+  double stable_step() const { return stable_step_; }
+  /// As ImplicitIntegrator's: augmented-Lagrangian iterations, and steps that hit the cap.
+  long contact_iterations() const { return list_law_.iterations(); }
+  long unconverged_contact_steps() const { return list_law_.unconverged(); }
+
+ private:
+  CdmVelocity velocity_ = CdmVelocity::central;
+  double dt_ = 0.0;
+  double t_ = 0.0;
+  bool within_limit_ = false;
+  TridiagonalFactorization factorization_;
+  Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
+  Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
+  Eigen::VectorXd u_previous_, u_, u_next_, scratch_;
+  // The constraint list's columns, their non-zero rows, G·A⁻¹·Gᵀ and per-step scratch.
+  Eigen::MatrixXd constraint_influence_;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
+  ConstraintListProblem list_;  // G·A⁻¹·Gᵀ (with the springs' compliances: penalty laws)
+  Eigen::VectorXd forces_;
+  ContactPenalties contact_;
+  ConstraintListLaw list_law_;  // the list's law; counts every solve's Uzawa iterations
+  double stable_step_ = 0.0;
+};
+
+}  // namespace impactid

@@ -1,0 +1,109 @@
+// One descriptor per time-stepping method, which every layer loops over: the method's name, the
+// parameters a user may give it (their keys, docs, defaults and ranges), how the given ones build
+// its parameter struct (core/methods/method.hpp), and the values it reports (its parameters and the
+// coefficients derived from them). The command line's options and --help, plan keys and sweep
+// axes, `simulate`'s and `compare`'s reports, HDF5 attributes and work-precision columns all come
+// from here, so a method is added by its own files (parameter struct, integrator, amplification)
+// and one entry in method_registry.cpp.
+//
+// Keys are shared where the meaning is: `delta` is δ of eq. 13 for Newmark and HHT alike,
+// `hht_contact` where an α-method's contact force acts. A key's description says what it is for
+// each method that takes it.
+//
+// Thread safety: the registry is immutable; every function is reentrant.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "core/common/parameter_error.hpp"
+#include "core/methods/method.hpp"
+
+namespace impactid {
+
+/// A parameter a user may give a method, by the key used alike on the command line (with '-'
+/// for '_'), in plan files, as a sweep axis and as an HDF5 attribute.
+struct MethodParameter {
+  const char* name;         ///< snake_case key
+  bool choice;              ///< a word from `choices`; otherwise a real number
+  const char* description;  ///< one line: meaning, default and range for each method taking it
+  const char* choices;      ///< "central|backward" for a choice; "" for a number
+};
+
+/// Method parameters as given (unset ones take the method's defaults): numbers and choice words
+/// by key, in the order they were set. A key set again replaces its value.
+class MethodArguments {
+ public:
+  using Value = std::variant<double, std::string>;
+
+  void set(std::string_view name, Value value);
+  bool has(std::string_view name) const { return find(name) != nullptr; }
+  std::optional<double> number(std::string_view name) const;
+  std::optional<std::string> choice(std::string_view name) const;
+  const std::vector<std::pair<std::string, Value>>& values() const { return values_; }
+
+  bool operator==(const MethodArguments&) const = default;
+
+ private:
+  const Value* find(std::string_view name) const;
+  std::vector<std::pair<std::string, Value>> values_;
+};
+
+/// A number a method reports of itself: one of its parameters, or a coefficient derived from
+/// them (β and γ of eq. 13, generalized-α's α_m and α_f).
+struct ReportedValue {
+  const char* name;
+  double value;
+  bool derived;  ///< not a parameter the user gave or could give this method
+};
+
+struct MethodDescriptor {
+  MethodKind kind;
+  const char* name;     ///< "hht": the name on the command line, in plans and in HDF5
+  const char* summary;  ///< one line: what it is, its order and dissipation, its paper
+  /// The keys of method_parameters() this method takes, in that table's order.
+  std::span<const char* const> parameters;
+  /// Builds the method's parameters from the given ones, each a key it takes (build_method
+  /// checks that first). Errors name the key: a missing partner (Newmark's β without γ), a
+  /// combination that is not allowed. Ranges are validate()'s (core/methods/method.hpp).
+  std::variant<MethodParams, ParameterError> (*make)(const MethodArguments& given);
+  /// Its numbers in report order: parameters, then derived coefficients.
+  std::vector<ReportedValue> (*values)(const MethodParams& params);
+  /// Its choice parameters' values as words, in parameters' order.
+  std::vector<std::pair<const char*, std::string>> (*choices)(const MethodParams& params);
+  /// The stages of one step: solves of an implicit method, force evaluations of an explicit
+  /// one (two for the composite schemes and the two-stage explicit ones). The unit of issue
+  /// 19's speed bound, "no method more than 2.5× HHT's batched time per dof-step per stage".
+  int stages = 1;
+};
+
+/// Every method parameter's key, in the order --help and plan errors list them.
+std::span<const MethodParameter> method_parameters();
+const MethodParameter* find_method_parameter(std::string_view name);
+
+/// Every method, in the order `compare` and --help list them.
+std::span<const MethodDescriptor> method_registry();
+const MethodDescriptor& descriptor(MethodKind kind);
+const MethodDescriptor& descriptor(const MethodParams& params);
+
+bool method_takes(const MethodDescriptor& method, std::string_view parameter);
+/// The methods that take a parameter, as "newmark|hht".
+std::string methods_taking(std::string_view parameter);
+/// Every method's name, as "cdm|backward-euler|…".
+std::string method_names();
+
+/// The parameters of `kind` from the given ones: a key the method does not take is an error
+/// ("is not a parameter of method cdm (it applies to newmark|hht)"), checked in
+/// method_parameters()' order; then the descriptor's make(). Not range-checked: validate().
+std::variant<MethodParams, ParameterError> build_method(MethodKind kind,
+                                                        const MethodArguments& given);
+
+/// The value `params` reports under `name` (a parameter or a derived coefficient), if any.
+std::optional<double> reported_value(const MethodParams& params, std::string_view name);
+
+}  // namespace impactid

@@ -1,0 +1,313 @@
+#include "core/model/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "core/algebra/contact_lcp.hpp"
+
+namespace impactid {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMax = std::numeric_limits<double>::max();
+constexpr double kTiny = std::numeric_limits<double>::min();
+
+double wave_speed(const Segment& s) {
+  return std::sqrt(s.youngs_modulus / s.density);
+}
+
+// Rigid closing time of a gap that two ends approach at `approach` [mm/s] (+inf if they do not).
+double closing_time(double gap, double approach) {
+  return approach > 0.0 ? gap / approach : kInf;
+}
+
+std::string body_path(const Scene& scene, std::size_t b) {
+  const std::string& name = scene.bodies[b].name;
+  return "body." + (name.empty() ? std::to_string(b + 1) : name);
+}
+
+bool valid_name(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+}  // namespace
+
+Scene to_scene(const RodScene& rod) {
+  Scene scene;
+  Body body;
+  body.name = "rod";
+  body.velocity = rod.velocity;
+  body.segments.push_back(Segment{.length = rod.length,
+                                  .elements = rod.elements,
+                                  .youngs_modulus = rod.youngs_modulus,
+                                  .density = rod.density,
+                                  .area = rod.area});
+  scene.bodies.push_back(body);
+  scene.right_wall = Wall{.gap = rod.gap};
+  if (rod.far_gap) scene.left_wall = Wall{.gap = *rod.far_gap};
+  scene.mass = rod.mass;
+  scene.rayleigh_mass = rod.rayleigh_mass;
+  scene.rayleigh_stiffness = rod.rayleigh_stiffness;
+  scene.courant = rod.courant;
+  scene.dt = rod.dt;
+  // The rod's default end time follows the main wall's impact even when the far wall is hit
+  // first (RodSceneDerived); stating it keeps the two descriptions one run.
+  scene.t_end = derive(rod).end_time;
+  scene.primary_contact = "wall_right";
+  return scene;
+}
+
+std::optional<RodScene> as_rod(const Scene& scene) {
+  if (scene.bodies.size() != 1 || scene.bodies[0].segments.size() != 1 || scene.left_wall ||
+      !scene.right_wall) {
+    return std::nullopt;
+  }
+  const Body& body = scene.bodies[0];
+  const Segment& segment = body.segments[0];
+  RodScene rod;
+  rod.length = segment.length;
+  rod.elements = segment.elements;
+  rod.youngs_modulus = segment.youngs_modulus;
+  rod.density = segment.density;
+  rod.area = segment.area;
+  rod.velocity = body.velocity;
+  rod.gap = scene.right_wall->gap;
+  rod.mass = scene.mass;
+  rod.rayleigh_mass = scene.rayleigh_mass;
+  rod.rayleigh_stiffness = scene.rayleigh_stiffness;
+  rod.courant = scene.courant;
+  rod.dt = scene.dt;
+  rod.t_end = derive(scene).end_time;
+  return rod;
+}
+
+double transit_time(const Body& body) {
+  double t = 0.0;
+  for (const Segment& s : body.segments) t += 2.0 * s.length / wave_speed(s);
+  return t;
+}
+
+std::vector<long> body_first_nodes(const Scene& scene) {
+  std::vector<long> first{0};
+  for (const Body& body : scene.bodies) {
+    long elements = 0;
+    for (const Segment& s : body.segments) elements += s.elements;
+    first.push_back(first.back() + elements + 1);
+  }
+  return first;
+}
+
+std::vector<SceneContact> scene_contacts(const Scene& scene) {
+  std::vector<SceneContact> contacts;
+  const auto& bodies = scene.bodies;
+  if (bodies.empty()) return contacts;
+  if (scene.left_wall) {
+    contacts.push_back(
+        {"wall_left", ContactKind::left_wall, -1, 0, scene.left_wall->gap,
+         bodies.front().segments.empty() ? 1.0 : bodies.front().segments.front().area,
+         closing_time(scene.left_wall->gap, -bodies.front().velocity)});
+  }
+  for (std::size_t b = 0; b + 1 < bodies.size(); ++b) {
+    const Body& left = bodies[b];
+    const Body& right = bodies[b + 1];
+    contacts.push_back({left.name + "-" + right.name, ContactKind::bodies, static_cast<int>(b),
+                        static_cast<int>(b + 1), right.gap,
+                        left.segments.empty() ? 1.0 : left.segments.back().area,
+                        closing_time(right.gap, left.velocity - right.velocity)});
+  }
+  if (scene.right_wall) {
+    const Body& last = bodies.back();
+    contacts.push_back({"wall_right", ContactKind::right_wall, static_cast<int>(bodies.size()) - 1,
+                        -1, scene.right_wall->gap,
+                        last.segments.empty() ? 1.0 : last.segments.back().area,
+                        closing_time(scene.right_wall->gap, last.velocity)});
+  }
+  return contacts;
+}
+
+std::optional<ParameterError> validate(const Scene& s) {
+  if (s.bodies.empty()) {
+    return ParameterError{"body", "none", "a scene needs at least one body"};
+  }
+  std::set<std::string> names;
+  long nodes = 0;
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    const Body& body = s.bodies[b];
+    const std::string path = body_path(s, b);
+    if (!valid_name(body.name)) {
+      return ParameterError{path + ".name", "\"" + body.name + "\"",
+                            "must be a non-empty name of letters, digits and '_'"};
+    }
+    if (!names.insert(body.name).second) {
+      return ParameterError{path + ".name", "\"" + body.name + "\"",
+                            "is the name of an earlier body: names must be unique"};
+    }
+    if (body.segments.empty()) {
+      return ParameterError{path + ".segment", "none", "a body needs at least one segment"};
+    }
+    if (auto e = require_in_range("velocity", body.velocity, -kMax, kMax, "must be finite"); e) {
+      e->field = path + ".velocity";
+      return e;
+    }
+    if (b == 0 && body.gap != 0.0) {
+      return ParameterError{path + ".gap", format_value(body.gap),
+                            "must be 0 on the first body: the gap to the left wall is "
+                            "wall.left.gap"};
+    }
+    if (auto e = require_in_range("gap", body.gap, 0.0, kMax,
+                                  "must be >= 0 and finite (bodies may not overlap)");
+        e) {
+      e->field = path + ".gap";
+      return e;
+    }
+    for (std::size_t k = 0; k < body.segments.size(); ++k) {
+      const Segment& seg = body.segments[k];
+      const std::string at = path + ".segment." + std::to_string(k + 1) + ".";
+      if (seg.elements < 1 || seg.elements > 10'000'000) {
+        return ParameterError{at + "elements", std::to_string(seg.elements),
+                              "must be an integer in [1, 1e7]"};
+      }
+      nodes += seg.elements;
+      for (auto error : {
+               require_in_range("length", seg.length, kTiny, kMax, "must be positive and finite"),
+               require_in_range("youngs_modulus", seg.youngs_modulus, kTiny, kMax,
+                                "must be positive and finite"),
+               require_in_range("density", seg.density, kTiny, kMax, "must be positive and finite"),
+               require_in_range("area", seg.area, kTiny, kMax, "must be positive and finite"),
+           }) {
+        if (error) {
+          error->field = at + error->field;
+          return error;
+        }
+      }
+    }
+    nodes += 1;
+  }
+  if (nodes > 10'000'001) {
+    return ParameterError{"body", std::to_string(nodes) + " nodes", "must be at most 1e7 nodes"};
+  }
+  for (const auto& [wall, side] : {std::pair{&s.left_wall, "left"}, {&s.right_wall, "right"}}) {
+    if (!*wall) continue;
+    if (auto e = require_in_range("gap", (*wall)->gap, 0.0, kMax, "must be >= 0 and finite"); e) {
+      e->field = std::string("wall.") + side + ".gap";
+      return e;
+    }
+  }
+  for (auto error : {
+           require_in_range("rayleigh_mass", s.rayleigh_mass, 0.0, kMax, "must be >= 0 and finite"),
+           require_in_range("rayleigh_stiffness", s.rayleigh_stiffness, 0.0, kMax,
+                            "must be >= 0 and finite"),
+           require_in_range("courant", s.courant, kTiny, kMax, "must be positive and finite"),
+       }) {
+    if (error) return error;
+  }
+  if (s.dt && !(std::isfinite(*s.dt) && *s.dt > 0.0)) {
+    return ParameterError{"dt", format_value(*s.dt), "must be positive and finite"};
+  }
+  if (s.t_end && !(std::isfinite(*s.t_end) && *s.t_end > 0.0)) {
+    return ParameterError{"t_end", format_value(*s.t_end), "must be positive and finite"};
+  }
+  const std::vector<SceneContact> contacts = scene_contacts(s);
+  if (contacts.size() > static_cast<std::size_t>(kMaxConstraints)) {
+    return ParameterError{"body", std::to_string(s.bodies.size()) + " bodies",
+                          "give at most " + std::to_string(kMaxConstraints) +
+                              " contacts (bodies and walls): the bound of the contact solver"};
+  }
+  if (contacts.empty()) {
+    return ParameterError{"body", s.bodies[0].name,
+                          "a scene needs at least one contact (a wall or a second body)"};
+  }
+  if (s.primary_contact) {
+    const bool known = std::any_of(contacts.begin(), contacts.end(), [&](const SceneContact& c) {
+      return c.name == *s.primary_contact;
+    });
+    if (!known) {
+      std::string names_list;
+      for (const SceneContact& c : contacts)
+        names_list += (names_list.empty() ? "" : ", ") + c.name;
+      return ParameterError{"primary_contact", "\"" + *s.primary_contact + "\"",
+                            "is not a contact of the scene (" +
+                                (names_list.empty() ? std::string("it has none") : names_list) +
+                                ")"};
+    }
+  }
+  const SceneDerived d = derive(s);
+  if (auto e = validate_time_grid(s.dt ? "dt" : "courant", s.dt ? *s.dt : s.courant, d.time_step,
+                                  d.end_time,
+                                  s.t_end ? "" : "the default t_end follows the first contact")) {
+    return e;
+  }
+  if (d.velocity_scale != 0.0 &&
+      !(std::isnormal(d.initial_energy) && std::isnormal(d.velocity_scale * d.velocity_scale))) {
+    return ParameterError{"velocity", format_value(d.velocity_scale),
+                          "gives an initial energy of " + format_value(d.initial_energy) +
+                              " mJ outside the normal range of double"};
+  }
+  return std::nullopt;
+}
+
+SceneDerived derive(const Scene& s) {
+  SceneDerived d{};
+  // The step from the segment with the smallest h/c, computed as RodScene computes it
+  // (courant·h/c, left to right), so that the one-body shorthand gives the same bits.
+  d.min_h_over_c = kInf;
+  double step_h = 1.0, step_c = 1.0;
+  d.initial_energy = 0.0;
+  d.velocity_scale = 0.0;
+  d.nodes = 0;
+  for (const Body& body : s.bodies) {
+    d.nodes += 1;
+    d.velocity_scale = std::max(d.velocity_scale, std::abs(body.velocity));
+    for (const Segment& seg : body.segments) {
+      d.nodes += seg.elements;
+      const double c = wave_speed(seg);
+      const double h = seg.length / seg.elements;
+      if (h / c < d.min_h_over_c) {
+        d.min_h_over_c = h / c;
+        step_h = h;
+        step_c = c;
+      }
+      d.initial_energy += 0.5 * seg.density * seg.area * seg.length * body.velocity * body.velocity;
+    }
+  }
+  d.time_step = s.dt ? *s.dt : s.courant * step_h / step_c;
+
+  const std::vector<SceneContact> contacts = scene_contacts(s);
+  d.first_contact_time = kInf;
+  int first = -1;
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (contacts[k].rigid_closing_time < d.first_contact_time) {
+      d.first_contact_time = contacts[k].rigid_closing_time;
+      first = static_cast<int>(k);
+    }
+  }
+  d.primary_contact = first < 0 ? 0 : first;
+  if (s.primary_contact) {
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      if (contacts[k].name == *s.primary_contact) d.primary_contact = static_cast<int>(k);
+    }
+  }
+
+  if (s.t_end) {
+    d.end_time = *s.t_end;
+  } else {
+    // The longest transit of a body in the first contact; without a contact, of any body.
+    double transit = 0.0;
+    for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+      const bool involved = first < 0 || contacts[first].left_body == static_cast<int>(b) ||
+                            contacts[first].right_body == static_cast<int>(b);
+      if (involved) transit = std::max(transit, transit_time(s.bodies[b]));
+    }
+    const double start = std::isfinite(d.first_contact_time) ? d.first_contact_time : 0.0;
+    d.end_time = start + 1.5 * transit;
+  }
+  d.step_count = step_count(d.end_time, d.time_step);
+  return d;
+}
+
+}  // namespace impactid

@@ -1,0 +1,157 @@
+#include "core/reference/scene_reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "core/model/scene_assembly.hpp"
+#include "core/reference/chain_exact.hpp"
+
+namespace impactid {
+
+double relative_change(const std::vector<double>& a, const std::vector<double>& b) {
+  double difference = 0.0, size = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    difference += std::abs(a[i] - b[i]);
+    size += std::abs(a[i]);
+  }
+  return size > 0.0 ? difference / size : (difference > 0.0 ? 1.0 : 0.0);
+}
+
+namespace {
+
+// The samples of `scene` run with every segment's elements multiplied and its step divided by
+// 2^k (the same Courant number), at the unrefined samples t_i.
+bool refined_samples(const Scene& scene, const SceneDerived& derived, int k,
+                     const ReferenceOptions& options, const ReferenceRun& run,
+                     std::vector<ContactSamples>& out, std::string& message) {
+  const long factor = 1L << k;
+  Scene refined = scene;
+  for (Body& body : refined.bodies) {
+    for (Segment& segment : body.segments) segment.elements *= static_cast<int>(factor);
+  }
+  refined.dt = derived.time_step / static_cast<double>(factor);
+  // The unrefined grid's last sample, so that the refined grid has exactly N·2^k steps.
+  refined.t_end = static_cast<double>(derived.step_count) * derived.time_step;
+  const AssembledScene assembled = assemble(refined);
+  ContactTrace trace;
+  const RunSummary summary = run(assembled, options.method, trace);
+  if (summary.status != RunStatus::ok) {
+    message = "the reference run at h/" + std::to_string(factor) + ", dt/" +
+              std::to_string(factor) + " is " + to_string(summary.status) + ": " + summary.message;
+    return false;
+  }
+  out.assign(trace.contact_pressure.size(), {});
+  for (std::size_t c = 0; c < out.size(); ++c) {
+    for (long i = 1; i <= derived.step_count; ++i) {
+      const auto j = static_cast<std::size_t>(i * factor - 1);
+      out[c].pressure.push_back(trace.contact_pressure[c][j]);
+      out[c].velocity.push_back(trace.contact_velocity[c][j]);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
+  if (a.tolerance != b.tolerance || a.max_refinements != b.max_refinements ||
+      kind_of(a.method) != kind_of(b.method)) {
+    return false;
+  }
+  if (kind_of(a.method) == MethodKind::central_difference) {
+    return std::get<CentralDifferenceParams>(a.method).velocity ==
+           std::get<CentralDifferenceParams>(b.method).velocity;
+  }
+  if (kind_of(a.method) == MethodKind::houbolt) return true;  // no parameter
+  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&a.method)) {
+    return noh_bathe->p == std::get<NohBatheParams>(b.method).p;
+  }
+  if (const auto* kim = std::get_if<KimExplicitParams>(&a.method)) {
+    return kim->p == std::get<KimExplicitParams>(b.method).p;
+  }
+  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&a.method)) {
+    return kr_alpha->rho_inf == std::get<KrAlphaParams>(b.method).rho_inf;
+  }
+  if (const auto* wilson = std::get_if<WilsonThetaParams>(&a.method)) {
+    return wilson->theta == std::get<WilsonThetaParams>(b.method).theta;
+  }
+  if (is_composite(a.method)) {  // compare both sub-steps' coefficients
+    const CompositeCoefficients x = composite_coefficients(a.method);
+    const CompositeCoefficients y = composite_coefficients(b.method);
+    return x.gamma == y.gamma && x.q0 == y.q0 && x.q1 == y.q1 && x.q2 == y.q2;
+  }
+  const ImplicitCoefficients x = implicit_coefficients(a.method);
+  const ImplicitCoefficients y = implicit_coefficients(b.method);
+  return x.b0 == y.b0 && x.b1 == y.b1 && x.g0 == y.g0 && x.g1 == y.g1 && x.alpha_m == y.alpha_m &&
+         x.alpha_f == y.alpha_f && x.contact_weight == y.contact_weight;
+}
+
+std::string SceneReference::description() const {
+  if (refinements == 0) return "exact solution of the chain (core/reference/chain_exact.hpp)";
+  return std::string(converged ? "converged" : "not converged") + ": " +
+         to_string(kind_of(options.method)) + " at h/" + std::to_string(1L << refinements) +
+         " and dt/" + std::to_string(1L << refinements) + ", relative change " +
+         format_value(change) + " at the last halving (tolerance " +
+         format_value(options.tolerance) + ")" + (message.empty() ? "" : "; " + message);
+}
+
+SceneReference scene_reference(const Scene& scene, const ReferenceOptions& options,
+                               const ReferenceRun& run) {
+  const SceneDerived derived = derive(scene);
+  SceneReference r;
+  r.scene = scene;
+  r.options = options;
+  const double dt = derived.time_step;
+  if (scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0) {
+    std::optional<ChainExact> solved;
+    try {
+      solved.emplace(scene, static_cast<double>(derived.step_count) * dt);
+    } catch (const std::runtime_error& e) {  // more events than the solver allows
+      r.converged = false;
+      r.message = e.what();
+      return r;
+    }
+    const ChainExact& exact = *solved;
+    r.contacts.resize(static_cast<std::size_t>(exact.contact_count()));
+    for (int c = 0; c < exact.contact_count(); ++c) {
+      ContactSamples& s = r.contacts[static_cast<std::size_t>(c)];
+      for (long i = 1; i <= derived.step_count; ++i) {
+        // The sampling convention of RodImpactExact::at_sample: jumps within 1e-6·Δt averaged.
+        const ContactNodeValues e = exact.at(c, static_cast<double>(i) * dt, 1e-6 * dt);
+        s.pressure.push_back(e.pressure);
+        s.velocity.push_back(e.velocity);
+      }
+    }
+    return r;
+  }
+  const auto primary = static_cast<std::size_t>(derived.primary_contact);
+  std::vector<ContactSamples> previous;
+  if (!refined_samples(scene, derived, 1, options, run, previous, r.message)) {
+    r.converged = false;
+    r.refinements = 1;
+    return r;
+  }
+  r.contacts = previous;
+  r.refinements = 1;
+  r.converged = false;
+  for (int k = 2; k <= options.max_refinements; ++k) {
+    std::vector<ContactSamples> next;
+    if (!refined_samples(scene, derived, k, options, run, next, r.message)) return r;
+    r.change = std::max(relative_change(next[primary].pressure, previous[primary].pressure),
+                        relative_change(next[primary].velocity, previous[primary].velocity));
+    r.contacts = next;
+    r.refinements = k;
+    if (r.change < options.tolerance) {
+      r.converged = true;
+      return r;
+    }
+    previous = std::move(next);
+  }
+  r.message = "the tolerance was not reached in " + std::to_string(options.max_refinements) +
+              " halvings of the mesh and the step";
+  return r;
+}
+
+}  // namespace impactid
