@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """scripts/compare-results: identical files pass; a changed value fails; a dataset or root
 attribute that only the second file has fails, unless --added-ok, which still fails a changed
-value. Files made here with h5py, with a dimension scale as impactid attaches them.
+value; --core-paths reads a source moved into a layer folder of core/ as the same path, and
+nothing else. Files made here with h5py, with a dimension scale as impactid attaches them.
 
 Usage: compare_results_test.py SCRIPT
 """
@@ -14,12 +15,13 @@ import h5py
 import numpy as np
 
 
-def write(path, eps_p, extra=False):
+def write(path, eps_p, extra=False, source="core/indicators.hpp"):
     with h5py.File(path, "w") as f:
         f.attrs["kind"] = "grid"
         alpha = f.create_dataset("alpha", data=np.array([-0.3, -0.1]))
         alpha.make_scale("alpha")
         d = f.create_dataset("eps_p", data=np.array(eps_p))
+        d.attrs["definition"] = f"relative error of the pressure ({source})"
         d.dims[0].attach_scale(alpha)
         if extra:
             f.attrs["verdict_thresholds"] = "eps_p <= 0.03"
@@ -40,8 +42,12 @@ def main():
         write(same, [0.01, 0.2])
         write(added, [0.01, 0.2], extra=True)
         write(changed, [0.01, 0.2000001], extra=True)
+        moved, renamed = (os.path.join(tmp, n) for n in ("e.h5", "f.h5"))
+        write(moved, [0.01, 0.2], source="core/reference/indicators.hpp")
+        write(renamed, [0.01, 0.2], source="core/reference/indicator.hpp")
         cases = [((old, same), 0), ((old, added), 1), (("--added-ok", old, added), 0),
-                 (("--added-ok", old, changed), 1)]
+                 (("--added-ok", old, changed), 1), ((old, moved), 1),
+                 (("--core-paths", old, moved), 0), (("--core-paths", old, renamed), 1)]
         for args, expected in cases:
             result = run(script, *args)
             if result.returncode != expected:
