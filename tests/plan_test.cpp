@@ -288,6 +288,26 @@ TEST(PlanErrors, TomlSyntaxError) {
   EXPECT_STARTS_WITH(error_of("[scene]\nlength = 1\nlength = 2\n"), "bad.toml:3:");
 }
 
+// A table header nested 30,000 levels deep (issue 38: a 60 KB file overflowed the stack while
+// its error message was built) is refused where the nesting passes the bound; 32 levels pass.
+TEST(PlanErrors, TablesNestedTooDeep) {
+  std::string deep = "[a";
+  for (int i = 0; i < 30000; ++i) deep += ".a";
+  EXPECT_EQ(error_of(deep + "]\n"),
+            "bad.toml:1:1: tables and arrays nested more than 32 levels deep (a plan, scene or "
+            "model file needs a few)");
+  std::string arrays = "x = ";
+  for (int i = 0; i < 40; ++i) arrays += "[";
+  for (int i = 0; i < 40; ++i) arrays += "]";
+  EXPECT_STARTS_WITH(error_of(arrays + "\n"), "bad.toml:1:");
+  std::string allowed = "[a";
+  for (int i = 1; i < 32; ++i) allowed += ".a";
+  // 32 tables below the root: the reader's own message (an unknown key), not the bound.
+  const std::string message = error_of(allowed + "]\n");
+  EXPECT_STARTS_WITH(message, "bad.toml:1:1: a = { a = {");
+  EXPECT_NE(message.find(": unknown key (top-level keys:"), std::string::npos) << message;
+}
+
 TEST(PlanErrors, UnknownKeys) {
   EXPECT_EQ(error_of("[scene]\nelements = 50\nbogus = 1\n"),
             "bad.toml:3:9: scene.bogus = 1: unknown key (scene keys: length, elements, "

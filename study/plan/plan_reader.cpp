@@ -2,6 +2,8 @@
 #include "study/plan/plan_reader.hpp"
 
 #include <fstream>
+#include <utility>
+#include <vector>
 
 #include "study/plan/plan.hpp"
 
@@ -630,15 +632,46 @@ using plan_reading::PlanReader;
 
 namespace {
 
-// The TOML of `text`, read from `file`; a syntax error throws PlanError "file:line:column: what".
+// toml++ reads a table header nested to any depth ([a.a.a…] 30,000 times is a 60 KB file), and
+// the readers and their messages walk tables recursively, so such a file would overflow the
+// stack. No plan, scene or model file needs more than a few levels.
+constexpr int kMaxNesting = 32;
+
+// The first node nested deeper than kMaxNesting tables and arrays, or nullptr. An explicit
+// stack, so that the check itself does not recurse.
+const toml::node* nested_too_deep(const toml::table& root) {
+  std::vector<std::pair<const toml::node*, int>> pending{{&root, 0}};
+  while (!pending.empty()) {
+    const auto [node, depth] = pending.back();
+    pending.pop_back();
+    if (depth > kMaxNesting) return node;
+    if (const auto* t = node->as_table()) {
+      for (const auto& [key, value] : *t) pending.emplace_back(&value, depth + 1);
+    } else if (const auto* a = node->as_array()) {
+      for (const toml::node& value : *a) pending.emplace_back(&value, depth + 1);
+    }
+  }
+  return nullptr;
+}
+
+// The TOML of `text`, read from `file`; a syntax error, or tables nested too deep, throws
+// PlanError "file:line:column: what".
 toml::table parse_toml(const std::string& text, const std::string& file) {
+  toml::table root;
   try {
-    return toml::parse(std::string_view(text), std::string_view(file));
+    root = toml::parse(std::string_view(text), std::string_view(file));
   } catch (const toml::parse_error& e) {
     const toml::source_position p = e.source().begin;
     throw PlanError(file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": " +
                     std::string(e.description()));
   }
+  if (const toml::node* deep = nested_too_deep(root)) {
+    const toml::source_position p = deep->source().begin;
+    throw PlanError(file + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) +
+                    ": tables and arrays nested more than " + std::to_string(kMaxNesting) +
+                    " levels deep (a plan, scene or model file needs a few)");
+  }
+  return root;
 }
 
 // The whole of a file, or PlanError naming it and what it is (`what`: "plan", "scene").
