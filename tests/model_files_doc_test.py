@@ -51,6 +51,7 @@ MISTAKES = [
     ("dt and courant", before_matrices("courant = 0.5"), {}, "cannot be given with dt"),
     ("no t_end", replace("t_end = 0.08", "# t_end"), {}, "a model needs its end time t_end"),
     ("short t_end", replace("t_end = 0.08", "t_end = 1e-5"), {}, "must be finite and at least dt"),
+    ("tiny dt", replace("dt = 5e-4", "dt = 1e-12"), {}, "gives more than 1e8 time steps"),
     ("primary", before_matrices('primary_contact = "floor"'), {}, "is not a contact of the model"),
     ("rayleigh", before_matrices("rayleigh_mass = -1.0"), {}, "must be non-negative and finite"),
     ("rod key", before_matrices("length = 3.0"), {},

@@ -119,6 +119,23 @@ TEST(Scene, BadScenesNameTheKeyAndTheValue) {
             "body = striker: a scene needs at least one contact (a wall or a second body)");
 }
 
+// Issue 38: the samples of a run with many contacts outgrow memory long before 1e8 steps, and a
+// model (kind = "matrices") had no bound at all. Every scene kind checks both before it runs.
+TEST(Scene, TheTimeGridIsBoundedInStepsAndInTheBytesOfItsSamples) {
+  // 5e7 steps: 2.4 GB with one contact, 16.8 GB with 20.
+  EXPECT_FALSE(validate_time_grid("dt", 1e-9, 1e-9, 0.05, "", 1));
+  const auto e = validate_time_grid("dt", 1e-9, 1e-9, 0.05, "", 20);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "dt");
+  EXPECT_EQ(e->constraint,
+            "gives 5e+07 time steps up to t_end = 0.05 s, whose 20 contacts' samples would take "
+            "17.6 GB, more than the 8 GB a run may keep (a larger step or a shorter t_end)");
+  // The rod's largest grid stays within the bytes: only the step count bounds it.
+  EXPECT_FALSE(validate_time_grid("dt", 1e-9, 1e-9, 0.0999, "", 1));
+  EXPECT_EQ(validate_time_grid("dt", 1e-9, 1e-9, 0.2, "", 1)->constraint.substr(0, 27),
+            "gives more than 1e8 time st");
+}
+
 TEST(SceneAssembly, BodiesAreUncoupledBlocksAndContactsListTheirEndNodes) {
   Scene s = hopkinson();
   s.right_wall = Wall{.gap = 0.1};

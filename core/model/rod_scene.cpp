@@ -27,7 +27,8 @@ long step_count(double end_time, double time_step) {
 
 std::optional<ParameterError> validate_time_grid(const std::string& step_field, double step_value,
                                                  double time_step, double end_time,
-                                                 const std::string& default_end_note) {
+                                                 const std::string& default_end_note,
+                                                 int contacts) {
   const std::string value = format_value(step_value);
   // Runs beyond 1e8 steps are mistakes in the inputs, not simulations to attempt: the trace
   // holds 2 doubles per step per contact (4 with histories), and a default-scene run of 1e8
@@ -37,6 +38,20 @@ std::optional<ParameterError> validate_time_grid(const std::string& step_field, 
         "gives more than 1e8 time steps up to t_end = " + format_value(end_time) + " s";
     if (!default_end_note.empty()) why += " (" + default_end_note + "; give t_end)";
     return ParameterError{step_field, value, why};
+  }
+  // The samples are kept in memory for the indicators: per step the primary contact's four
+  // values (pressure, velocity, and with histories displacement and energy) and every contact's
+  // pressure and velocity. A scene with many contacts reaches the memory of a machine long before
+  // 1e8 steps, so the bound is on the bytes too, checked before anything is allocated.
+  const double bytes = std::ceil(end_time / time_step) * 8.0 * (4.0 + 2.0 * contacts);
+  if (bytes > kMaxTraceBytes) {
+    return ParameterError{step_field, value,
+                          "gives " + format_value(std::ceil(end_time / time_step)) +
+                              " time steps up to t_end = " + format_value(end_time) + " s, whose " +
+                              std::to_string(contacts) + " contacts' samples would take " +
+                              format_value(bytes / 1e9) + " GB, more than the " +
+                              format_value(kMaxTraceBytes / 1e9) +
+                              " GB a run may keep (a larger step or a shorter t_end)"};
   }
   // Every sample lies in (0, t_end + dt): with dt > t_end the only one would lie past t_end.
   if (time_step > end_time) {

@@ -62,12 +62,17 @@ std::optional<ParameterError> validate(const RodScene& scene);
 /// undefined for absurd inputs, which validate() then rejects).
 long step_count(double end_time, double time_step);
 
-/// The bounds every scene's time grid must meet (at most 1e8 steps, Δt <= t_end, Δt² a normal
-/// double), reported at `step_field` (dt or courant) with its value; `default_end_note` explains
-/// a default t_end in the message ("" when t_end was given).
+/// The most bytes a run's samples may take (8 GB): the rod's 1e8 steps stay below it.
+inline constexpr double kMaxTraceBytes = 8e9;
+
+/// The bounds every scene's time grid must meet (at most 1e8 steps, samples of its `contacts`
+/// within kMaxTraceBytes, Δt <= t_end, Δt² a normal double), reported at `step_field` (dt or
+/// courant) with its value; `default_end_note` explains a default t_end in the message ("" when
+/// t_end was given).
 std::optional<ParameterError> validate_time_grid(const std::string& step_field, double step_value,
                                                  double time_step, double end_time,
-                                                 const std::string& default_end_note);
+                                                 const std::string& default_end_note,
+                                                 int contacts = 1);
 
 /// Quantities derived from a valid scene, computed in one place.
 struct RodSceneDerived {

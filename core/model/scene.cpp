@@ -239,7 +239,8 @@ std::optional<ParameterError> validate(const Scene& s) {
   const SceneDerived d = derive(s);
   if (auto e = validate_time_grid(s.dt ? "dt" : "courant", s.dt ? *s.dt : s.courant, d.time_step,
                                   d.end_time,
-                                  s.t_end ? "" : "the default t_end follows the first contact")) {
+                                  s.t_end ? "" : "the default t_end follows the first contact",
+                                  static_cast<int>(contacts.size()))) {
     return e;
   }
   if (d.velocity_scale != 0.0 &&
