@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "study/formats/hdf5_file.hpp"
 #include "study/io/results_file.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/point_set.hpp"
@@ -117,6 +118,40 @@ TEST(Sweep, InterruptedThenResumedEqualsUninterrupted) {
   EXPECT_EQ(second.computed, points.size() - first.computed);
 
   expect_identical(resumed, run_all(plan, points, 1));
+}
+
+// Issue 38: a checkpoint that cannot be written (a full disk, a read-only file system) threw
+// inside the OpenMP region and aborted the program. The error now leaves run_sweep as the
+// exception it is, on any thread count, the windows after it skipped.
+TEST(Sweep, AFailedCheckpointEndsTheSweepWithItsError) {
+  const Plan plan = parse_plan(kGridPlan, "sweep-test.toml");
+  const PointSet points(plan);
+  const auto indices = all_points(points);
+  for (const int threads : {1, 2}) {
+    StudyResults results = empty_results(plan, points);
+    SweepOptions options;
+    options.threads = threads;
+    options.checkpoint_seconds = 0.0;
+    int calls = 0;
+    options.checkpoint = [&](const StudyResults&) {
+      ++calls;  // the calling thread only (study/studies/sweep.cpp)
+      throw Hdf5Error("full.h5: cannot write full.h5.tmp: No space left on device");
+    };
+    bool thrown = false;
+    try {
+      run_sweep(points, indices, results, options);
+    } catch (const Hdf5Error& e) {
+      thrown = true;
+      EXPECT_STREQ(e.what(), "full.h5: cannot write full.h5.tmp: No space left on device");
+    }
+    // The calling thread checkpoints; with two, on a loaded machine the other may take both
+    // windows, and then there is no checkpoint to fail. Otherwise: one, and its error.
+    EXPECT_EQ(calls, threads == 1 ? 1 : calls) << threads << " thread(s)";
+    EXPECT_LE(calls, 1);
+    EXPECT_EQ(thrown, calls == 1) << threads << " thread(s)";
+    // 22 points are two windows: with one thread the second is skipped after the failure.
+    if (threads == 1) EXPECT_EQ(results.points_done(), kBatchLanes);
+  }
 }
 
 TEST(Sweep, PlanPointEqualsTheSameSimulationAlone) {

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <csignal>
 #include <functional>
 #include <iostream>
 #include <string>
@@ -117,6 +118,10 @@ int impactid_main(int argc, char** argv, const Runners& runners) {
   app.set_version_flag("--version", std::string(impactid::kVersion) + " (" +
                                         impactid::kGitRevision + ")\nkernels " +
                                         describe_kernel_selection());
+  // A file size limit (ulimit -f, a batch system's) reached by a write raises SIGXFSZ, whose
+  // default action kills the program with everything unsaved; ignored, the write fails with
+  // EFBIG and the writer reports it as any other write error, the previous file intact.
+  std::signal(SIGXFSZ, SIG_IGN);
   // A level the processor lacks would fault at its first instruction: refused before anything
   // runs (IMPACTID_KERNELS, core/common/kernel_level.hpp).
   if (const KernelSelection& kernels = kernel_selection(); !kernels.error.empty()) {

@@ -284,6 +284,7 @@ std::function<int()> add_simulate_command(CLI::App& app) {
     SceneOptions scene;
     bool json = false;
     std::string history;
+    bool force = false;
   };
   auto options = std::make_shared<Options>();
   add_parameter_options(*command, options->given,
@@ -294,6 +295,9 @@ std::function<int()> add_simulate_command(CLI::App& app) {
       ->add_option("--history", options->history,
                    "Write the time histories to FILE (.csv, or .h5/.hdf5 for HDF5)")
       ->type_name("FILE");
+  command->add_flag("--force", options->force,
+                    "Replace the --history file even if it is not a time-history file (a "
+                    "results file of impactid run, say)");
 
   return [command, options]() -> int {
     if (!command->parsed()) return -1;
@@ -310,6 +314,15 @@ std::function<int()> add_simulate_command(CLI::App& app) {
         std::cerr << "impactid simulate: --history = " << options->history
                   << ": must end in .csv, .h5 or .hdf5\n";
         return kExitBadInput;
+      }
+      // Another run's histories are replaced; any other file (a study's results) only on
+      // request: a mistyped name must not cost a sweep.
+      if (std::filesystem::exists(options->history) && !options->force &&
+          !is_history_file(options->history)) {
+        std::cerr << "impactid simulate: --history = " << options->history
+                  << ": exists and is not a time-history file; it was left untouched (choose "
+                     "another file, or give --force to replace it)\n";
+        return kExitFailure;
       }
     }
     SimulationWorkspace workspace;

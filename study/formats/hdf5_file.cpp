@@ -165,6 +165,33 @@ std::string c_name(Fn&& get, const char* function) {
   return name;
 }
 
+// Grows the in-memory file in steps of 1 MB (HDF5's suggestion for the core driver).
+constexpr std::size_t kMemoryIncrement = std::size_t{1} << 20;
+
+// Writes `bytes` as the file `path` (created or truncated) and forces them to disk, so the
+// rename that follows cannot outlive them. Every failure (no space left, a read-only file
+// system, a quota, an interrupted write) comes back as the error, with the file left to the
+// caller to remove.
+std::error_code write_to_disk(const std::filesystem::path& path, const std::vector<char>& bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) return {errno, std::generic_category()};
+  std::error_code ec;
+  std::size_t done = 0;
+  while (done < bytes.size() && !ec) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n > 0) {
+      done += static_cast<std::size_t>(n);
+    } else if (n < 0 && errno != EINTR) {
+      ec = {errno, std::generic_category()};
+    } else if (n == 0) {
+      ec = std::make_error_code(std::errc::io_error);
+    }
+  }
+  if (!ec && ::fsync(fd) != 0) ec = {errno, std::generic_category()};
+  if (::close(fd) != 0 && !ec) ec = {errno, std::generic_category()};
+  return ec;
+}
+
 // Forces a closed file's data to disk, so the rename that follows cannot outlive it.
 std::error_code sync_to_disk(const std::filesystem::path& path, int flags) {
   const int fd = ::open(path.c_str(), flags);
@@ -200,25 +227,27 @@ Hdf5Writer::Hdf5Writer(std::filesystem::path path) : path_(std::move(path)) {
                       path_.parent_path().string() + ": " + ec.message());
     }
   }
-  guarded(path_, "creating " + temporary_.string(), [&] {
+  guarded(path_, "creating the file in memory", [&] {
     // Tracked creation order keeps the root group's datasets and attributes in written order.
     H5::FileCreatPropList properties;
     checked(H5Pset_link_creation_order(properties.getId(), kCreationOrder),
             "H5Pset_link_creation_order");
     checked(H5Pset_attr_creation_order(properties.getId(), kCreationOrder),
             "H5Pset_attr_creation_order");
-    file_.emplace(temporary_.string(), H5F_ACC_TRUNC, properties);
+    // The core driver without a backing store: the file lives in memory until commit() writes
+    // its image (see the header: HDF5 never writes to the disk itself).
+    H5::FileAccPropList access;
+    access.setCore(kMemoryIncrement, false);
+    file_.emplace(temporary_.string(), H5F_ACC_TRUNC, properties, access);
   });
 }
 
 Hdf5Writer::~Hdf5Writer() {
   if (file_) {
     try {
-      file_->close();
+      file_->close();  // in memory: nothing reaches the disk
     } catch (...) {
     }
-    std::error_code ec;
-    std::filesystem::remove(temporary_, ec);
   }
 }
 
@@ -323,15 +352,22 @@ void Hdf5Writer::attach_scale(const std::string& dataset, const std::string& sca
 }
 
 void Hdf5Writer::commit() {
-  guarded(temporary_, "/", [&] { file_->close(); });
+  const std::vector<char> image = guarded(path_, "/", [&] {
+    file_->flush(H5F_SCOPE_GLOBAL);
+    const ssize_t size = checked(H5Fget_file_image(file_->getId(), nullptr, 0), "H5Fget_file_image");
+    std::vector<char> bytes(static_cast<std::size_t>(size));
+    checked(H5Fget_file_image(file_->getId(), bytes.data(), bytes.size()), "H5Fget_file_image");
+    return bytes;
+  });
+  guarded(path_, "/", [&] { file_->close(); });
   file_.reset();
   std::error_code ec;
   const auto fail = [&](const std::string& message) {
     std::filesystem::remove(temporary_, ec);
     throw Hdf5Error(message);
   };
-  if (const std::error_code sync = sync_to_disk(temporary_, O_RDONLY)) {
-    fail(temporary_.string() + ": cannot flush to disk: " + sync.message());
+  if (const std::error_code written = write_to_disk(temporary_, image)) {
+    fail(path_.string() + ": cannot write " + temporary_.string() + ": " + written.message());
   }
   std::filesystem::rename(temporary_, path_, ec);
   if (ec) {

@@ -2,9 +2,13 @@
 // through these functions, so HDF5's exceptions and handles stay here: failures come out as
 // Hdf5Error with the file and object named.
 //
-// Files are written atomically: the constructor writes to "<path>.tmp" and commit() flushes it
-// to disk (fsync) and renames it over <path>, so a reader never sees a half-written file and an
-// interrupted or failed writer leaves the previous file intact and no temporary behind.
+// Files are written atomically: a writer builds the file in memory (HDF5's core driver) and
+// commit() writes its image to "<path>.tmp", flushes it to disk (fsync) and renames it over
+// <path>, so a reader never sees a half-written file and an interrupted or failed writer leaves
+// the previous file intact and no temporary behind. HDF5 itself never writes to the disk: after
+// a write failed for lack of space, HDF5 1.10 crashes in H5Fclose (issue 38), where the one
+// write of the image fails cleanly, with the system's reason (No space left on device, Read-only
+// file system) in the Hdf5Error.
 //
 // Files track the creation order of their root group's links and attributes (as netCDF-4
 // does), so members() and attribute_names() list them in the order they were written.
@@ -32,9 +36,9 @@ using Hdf5Dims = std::vector<hsize_t>;
 
 class Hdf5Writer {
  public:
-  /// Starts <path>.tmp (creating parent folders). Throws Hdf5Error.
+  /// Starts the file in memory (creating <path>'s parent folders). Throws Hdf5Error.
   explicit Hdf5Writer(std::filesystem::path path);
-  ~Hdf5Writer();  // an uncommitted temporary file is removed
+  ~Hdf5Writer();  // an uncommitted file is dropped: nothing of it is on disk
   Hdf5Writer(const Hdf5Writer&) = delete;
   Hdf5Writer& operator=(const Hdf5Writer&) = delete;
 
@@ -63,8 +67,9 @@ class Hdf5Writer {
   /// Attaches a dimension scale to dimension `index` of `dataset` (its DIMENSION_LIST).
   void attach_scale(const std::string& dataset, const std::string& scale, unsigned index);
 
-  /// Closes the file, flushes it to disk and renames it over the target; on failure the
-  /// temporary file is removed. Throws Hdf5Error.
+  /// Writes the file to <path>.tmp, flushes it to disk and renames it over <path>; on failure
+  /// the temporary file is removed and <path> is as it was. Throws Hdf5Error naming the file
+  /// and the system's reason.
   void commit();
   const std::filesystem::path& path() const { return path_; }
 

@@ -1,6 +1,8 @@
 #include "study/io/history_file.hpp"
 
 #include <array>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -147,9 +149,17 @@ std::vector<Column> model_history_columns(const ModelScene& scene, const Contact
 void write_csv(const std::filesystem::path& path, const std::vector<Column>& columns) {
   std::filesystem::path temporary = path;
   temporary += ".tmp";
+  // A failed write (a full disk, a file size limit) leaves no temporary file, and `path` as it
+  // was; the system's reason is in the message.
+  const auto fail = [&](const std::string& what) {
+    const std::string reason = std::strerror(errno);
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw HistoryFileError(path.string() + ": " + what + ": " + reason);
+  };
   {
     std::ofstream out(temporary);
-    if (!out) throw HistoryFileError(path.string() + ": cannot open for writing");
+    if (!out) fail("cannot open " + temporary.string() + " for writing");
     out.precision(17);
     for (std::size_t c = 0; c < columns.size(); ++c) {
       out << (c ? "," : "") << columns[c].name << '[' << columns[c].units << ']';
@@ -161,7 +171,8 @@ void write_csv(const std::filesystem::path& path, const std::vector<Column>& col
       }
       out << '\n';
     }
-    if (!out) throw HistoryFileError(path.string() + ": write failed");
+    out.close();  // the last buffered bytes are written here, and may fail here
+    if (!out) fail("cannot write " + temporary.string());
   }
   std::error_code ec;
   std::filesystem::rename(temporary, path, ec);
@@ -216,6 +227,21 @@ std::vector<HistoryColumn> history_columns(const Simulation& simulation, const C
     columns = rod_history_columns(simulation.scene, trace);
   }
   return columns;
+}
+
+bool is_history_file(const std::filesystem::path& path) {
+  if (path.extension() == ".csv") {
+    std::ifstream in(path);
+    std::string first;
+    return std::getline(in, first) && first.rfind("t[", 0) == 0;
+  }
+  try {
+    const Hdf5Reader file(path);
+    return file.has_attribute("/", "method") && !file.has_attribute("/", "format") &&
+           file.exists("t");
+  } catch (const Hdf5Error&) {
+    return false;
+  }
 }
 
 void write_history(const std::filesystem::path& path, const Simulation& simulation,

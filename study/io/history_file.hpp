@@ -32,6 +32,11 @@ struct HistoryColumn {
 std::vector<HistoryColumn> history_columns(const Simulation& simulation, const ContactTrace& trace,
                                            const ModelReference* model_reference = nullptr);
 
+/// Whether `path` is a time-history file write_history() wrote (a .csv whose header starts with
+/// t[…], or an HDF5 file with the root attribute `method`, no `format`, and the dataset t): one
+/// that may be replaced by another run's histories without asking.
+bool is_history_file(const std::filesystem::path& path);
+
 /// Throws HistoryFileError (unknown extension, cannot write) naming the file. HDF5 files carry
 /// the method and every numeric parameter of the simulation as root attributes. A user's model
 /// needs its reference (the one evaluate() used: SimulationWorkspace::model_reference).

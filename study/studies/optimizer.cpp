@@ -11,6 +11,7 @@
 
 #include "metrics/indicator_table.hpp"
 #include "study/studies/evaluation.hpp"
+#include "study/studies/first_failure.hpp"
 
 namespace impactid {
 namespace {
@@ -557,16 +558,20 @@ OptimizeOutcome run_optimization(const Plan& plan, const OptimizeOptions& option
     }
   } else {
     const auto count = static_cast<long>(starts.size());
+    FirstFailure failure;  // a failed checkpoint inside a search: rethrown after the region
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, options.threads))
     for (long s = 0; s < count; ++s) {
-      Search search(plan, &optimization.previous()[static_cast<std::size_t>(s)], options.stop,
-                    [&](bool ok, bool feasible, double objective) {
-                      optimization.evaluated(ok, feasible, objective);
-                    });
-      optimization.started(s, &search);
-      std::string termination = run_nlopt(plan, s, search);
-      optimization.finished(s, search.outcome(std::move(termination)), true);
+      failure.run([&] {
+        Search search(plan, &optimization.previous()[static_cast<std::size_t>(s)], options.stop,
+                      [&](bool ok, bool feasible, double objective) {
+                        optimization.evaluated(ok, feasible, objective);
+                      });
+        optimization.started(s, &search);
+        std::string termination = run_nlopt(plan, s, search);
+        optimization.finished(s, search.outcome(std::move(termination)), true);
+      });
     }
+    failure.rethrow_if_failed();
   }
   return optimization.outcome();
 }

@@ -14,6 +14,7 @@
 
 #include "metrics/indicator_table.hpp"
 #include "study/plan/scene_path.hpp"
+#include "study/studies/first_failure.hpp"
 
 namespace impactid {
 namespace {
@@ -315,6 +316,7 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, St
   const long count = static_cast<long>(todo.size());
   const long window_count = (count + kBatchLanes - 1) / kBatchLanes;
   const int calling_thread = 0;
+  FirstFailure failure;  // the first exception of any window, rethrown after the region
 
 #pragma omp parallel num_threads(std::max(1, options.threads))
   {
@@ -324,36 +326,42 @@ SweepOutcome run_sweep(const PointSet& points, std::span<const long> indices, St
 #pragma omp for schedule(dynamic, 1)
     for (long w = 0; w < window_count; ++w) {
       if (options.stop && options.stop->load()) continue;
-      const long first = w * kBatchLanes;
-      const auto size = static_cast<std::size_t>(std::min<long>(kBatchLanes, count - first));
-      const long* window = todo.data() + first;  // the flat indices of its points
-      evaluate_window(points, std::span(window, size), workspace);
+      failure.run([&] {
+        const long first = w * kBatchLanes;
+        const auto size = static_cast<std::size_t>(std::min<long>(kBatchLanes, count - first));
+        const long* window = todo.data() + first;  // the flat indices of its points
+        evaluate_window(points, std::span(window, size), workspace);
 
-      std::optional<StudyResults> snapshot;
-      std::optional<SweepProgress> progress;
-      {
-        std::lock_guard lock(results_mutex);
-        for (std::size_t k = 0; k < size; ++k) {
-          store_point(results, points, window[k], simulations[k], evaluations[k]);
-          ++done;
-          if (evaluations[k].summary.status != RunStatus::ok) ++unstable;
-        }
-        if (omp_get_thread_num() == calling_thread) {
-          if (options.checkpoint && seconds_since(last_checkpoint) >= options.checkpoint_seconds) {
-            snapshot = results;
-            last_checkpoint = Clock::now();
+        std::optional<StudyResults> snapshot;
+        std::optional<SweepProgress> progress;
+        {
+          std::lock_guard lock(results_mutex);
+          for (std::size_t k = 0; k < size; ++k) {
+            store_point(results, points, window[k], simulations[k], evaluations[k]);
+            ++done;
+            if (evaluations[k].summary.status != RunStatus::ok) ++unstable;
           }
-          if (options.progress && seconds_since(last_progress) >= options.progress_seconds) {
-            progress = SweepProgress{done, count, unstable, seconds_since(start)};
-            last_progress = Clock::now();
+          if (omp_get_thread_num() == calling_thread) {
+            if (options.checkpoint &&
+                seconds_since(last_checkpoint) >= options.checkpoint_seconds) {
+              snapshot = results;
+              last_checkpoint = Clock::now();
+            }
+            if (options.progress && seconds_since(last_progress) >= options.progress_seconds) {
+              progress = SweepProgress{done, count, unstable, seconds_since(start)};
+              last_progress = Clock::now();
+            }
           }
         }
-      }
-      // Slow work (file writing, terminal output) outside the lock.
-      if (snapshot) options.checkpoint(*snapshot);
-      if (progress) options.progress(*progress);
+        // Slow work (file writing, terminal output) outside the lock.
+        if (snapshot) options.checkpoint(*snapshot);
+        if (progress) options.progress(*progress);
+      });
     }
   }
+  // A failed checkpoint (a full disk, a read-only file system) or run ends the sweep here; the
+  // last checkpoint written is intact, so --resume continues from it.
+  failure.rethrow_if_failed();
   outcome.computed = done;
   outcome.unstable = unstable;
   outcome.interrupted = done < count;
