@@ -4,13 +4,13 @@ tracked *.md file, or in a comment of a *.hpp, *.cpp or *.py file (a docstring t
 folder is one of the repository's own (core/, study/, tests/, docs/, …) must name a file of the
 repository, from its root or from the mentioning file's folder (a Markdown link), or one that
 CMake configures from a tracked FILE.in (study/version.hpp). Documentation that names files the
-code no longer has is an anti-pattern of STYLE.md; this catches a file moved or renamed without
-its mentions.
+code no longer has is an anti-pattern of docs/style.md; this catches a file moved or renamed
+without its mentions.
 
 Not checked: what runs write (anything under results/, and *.h5, *.png, … anywhere: OUTPUTS),
 paths with wildcards (core/*.cpp), placeholders in capitals (plans/PLAN.toml), the build
 folder, system and third-party headers (#include <…>), string literals in code (a test's
-temporary plans/x.toml), and the example names of EXAMPLES below.
+temporary plans/x.toml), and the paths of NOT_HERE below (examples, other projects' files).
 
     python3 tests/doc_paths_test.py [REPOSITORY]    (default: this file's repository)
 """
@@ -29,8 +29,10 @@ OUTPUT_FOLDERS = {"results"}
 MENTION = re.compile(r"(?<![\w./\\:@~$-])((?:[\w.-]+/)+[\w.-]*\w\.[A-Za-z][A-Za-z0-9]*)(?![\w/*{<])")
 # A line whose paths are not this repository's: system and third-party includes.
 FOREIGN_LINE = re.compile(r"^\s*#\s*include\s*<")
-# Names in examples that are no files, by the file that shows them.
-EXAMPLES = {"plans/README.md": {"plans/x.toml"}}
+# Paths that name no file of this repository, by the file that shows them: a name in an example,
+# another project's file.
+NOT_HERE = {"plans/README.md": {"plans/x.toml"},
+            "docs/style.md": {"tests/unit/linalg/test_ode2.cpp"}}  # MFEM's
 
 
 def commented_lines(name, text):
@@ -107,7 +109,7 @@ def main():
                 stem = mention.rsplit("/", 1)[-1].split(".", 1)[0]
                 if first not in tops or first in OUTPUT_FOLDERS or mention.rsplit(".", 1)[-1] in OUTPUTS:
                     continue
-                if stem.isupper() or mention in EXAMPLES.get(name, ()):
+                if stem.isupper() or mention in NOT_HERE.get(name, ()):
                     continue
                 relative = str(Path(folder) / mention) if folder != "." else mention
                 if {mention, relative, mention + ".in"} & existing:
