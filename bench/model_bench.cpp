@@ -2,9 +2,9 @@
 // CHOLMOD's. The model is a square grid of bilinear (Q1) elements, one DOF per node (the
 // stiffness of a membrane: the sparsity and fill-in of a 2D mesh), with a lumped mass, dropped
 // onto a rigid wall along 41 nodes of one edge, as the shipped block (examples/block). Sizes
-// 32², 100² and 316² nodes: about 1e3, 1e4 and 1e5 DOFs; the factorisations are also timed on
-// the block itself (argument 0). Counter `steps/s`: of a run of 200 steps with contact from step
-// 100 on, set-up included.
+// 32², 100² and 316² nodes: about 1e3, 1e4 and 1e5 DOFs (runs on the first two, every registered
+// method); the factorisations are timed on all three and on the block itself (argument 0).
+// Counter `steps/s`: of a run of 200 steps with contact from step 100 on, set-up included.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/SparseCholesky>
@@ -12,8 +12,10 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
+#include "core/methods/method_registry.hpp"
 #include "core/model/model_scene.hpp"
 #include "core/model/sparse_factorization.hpp"
 #include "core/run/simulation.hpp"
@@ -71,39 +73,39 @@ ModelScene grid_scene(int side) {
   return {model, dt, static_cast<double>(kSteps) * dt};
 }
 
-// The methods BM_ModelRun times, by its second argument: central difference (a diagonal
-// left-hand matrix), HHT (the effective matrix factored once, one or two solves a step), the two
-// explicit stage schemes (two of central difference's stages and each stage's contact problem)
-// and KR-α (one solve with E a step and one with M for the reported acceleration, its model-based
-// matrices factored once).
-const std::vector<MethodParams> kModelRunMethods = {CentralDifferenceParams{},
-                                                    HhtParams{.alpha = -0.1}, NohBatheParams{},
-                                                    KimExplicitParams{}, KrAlphaParams{}};
-
-// One run (set-up and 200 steps) of each method family.
+// One run (set-up and 200 steps) of each registered method with its defaults. Args: the grid's
+// side, the method's index in method_registry(), so a new method is timed without a line here.
+// Counter steps/s over the steps the run took: a method whose defaults go unstable on a grid
+// (Bathe's and Wilson-θ's on the 100² one) stops there, as a sweep point would, and its label
+// says at which step; a run that cannot start (status failed) is an error. The grids of 32² and
+// 100² nodes only: on the 1e5-DOF grid an implicit method's run is its factorisation and 200
+// solves, which BM_SparseFactor/316 and BM_SparseSolve/316 time, and the registry's methods took
+// minutes there together, too long for bench.every_benchmark_once, which runs every case.
 void BM_ModelRun(benchmark::State& state) {
   const ModelScene scene = grid_scene(static_cast<int>(state.range(0)));
   const AssembledScene assembled = assemble(scene);
-  const MethodParams method = kModelRunMethods.at(static_cast<std::size_t>(state.range(1)));
-  state.SetLabel(std::string(to_string(kind_of(method))) + ", " +
-                 std::to_string(scene.model->size()) + " DOFs");
+  const MethodDescriptor& descriptor = method_registry()[static_cast<std::size_t>(state.range(1))];
+  const MethodParams method = std::get<MethodParams>(descriptor.make(MethodArguments{}));
+  std::string label =
+      std::string(descriptor.name) + ", " + std::to_string(scene.model->size()) + " DOFs";
   SimulationWorkspace workspace;
+  double steps = 0.0;
   for (auto _ : state) {
     const RunSummary s = simulate(assembled, method, RunOptions{}, workspace);
-    if (s.status != RunStatus::ok) state.SkipWithError(s.message.c_str());
+    if (s.status == RunStatus::failed) state.SkipWithError(s.message.c_str());
+    if (s.status == RunStatus::unstable && steps == 0.0) {
+      label += ", unstable at step " + std::to_string(s.steps);
+    }
+    steps += static_cast<double>(s.steps);
     benchmark::DoNotOptimize(s.final_energy);
   }
-  state.counters["steps/s"] =
-      benchmark::Counter(static_cast<double>(kSteps) * static_cast<double>(state.iterations()),
-                         benchmark::Counter::kIsRate);
+  state.SetLabel(label);
+  state.counters["steps/s"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
 }
-// KR-α not on the 1e5 grid: its set-up there factors three matrices of 1e5 DOFs (a run took
-// 18.6 s when its step took three solves; docs/performance.md), and bench.every_benchmark_once
-// runs every case.
 BENCHMARK(BM_ModelRun)
-    ->ArgsProduct({{32, 100, 316}, {0, 1, 2, 3}})
-    ->Args({32, 4})
-    ->Args({100, 4})
+    ->ArgsProduct({{32, 100},
+                   benchmark::CreateDenseRange(0, static_cast<int>(method_registry().size()) - 1,
+                                               1)})
     ->Unit(benchmark::kMillisecond);
 
 // HHT's effective matrix of the grid model, M + b1·dt²·K; side 0: of the shipped block

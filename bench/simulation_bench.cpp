@@ -25,38 +25,50 @@
 namespace impactid {
 namespace {
 
-MethodParams method_by_index(int index) {
-  switch (index) {
-    case 0: return CentralDifferenceParams{};
-    case 1: return BackwardEulerParams{};
-    case 2: return NewmarkParams{};
-    case 3: return HhtParams{};
-    default: return GeneralizedAlphaParams{};
-  }
+// The defaults of method `index` of method_registry(): the benchmarks that time methods take
+// every registered one by its index there, so a new method is timed without a line here.
+const MethodDescriptor& registered_method(std::int64_t index) {
+  return method_registry()[static_cast<std::size_t>(index)];
+}
+
+MethodParams registered_defaults(std::int64_t index) {
+  return std::get<MethodParams>(registered_method(index).make(MethodArguments{}));
+}
+
+// Args 0 … (registered methods − 1).
+void every_registered_method(benchmark::internal::Benchmark* b) {
+  b->DenseRange(0, static_cast<int>(method_registry().size()) - 1);
 }
 
 void set_dof_counters(benchmark::State& state, const RodScene& scene, double runs) {
   const RodSceneDerived d = derive(scene);
   const double dof_steps = (scene.elements + 1.0) * static_cast<double>(d.step_count);
-  state.counters["dof_steps/s"] =
-      benchmark::Counter(dof_steps * runs, benchmark::Counter::kIsRate);
+  state.counters["dof_steps/s"] = benchmark::Counter(dof_steps * runs, benchmark::Counter::kIsRate);
   state.counters["steps"] = static_cast<double>(d.step_count);
 }
 
-// One simulation of the default scene (201 dof, 1222 steps) with each method's defaults:
-// set-up and stepping, no indicators.
+// One simulation of the default scene (201 dof, 1222 steps) with each registered method's
+// defaults, through simulate(): set-up and stepping, no indicators. Arg: the method's index in
+// method_registry() (3 is HHT, which bench/report reads).
 void BM_Run(benchmark::State& state) {
   const RodScene scene;
-  const MethodParams method = method_by_index(static_cast<int>(state.range(0)));
-  state.SetLabel(to_string(kind_of(method)));
+  const MethodParams method = registered_defaults(state.range(0));
   SimulationWorkspace workspace;
+  RunSummary s;
   for (auto _ : state) {
-    const RunSummary s = simulate(scene, method, RunOptions{}, workspace);
+    s = simulate(scene, method, RunOptions{}, workspace);
     benchmark::DoNotOptimize(s.final_energy);
   }
+  // A method whose defaults go unstable here (Wilson-θ's) stops early, while the counters count
+  // the whole run's dof-steps: the label says where it stopped (BM_WholeRunDofStep steps it
+  // through).
+  std::string label = registered_method(state.range(0)).name;
+  if (s.status != RunStatus::ok)
+    label += std::string(", ") + to_string(s.status) + " at step " + std::to_string(s.steps);
+  state.SetLabel(label);
   set_dof_counters(state, scene, static_cast<double>(state.iterations()));
 }
-BENCHMARK(BM_Run)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Run)->Apply(every_registered_method)->Unit(benchmark::kMicrosecond);
 
 // Time per dof-step of scenes of bodies against the paper's scene, each run through
 // simulate(AssembledScene) with HHT's defaults (set-up and stepping, no indicators): 0 the paper's
@@ -137,20 +149,14 @@ void BM_SceneBatchedRun(benchmark::State& state) {
 }
 BENCHMARK(BM_SceneBatchedRun)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
-// Every method of the registry with its defaults on the default scene (201 dof, 1222 steps),
-// on the path a sweep takes it: kBatchLanes runs of it through the rod's batched kernel where
-// it is batchable (core/batch/batched_simulation.hpp), one run through simulate() otherwise. Arg:
-// its index in method_registry(). Counters: ns/dof-step per run (per lane, over the samples each
-// run stepped: a run that ends unstable early counts the samples it stepped), stages,
-// batched. bench/report prints each method's time per dof-step and its ratio to HHT's per
-// stage.
-void BM_MethodDofStep(benchmark::State& state) {
-  const MethodDescriptor& method = method_registry()[static_cast<std::size_t>(state.range(0))];
-  const auto made = method.make(MethodArguments{});
-  const MethodParams params = std::get<MethodParams>(made);
+// Time per dof-step of one registered method's defaults on the default scene (201 dof, 1222
+// steps): kBatchLanes runs of it through the rod's batched kernel when `batched` (the method must
+// be batchable), one run through simulate() otherwise. Counter ns/dof-step per run (per lane,
+// over the samples each run stepped: a run that ends unstable early counts the samples it
+// stepped).
+void time_dof_step(benchmark::State& state, const MethodParams& params, const RunOptions& options,
+                   bool batched) {
   const RodScene scene;
-  const bool batched = batchable(scene, params, RunOptions{});
-  state.SetLabel(std::string(method.name) + (batched ? " batched" : " scalar"));
   const std::vector<RodScene> scenes(kBatchLanes, scene);
   const std::vector<MethodParams> methods(kBatchLanes, params);
   std::vector<RunSummary> summaries(batched ? kBatchLanes : 1);
@@ -159,47 +165,9 @@ void BM_MethodDofStep(benchmark::State& state) {
   double dof_steps = 0.0;
   for (auto _ : state) {
     if (batched) {
-      simulate_batch(scenes, methods, RunOptions{}, batch_workspace, summaries);
-    } else {
-      summaries[0] = simulate(scene, params, RunOptions{}, workspace);
-    }
-    for (const RunSummary& s : summaries) {
-      dof_steps += (scene.elements + 1.0) * static_cast<double>(s.steps - s.skipped_steps);
-    }
-    benchmark::DoNotOptimize(summaries[0].final_energy);
-  }
-  state.counters["stages"] = method.stages;
-  state.counters["batched"] = batched ? 1.0 : 0.0;
-  state.counters["ns/dof-step"] = benchmark::Counter(
-      dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-}
-BENCHMARK(BM_MethodDofStep)
-    ->DenseRange(0, static_cast<int>(method_registry().size()) - 1)
-    ->Unit(benchmark::kMicrosecond);
-
-// Wilson-θ's step kind over a whole run: its default on the default scene goes unstable after
-// about 50 steps (REPRODUCTION.md), so BM_MethodDofStep's figure for it mostly measures a batch's
-// set-up. Here the energy bound is lifted (1000·E0) and every run steps all its samples, as a
-// stable point of a sweep does. Arg 0: kBatchLanes runs through the batched kernel; 1: one run
-// through simulate(). Counter: ns/dof-step per run, as BM_MethodDofStep's (compare with its HHT
-// row of the same run).
-void BM_WilsonThetaDofStep(benchmark::State& state) {
-  const bool batched = state.range(0) == 0;
-  state.SetLabel(batched ? "wilson-theta batched, bound lifted"
-                         : "wilson-theta scalar, bound lifted");
-  const RodScene scene;
-  const RunOptions options{.energy_growth_limit = 1000.0};
-  const std::vector<RodScene> scenes(kBatchLanes, scene);
-  const std::vector<MethodParams> methods(kBatchLanes, WilsonThetaParams{});
-  std::vector<RunSummary> summaries(batched ? kBatchLanes : 1);
-  BatchWorkspace batch_workspace;
-  SimulationWorkspace workspace;
-  double dof_steps = 0.0;
-  for (auto _ : state) {
-    if (batched) {
       simulate_batch(scenes, methods, options, batch_workspace, summaries);
     } else {
-      summaries[0] = simulate(scene, WilsonThetaParams{}, options, workspace);
+      summaries[0] = simulate(scene, params, options, workspace);
     }
     for (const RunSummary& s : summaries) {
       dof_steps += (scene.elements + 1.0) * static_cast<double>(s.steps - s.skipped_steps);
@@ -209,7 +177,40 @@ void BM_WilsonThetaDofStep(benchmark::State& state) {
   state.counters["ns/dof-step"] = benchmark::Counter(
       dof_steps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_WilsonThetaDofStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// Every method of the registry with its defaults on the default scene, on the path a sweep takes
+// it: batched where it is batchable (core/batch/batched_simulation.hpp), one run through
+// simulate() otherwise. Arg: its index in method_registry(). Counters: ns/dof-step, stages,
+// batched. bench/report prints each method's time per dof-step and its ratio to HHT's per stage.
+void BM_MethodDofStep(benchmark::State& state) {
+  const MethodDescriptor& method = registered_method(state.range(0));
+  const MethodParams params = registered_defaults(state.range(0));
+  const bool batched = batchable(RodScene{}, params, RunOptions{});
+  state.SetLabel(std::string(method.name) + (batched ? " batched" : " scalar"));
+  time_dof_step(state, params, RunOptions{}, batched);
+  state.counters["stages"] = method.stages;
+  state.counters["batched"] = batched ? 1.0 : 0.0;
+}
+BENCHMARK(BM_MethodDofStep)->Apply(every_registered_method)->Unit(benchmark::kMicrosecond);
+
+// The same over whole runs: a method whose defaults go unstable in the default scene (Wilson-θ's
+// after about 50 steps, REPRODUCTION.md) stops early, so BM_MethodDofStep's figure for it mostly
+// measures a batch's set-up. Here the energy bound is lifted (1000·E0), so that its runs step
+// their samples as a stable point of a sweep does; a stable method's figure is BM_MethodDofStep's.
+// Args: the method's index in method_registry(); 0 the sweep's path (batched where batchable),
+// 1 one run through simulate(). Counter: ns/dof-step per run, as BM_MethodDofStep's.
+void BM_WholeRunDofStep(benchmark::State& state) {
+  const MethodDescriptor& method = registered_method(state.range(0));
+  const MethodParams params = registered_defaults(state.range(0));
+  const RunOptions options{.energy_growth_limit = 1000.0};
+  const bool batched = state.range(1) == 0 && batchable(RodScene{}, params, options);
+  state.SetLabel(std::string(method.name) + (batched ? " batched" : " scalar") + ", bound lifted");
+  time_dof_step(state, params, options, batched);
+}
+BENCHMARK(BM_WholeRunDofStep)
+    ->ArgsProduct(
+        {benchmark::CreateDenseRange(0, static_cast<int>(method_registry().size()) - 1, 1), {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
 
 // What each skip saves: HHT on a scene with a long free flight (gap 0.2 mm: 428 of 1650 steps
 // before the impact). 0: every skip on (the defaults); 1: free flight stepped; 2: energy checked
@@ -251,8 +252,8 @@ void BM_Indicators(benchmark::State& state) {
   const RodScene scene;
   const double delta = static_cast<double>(state.range(0)) / 100.0;
   SimulationWorkspace workspace;
-  const RunSummary summary = simulate(scene, HhtParams{.alpha = -0.3, .delta = delta},
-                                      RunOptions{}, workspace);
+  const RunSummary summary =
+      simulate(scene, HhtParams{.alpha = -0.3, .delta = delta}, RunOptions{}, workspace);
   Indicators indicators{};
   for (auto _ : state) {
     indicators = evaluate_indicators(scene, workspace.trace, summary, IndicatorOptions{});
@@ -303,9 +304,8 @@ void BM_Sweep(benchmark::State& state) {
       }
     }
   }
-  state.counters["runs/s"] =
-      benchmark::Counter(kPoints * static_cast<double>(state.iterations()),
-                         benchmark::Counter::kIsRate);
+  state.counters["runs/s"] = benchmark::Counter(kPoints * static_cast<double>(state.iterations()),
+                                                benchmark::Counter::kIsRate);
   set_dof_counters(state, RodScene{}, kPoints * static_cast<double>(state.iterations()));
 }
 BENCHMARK(BM_Sweep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -383,9 +383,8 @@ void BM_BatchedSweep(benchmark::State& state) {
       }
     }
   }
-  state.counters["runs/s"] =
-      benchmark::Counter(kPoints * static_cast<double>(state.iterations()),
-                         benchmark::Counter::kIsRate);
+  state.counters["runs/s"] = benchmark::Counter(kPoints * static_cast<double>(state.iterations()),
+                                                benchmark::Counter::kIsRate);
   set_dof_counters(state, RodScene{}, kPoints * static_cast<double>(state.iterations()));
 }
 BENCHMARK(BM_BatchedSweep)
@@ -409,9 +408,8 @@ void BM_Clock(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(x);
   }
-  state.counters["Hz"] =
-      benchmark::Counter(kAdds * static_cast<double>(state.iterations()),
-                         benchmark::Counter::kIsRate);
+  state.counters["Hz"] = benchmark::Counter(kAdds * static_cast<double>(state.iterations()),
+                                            benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Clock)->Unit(benchmark::kMillisecond);
 

@@ -27,6 +27,7 @@
 #include "core/reference/model_reference.hpp"
 #include "metrics/indicator_table.hpp"
 #include "study/cli/command_line.hpp"
+#include "study/cli/methods_command.hpp"
 #include "study/cli/run_command.hpp"
 #include "study/io/history_file.hpp"
 #include "study/plan/plan.hpp"
@@ -428,6 +429,13 @@ PYBIND11_MODULE(_impactid, m) {
     std::vector<std::string> names;
     for (const MethodDescriptor& d : method_registry()) names.emplace_back(d.name);
     return names;
+  });
+  // `impactid methods --json`'s text: the figures' method labels, parameters and colour order
+  // when impactid.plot draws in this process (python/impactid/_plot.py).
+  m.def("methods_json", [] {
+    std::ostringstream out;
+    write_methods_json(out);
+    return out.str();
   });
   m.def("indicators", [] {
     std::vector<std::string> names;

@@ -1,10 +1,13 @@
 // `impactid methods` as a user drives it: every registered method with its parameters, their
 // defaults (the values a run with nothing given uses) and derived coefficients, as text and JSON.
+#include "study/cli/methods_command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cctype>
 #include <string>
+#include <string_view>
 
 #include "cli_support.hpp"
 #include "core/methods/method_registry.hpp"
@@ -80,7 +83,8 @@ TEST(MethodsCommand, JsonGivesTheSameList) {
   ASSERT_EQ(o.status, 0) << o.text;
   EXPECT_EQ(o.text.front(), '[');
   for (const MethodDescriptor& m : method_registry()) {
-    EXPECT_TRUE(contains(o.text, std::string("{\"name\":\"") + m.name + "\",\"summary\":"))
+    EXPECT_TRUE(contains(o.text, std::string("{\"name\":\"") + m.name + "\",\"label\":\"" +
+                                     method_label(m) + "\",\"summary\":"))
         << m.name;
   }
   for (const char* part :
@@ -92,6 +96,26 @@ TEST(MethodsCommand, JsonGivesTheSameList) {
     EXPECT_TRUE(contains(o.text, part)) << part << "\n" << o.text;
   }
   EXPECT_EQ(run_impactid("methods --bogus").status, 2);
+}
+
+// A method's label is the head of its summary, so that its name for people is written once: what
+// the figures' legends show (in their typography).
+TEST(MethodsCommand, LabelIsTheSummarysHead) {
+  for (const MethodDescriptor& m : method_registry()) {
+    const std::string label = method_label(m);
+    EXPECT_FALSE(label.empty()) << m.name;
+    EXPECT_EQ(std::string(m.summary).rfind(label, 0), 0u) << m.name;
+    EXPECT_FALSE(contains(label, "(") || contains(label, " with ")) << m.name << ": " << label;
+  }
+  const auto label_of = [](std::string_view name) {
+    for (const MethodDescriptor& m : method_registry()) {
+      if (name == m.name) return method_label(m);
+    }
+    return std::string("(not registered)");
+  };
+  EXPECT_EQ(label_of("cdm"), "central difference");
+  EXPECT_EQ(label_of("hht"), "HHT-alpha");
+  EXPECT_EQ(label_of("noh-bathe"), "Noh-Bathe explicit");
 }
 
 }  // namespace

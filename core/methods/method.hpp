@@ -213,8 +213,8 @@ struct NohBatheParams {
 /// Default p = ½, not Kratos' ⅓: at p = ½ the correction leaves the displacement alone (u₁ = ũ₁),
 /// so the contact's forward increment acts on the sample directly. On the paper's rod every p
 /// below 0.4 chatters: the quadratic correction turns the first stage's contact impulse into an
-/// overshoot that the second stage must pull back (p = ⅓ at Courant 0.5: 393 contact episodes,
-/// ε_p = 1.8), while p = ½ keeps one contact episode at every stable Courant number
+/// overshoot that the second stage must pull back, so that the contact opens and closes again and
+/// again, while p = ½ keeps one contact episode at every stable Courant number
 /// (REPRODUCTION.md). p = 5/12 has the least period error (no Ω⁴ term).
 struct KimExplicitParams {
   double p = 0.5;  ///< stage ratio p ∈ [⅓, ½]; ½ (see above; Kratos' default is ⅓)

@@ -29,19 +29,16 @@
 // would hold it only there: u_{n+1} = P + (gap − Q)/θ³ misses the wall, in front of it or beyond,
 // whenever the node moves during the step, and a sample would report λ > 0 off the wall.
 //
-// The price, measured: with the contact at the samples Wilson-θ chatters on the wall and gains
-// energy. From t to t + Δt its update is the linear-acceleration step (β = 1/6, γ = ½), so the
-// force that puts a node on the wall at t + Δt changes its velocity by 3/Δt times the
-// displacement it takes away (γ/β = 3; the trapezoidal rule's 2 reflects a free mass at its own
-// speed): a free mass arriving at v with the wall δ ahead leaves at −2v + 3δ/Δt, whatever θ
-// (tests/wilson_theta_test.cpp). On the paper's scene (`impactid simulate --method
-// wilson-theta [--theta T] [--energy-growth-limit 1000]`) every θ tried from 1.4 to 3 is
-// `unstable` under the default energy bound (1.5·E0, passed after 51–227 steps); with the bound
-// lifted the runs end with 47–75 contact episodes, ε_p ≈ 1.8 and 1.35–2.6 times the initial
-// energy. With the constraint at t + θΔt instead (measured with a copy of this stepper without
-// the shift) the energy stays within 1.004·E0 and the contact closes 4 times, but the node stands
-// up to 1.06e-4 mm (a hundredth of the scene's gap) beyond the wall at the samples, so the
-// sample's Signorini conditions fail: that variant is not offered.
+// The price: with the contact at the samples Wilson-θ chatters on the wall and gains energy. From
+// t to t + Δt its update is the linear-acceleration step (β = 1/6, γ = ½), so the force that puts
+// a node on the wall at t + Δt changes its velocity by 3/Δt times the displacement it takes away
+// (γ/β = 3; the trapezoidal rule's 2 reflects a free mass at its own speed): a free mass arriving
+// at v with the wall δ ahead leaves at −2v + 3δ/Δt, whatever θ (tests/wilson_theta_test.cpp). On
+// the paper's scene (`impactid simulate --method wilson-theta [--theta T]
+// [--energy-growth-limit 1000]`) its runs go `unstable` under the default energy bound, at every θ
+// tried. With the constraint at t + θΔt instead the energy stays bounded and the contact closes a
+// few times, but the node stands beyond the wall at the samples, so the sample's Signorini
+// conditions fail: that variant is not offered.
 //
 // Penalty and augmented Lagrangian, where the constraint is enforced: on the extended step's
 // shifted gap, by the integrator's own laws (core/contact/contact_treatment.hpp). The sample's

@@ -12,8 +12,8 @@
 //   the refined sample at t_i itself: an impact stops the contact DOF within one refined step,
 //   by a force of the DOF's momentum over that step, which doubles at every halving; where the
 //   impact falls on a sample time (the block at Courant 0.5) the sampled reference then never
-//   converges (measured: a change of 2.5 at dt/1024), while its impulse does. Halvings whose run
-//   is not ok (central difference above its stability limit) are passed over until one is.
+//   converges, while its impulse does. Halvings whose run is not ok (central difference above its
+//   stability limit) are passed over until one is.
 //
 // The reference method (model_reference_defaults): central difference when M is diagonal, HHT
 // α = −0.3 (δ = −α) otherwise. Why central difference: the semi-discrete model with a Lagrange
@@ -21,11 +21,10 @@
 // forward-increment multiplier stops the contact DOF at the wall (an inelastic impact of the
 // node, the persistent-contact solution), which converges as Δt → 0; the implicit family's
 // end-of-step constraint reverses the node's velocity at every re-contact, so its contact force
-// chatters at the refined step and the samples keep changing. Measured: the exported
-// paper's rod converges with central difference at Δt/64 (change 6.1e-4), the shipped block at
-// Δt/64 (1.0e-3) and at Courant 0.125 to 1 within Δt/128; with HHT α = −0.3, after ten halvings
-// the change was still 3.6 % on the rod and 45 % on the block. With a consistent mass (no central
-// difference) the HHT reference may therefore end unconverged, and says so.
+// chatters at the refined step and the samples keep changing: the exported paper's rod and the
+// shipped block converge with central difference within a few halvings, and with HHT not after
+// ten. With a consistent mass (no central difference) the HHT reference may therefore end
+// unconverged, and says so.
 //
 // The check (issue 34, item 4): a reference computed by one method favours that method, and the
 // semi-discrete model's limit depends on each method's impact law (above). So a converged

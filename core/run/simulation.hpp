@@ -82,9 +82,9 @@ struct SimulationWorkspace {
   SparseKrAlphaExplicit sparse_kr_alpha;
   State state;
   ContactTrace trace;
-  /// The reference of the last scene of bodies evaluated with this workspace (study/
-  /// evaluation.cpp): a sweep over method parameters keeps one scene, whose reference is then
-  /// computed once per thread.
+  /// The reference of the last scene of bodies evaluated with this workspace
+  /// (study/studies/evaluation.cpp): a sweep over method parameters keeps one scene, whose
+  /// reference is then computed once per thread.
   std::optional<SceneReference> reference;
   /// The same for a user's model (study/studies/evaluation.cpp): the last one used.
   std::optional<ModelReference> model_reference;

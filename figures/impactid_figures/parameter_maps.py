@@ -21,10 +21,11 @@ from .hht_plane import grid_map
 from .plot import save
 from .results import load, text
 from .scene import results_scene
-from .style import num
+from .style import method_info, num
 
 
-def parameter_map_figure(results_dir, out_dir, name, png, xdim, ydim, xlabel, ylabel, title):
+def parameter_map_figure(results_dir, out_dir, name, png, xdim, ydim, xlabel, ylabel, over):
+    """The maps of plan `name`'s results, titled "<the method's label> over <over>"."""
     r = load(results_dir, name)
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), constrained_layout=True)
     panels = [("eps_p", "log", "ε_p [−]", "(a) relative error of the contact pressure ε_p (eq. 18)"),
@@ -43,25 +44,26 @@ def parameter_map_figure(results_dir, out_dir, name, png, xdim, ydim, xlabel, yl
         ax.set_title(sub, fontsize=10)
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8.5, framealpha=0.92)
     method = text(r.attr("method", ""))
+    title = f"{method_info(method)[0]} over {over}"
     fig.suptitle(f"{title} — {method}; {results_scene(r)}", fontsize=10)
     return [save(fig, out_dir, png)]
 
 
 def fig_rho_bathe(results_dir, out_dir):
     return parameter_map_figure(results_dir, out_dir, "rho-bathe", "fig_rho_bathe.png", "substep_ratio",
-                                "rho_inf", "γ [−]", "ρ∞ [−]", "ρ∞-Bathe over its sub-step ratio γ and ρ∞")
+                                "rho_inf", "γ [−]", "ρ∞ [−]", "its sub-step ratio γ and ρ∞")
 
 
 def fig_noh_bathe(results_dir, out_dir):
     return parameter_map_figure(results_dir, out_dir, "noh-bathe", "fig_noh_bathe.png", "courant", "p",
-                                "Courant [−]", "p [−]", "Noh–Bathe explicit over the Courant number and p")
+                                "Courant [−]", "p [−]", "the Courant number and p")
 
 
 def fig_kim_explicit(results_dir, out_dir):
     return parameter_map_figure(results_dir, out_dir, "kim-explicit", "fig_kim_explicit.png", "courant", "p",
-                                "Courant [−]", "p [−]", "Kim's two-stage explicit scheme over the Courant number and p")
+                                "Courant [−]", "p [−]", "the Courant number and p")
 
 
 def fig_kr_alpha(results_dir, out_dir):
     return parameter_map_figure(results_dir, out_dir, "kr-alpha", "fig_kr_alpha.png", "courant", "rho_inf",
-                                "Courant [−]", "ρ∞ [−]", "KR-α explicit over the Courant number and ρ∞")
+                                "Courant [−]", "ρ∞ [−]", "the Courant number and ρ∞")

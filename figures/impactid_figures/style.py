@@ -1,9 +1,11 @@
 """The figures' look, the same in every figure: one colour and one label per method (with the
-parameters that tell its settings apart), the texts of the statuses and the indicators' symbols,
+parameters that tell its settings apart; both from the program's method registry), the texts of the statuses and the indicators' symbols,
 numbers in labels, and matplotlib's rcParams (set on import). Draws nothing and reads no file.
 """
 
 import math
+import re
+import textwrap
 
 import matplotlib.pyplot as plt
 
@@ -11,9 +13,9 @@ from .results import text
 
 DPI = 150
 
-# One palette for the project. The methods and their order come from the program's registry
-# (`impactid methods --json`, or the Python module's list): method i of the registry gets
-# PALETTE[i], so a new method gets a colour without a line here. The colours are from the Okabe &
+# One palette for the project. The methods, their order and their labels come from the program's
+# registry (`impactid methods --json`, or the Python module's copy of it): method i of the
+# registry gets PALETTE[i], so a new method gets a colour and a label without a line here. The colours are from the Okabe &
 # Ito and Tol colour-blind-safe sets, no two alike; the nearest pairs (Newmark's green and KR-α's,
 # backward Euler's sky and Noh–Bathe's cyan) sit far apart in the registry, so they fall into
 # different panels of the small multiples (at most SERIES_PER_PANEL methods a panel).
@@ -33,37 +35,36 @@ PALETTE = [
     "#117733",  # dark green
 ]
 SERIES_PER_PANEL = 6
-# How a method is named in a figure: typography only (the registry's names are ASCII). A method
-# of the registry without an entry here is named by its registry name.
-LABELS = {
-    "cdm": "central difference",
-    "backward-euler": "backward Euler",
-    "newmark": "Newmark",
-    "hht": "HHT-α",
-    "generalized-alpha": "generalized-α",
-    "bathe": "Bathe",
-    "rho-bathe": "ρ∞-Bathe",
-    "tr-bdf2": "TR-BDF2",
-    "houbolt": "Houbolt",
-    "wilson-theta": "Wilson-θ",
-    "noh-bathe": "Noh–Bathe explicit",
-    "kim-explicit": "Kim explicit",
-    "kr-alpha": "KR-α explicit",
-}
+# The symbols of the methods' parameters, in the order a label names them (the paper's: HHT's α
+# before its δ). A parameter not here is named by its key, after these.
+PARAMETER_SYMBOLS = {"alpha": "α", "delta": "δ", "beta": "β", "gamma": "γ", "rho_inf": "ρ∞",
+                     "substep_ratio": "γ", "theta": "θ", "p": "p"}
+_GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "theta": "θ", "rho_inf": "ρ∞"}
 _registry = None
 
 
-def set_registry(names):
-    """The registry's method names in its order (the Python module passes impactid.methods())."""
+def pretty(label):
+    """A registry label in the figures' typography: Greek letters for their ASCII names
+    ("HHT-alpha" -> "HHT-α", "rho_inf-Bathe" -> "ρ∞-Bathe") and an en dash between two names
+    ("Noh-Bathe" -> "Noh–Bathe")."""
+    label = re.sub(r"(?<![A-Za-z])(rho_inf|alpha|beta|gamma|delta|theta)(?![A-Za-z_])",
+                   lambda m: _GREEK[m.group(1)], label)
+    return re.sub(r"\b([A-Z][a-z]+)-(?=[A-Z][a-z])", "\\1–", label)
+
+
+def set_registry(methods):
+    """The program's registry, in its order: the list `impactid methods --json` prints (the
+    Python module passes its own), or bare method names (then labels are the names)."""
     global _registry
-    _registry = [text(n) for n in names]
+    _registry = [m if isinstance(m, dict) else {"name": text(m)} for m in methods]
 
 
-def registry():
-    """The method names of the program's registry, in its order: from the program named by
-    IMPACTID_EXECUTABLE (`impactid plot` and figures/check_figures.py set it), else the build's
-    build/study/impactid, else `impactid` on PATH. Without a program the labels' order stands in,
-    with a warning (the colours of methods added since then are then not the program's)."""
+def registry_entries():
+    """The methods of the program's registry, in its order, as `impactid methods --json` prints
+    them (name, label, parameters, derived): from the program named by IMPACTID_EXECUTABLE
+    (`impactid plot` and figures/check_figures.py set it), else the build's build/study/impactid,
+    else `impactid` on PATH. Without a program, none, with a warning: every method is then named
+    by its registry name, in a colour of UNKNOWN_COLORS."""
     global _registry
     if _registry is None:
         import json
@@ -81,15 +82,21 @@ def registry():
                 continue
             try:
                 out = subprocess.run([exe, "methods", "--json"], capture_output=True, text=True, timeout=60, check=True)
-                _registry = [m["name"] for m in json.loads(out.stdout)]
+                entries = json.loads(out.stdout)
+                _registry = [dict(m, name=m["name"]) for m in entries]
                 break
             except (OSError, subprocess.SubprocessError, ValueError, KeyError, TypeError):
                 continue
         if _registry is None:
             print("impactid_figures: no impactid program found for the method list (set IMPACTID_EXECUTABLE); "
-                  "colours follow the figures' own list", file=sys.stderr)
-            _registry = list(LABELS)
+                  "methods are named by their registry names, in grey", file=sys.stderr)
+            _registry = []
     return _registry
+
+
+def registry():
+    """The method names of the program's registry, in its order."""
+    return [m["name"] for m in registry_entries()]
 
 
 def method_groups(methods):
@@ -160,11 +167,11 @@ def num(s):
 def method_info(method):
     """(label, colour) of a method name (or of a label that starts with one)."""
     method = text(method).strip().lower()
-    names = registry()
+    entries = registry_entries()
     i = registry_index(method)
-    if i < len(names):
-        name = names[i]
-        return LABELS.get(name, name), PALETTE[i % len(PALETTE)]
+    if i < len(entries):
+        entry = entries[i]
+        return pretty(entry.get("label", entry["name"])), PALETTE[i % len(PALETTE)]
     return (method, UNKNOWN_COLORS[sum(map(ord, method)) % len(UNKNOWN_COLORS)])
 
 
@@ -173,7 +180,11 @@ def method_color(method):
 
 
 def method_params(method, params, sep=", "):
-    """The parameters that tell one setting of a method from another, as text."""
+    """The parameters that tell one setting of a method from another, as text: the numbers among
+    the method's registry parameters that `params` gives, in PARAMETER_SYMBOLS' order (one it also
+    derives, as Newmark's β and γ from δ, only when no other number is given), then its choice
+    parameters that differ from their defaults ("backward velocity" for cdm_velocity = backward).
+    A method the registry does not know: every parameter of PARAMETER_SYMBOLS that `params` gives."""
     method = text(method)
 
     def get(name):
@@ -185,39 +196,35 @@ def method_params(method, params, sep=", "):
         v = float(v)
         return None if not math.isfinite(v) else v
 
-    parts = []
-    if method == "hht" and get("alpha") is not None:
-        parts.append(f"α = {num(round(get('alpha'), 4))}")
-    if method in ("newmark", "hht"):
-        if get("delta") is not None:
-            parts.append(f"δ = {num(round(get('delta'), 4))}")
-        elif get("beta") is not None and get("gamma") is not None:
-            parts.append(f"β = {num(round(get('beta'), 4))}")
-            parts.append(f"γ = {num(round(get('gamma'), 4))}")
-    if method == "rho-bathe" and get("rho_inf") is not None:
-        parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")
-        if get("substep_ratio") is not None:
-            parts.append(f"γ = {num(round(get('substep_ratio'), 4))}")
-    if method == "wilson-theta" and get("theta") is not None:
-        parts.append(f"θ = {num(round(get('theta'), 4))}")
-    if method in ("noh-bathe", "kim-explicit") and get("p") is not None:
-        parts.append(f"p = {num(round(get('p'), 4))}")
-    if method in ("generalized-alpha", "kr-alpha") and get("rho_inf") is not None:
-        parts.append(f"ρ∞ = {num(round(get('rho_inf'), 4))}")
-    if method == "cdm" and get("cdm_velocity") not in (None, "central"):
-        parts.append(f"{get('cdm_velocity')} velocity")
-    if method in ("hht", "generalized-alpha") and get("hht_contact") not in (None, "endpoint"):
-        parts.append(f"{get('hht_contact')} contact")
+    entry = next((m for m in registry_entries() if m["name"] == method), None)
+    if entry is None:
+        taken = [{"name": n, "kind": "real"} for n in PARAMETER_SYMBOLS]
+        derived = set()
+    else:
+        taken = entry.get("parameters", [])
+        derived = set(entry.get("derived", []))
+    order = list(PARAMETER_SYMBOLS)
+
+    def rank(p):
+        return order.index(p["name"]) if p["name"] in order else len(order)
+
+    numbers = [p for p in sorted(taken, key=rank) if p.get("kind") != "choice" and get(p["name"]) is not None]
+    if any(p["name"] not in derived for p in numbers):
+        numbers = [p for p in numbers if p["name"] not in derived]
+    parts = [f"{PARAMETER_SYMBOLS.get(p['name'], p['name'])} = {num(round(get(p['name']), 4))}" for p in numbers]
+    for p in taken:
+        value = get(p["name"]) if p.get("kind") == "choice" else None
+        if value is not None and value != p.get("default"):
+            parts.append(f"{value} {p['name'].rsplit('_', 1)[-1]}")
     return sep.join(parts)
 
 
-SHORT_NAMES = {"cdm": "central\ndifference", "backward-euler": "backward\nEuler"}
-
-
 def method_label(method, params, sep=", "):
+    """The method's label with its parameters: "HHT-α (α = −0.3, δ = 0.45)"; with sep = "\n", for
+    the narrow tick labels of a bar chart, a name of several words is broken into lines too."""
     name = method_info(method)[0]
     if sep == "\n":
-        name = SHORT_NAMES.get(text(method), name)
+        name = textwrap.fill(name, width=10, break_long_words=False, break_on_hyphens=False)
     p = method_params(method, params, sep)
     if not p:
         return name
@@ -237,6 +244,7 @@ def pretty_spectral_label(method, label):
         except ValueError:
             params[key] = value
     out = method_label(method, params)
+    # HHT-α's spectral run given α alone takes δ = −α (eq. 15), which its label says.
     if method == "hht" and "alpha" in params and "delta" not in params:
         out = out[:-1] + ", δ = −α: eq. 15)" if out.endswith(")") else out + " (δ = −α: eq. 15)"
     return out

@@ -83,12 +83,13 @@ def least_covering(ax, rects):
     return rects[int(np.argmin(counts))]
 
 
-def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel):
+def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel, legend=None):
     """An inset in panel (a) over the plateau after the impact (20 to 250 steps after it), its y-range
     magnified to the ripple that is left there: central difference's undamped ringing, which gives
     its large NoP_p, is a few kPa and invisible at the scale of the impact. A curve still far off
     (Newmark's chatter) leaves the inset's frame, as in bulk_ylim. Nothing is drawn when every
-    curve has settled (the velocity, held at 0 in contact)."""
+    curve has settled (the velocity, held at 0 in contact). The inset and its title end left of
+    `legend` when the legend's labels (the methods' labels, from the registry) reach into it."""
     lo, hi = t_imp + 20 * dt_us, t_imp + 250 * dt_us
     te, ye = exact
     w = (te >= lo) & (te <= hi)
@@ -99,7 +100,23 @@ def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel):
     if ylim is None or max(ylim[1] - level, level - ylim[0]) < 1e-4 * (abs(level) or 1.0):
         return
     half = max(ylim[1] - level, level - ylim[0])
-    ins = ax.inset_axes(least_covering(ax, [[0.09, 0.47, 0.48, 0.43], [0.58, 0.08, 0.38, 0.29]]))
+    unit = ylabel[ylabel.index("[") + 1:-1]
+    title = (f"the plateau after impact (t [µs]), magnified: {num(level)} ± {num(round(half, 4))} {unit}"
+             + ("\n(" + ", ".join(n.split(" (")[0] for n, _, _ in left_out)
+                + (" leaves" if len(left_out) == 1 else " leave") + " this frame)"
+                if left_out else ""))
+    rect = list(least_covering(ax, [[0.09, 0.47, 0.48, 0.43], [0.58, 0.08, 0.38, 0.29]]))
+    if legend is not None:  # narrower, centred under its title, where long labels reach into it
+        renderer = ax.figure.canvas.get_renderer()
+        box = legend.get_window_extent(renderer).transformed(ax.transAxes.inverted())
+        probe = ax.text(0, 0, title, fontsize=8, transform=ax.transAxes)
+        half_title = 0.5 * probe.get_window_extent(renderer).width / ax.bbox.width
+        probe.remove()
+        room = box.x0 - 0.01 - rect[0]
+        overlaps = box.y0 < rect[1] + rect[3] + 0.1 and box.y1 > rect[1] and box.x0 > rect[0] + 0.25
+        if overlaps and room < max(rect[2], 0.5 * rect[2] + half_title):
+            rect[2] = max(0.25, min(room, 2 * (room - half_title)))
+    ins = ax.inset_axes(rect)
     for line in ax.get_lines():
         t, y = (np.asarray(v, dtype=float) for v in line.get_data())
         sel = (t >= lo - 5 * dt_us) & (t <= hi + 5 * dt_us)
@@ -108,11 +125,7 @@ def plateau_inset(ax, curves, exact, t_imp, dt_us, ylabel):
     ins.set_xlim(lo, hi)
     ins.set_ylim(level - half, level + half)
     ins.tick_params(labelsize=7.5)
-    unit = ylabel[ylabel.index("[") + 1:-1]
-    ins.set_title(f"the plateau after impact (t [µs]), magnified: {num(level)} ± {num(round(half, 4))} {unit}"
-                  + ("\n(" + ", ".join(n.split(" (")[0] for n, _, _ in left_out)
-                     + (" leaves" if len(left_out) == 1 else " leave") + " this frame)"
-                     if left_out else ""), fontsize=8, pad=3)
+    ins.set_title(title, fontsize=8, pad=3)
 
 
 def exact_pressure_jumps(h, t_imp, t_rel, margin):
@@ -280,11 +293,11 @@ def draw_history_block(fig, cell, hist, windows, still, quantity, key, exact_key
         _, connectors = ax.indicate_inset_zoom(z, edgecolor="0.3", alpha=0.9)
         for c in connectors:  # they would cross the figure: keep only the box
             c.set_visible(False)
-    plateau_inset(ax, series, exact, t_imp, dt_us, ylabel)
     if quantity == "pressure" or not any(w[0] == "release" for w in windows):
-        ax.legend(loc="upper right", framealpha=0.92)
+        legend = ax.legend(loc="upper right", framealpha=0.92)
     else:  # the velocity oscillates after the release: the empty band between 0 and −v0 before it
-        ax.legend(loc="center left", bbox_to_anchor=(0.2, 0.40), framealpha=0.92, fontsize=8)
+        legend = ax.legend(loc="center left", bbox_to_anchor=(0.2, 0.40), framealpha=0.92, fontsize=8)
+    plateau_inset(ax, series, exact, t_imp, dt_us, ylabel, legend)
 
 
 def fig5(results_dir, out_dir):

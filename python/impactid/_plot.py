@@ -3,6 +3,7 @@ figure package (figures/impactid_figures/own_results.py), in this process."""
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 from pathlib import Path
@@ -50,7 +51,8 @@ def plot(file, out=None, format: str = "png") -> list[Path]:
     from impactid_figures.own_results import BadFile, plot_file
     from impactid_figures.results import Skip
 
-    style.set_registry(_impactid.methods())  # the colours: this module's own method list
+    # The methods' order (their colours), labels and parameters: this module's own registry.
+    style.set_registry(json.loads(_impactid.methods_json()))
     try:
         return plot_file(path, out, format)
     except (BadFile, Skip) as why:

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "core/methods/method_registry.hpp"
 #include "study/formats/json_writer.hpp"
@@ -55,12 +56,24 @@ void write_text() {
       "axis.\n");
 }
 
-void write_json() {
-  JsonWriter json(std::cout);
+}  // namespace
+
+std::string method_label(const MethodDescriptor& method) {
+  const std::string_view summary = method.summary;
+  std::size_t end = summary.size();
+  for (const std::string_view stop : {" (", " with "}) {
+    end = std::min(end, summary.find(stop));
+  }
+  return std::string(summary.substr(0, end));
+}
+
+void write_methods_json(std::ostream& out) {
+  JsonWriter json(out);
   json.begin_array();
   for (const MethodDescriptor& m : method_registry()) {
     json.begin_object();
     json.key("name").value(m.name);
+    json.key("label").value(method_label(m));
     json.key("summary").value(m.summary);
     json.key("parameters").begin_array();
     for (const char* name : m.parameters) {
@@ -89,10 +102,8 @@ void write_json() {
     json.end_object();
   }
   json.end_array();
-  std::cout << '\n';
+  out << '\n';
 }
-
-}  // namespace
 
 std::function<int()> add_methods_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
@@ -102,7 +113,7 @@ std::function<int()> add_methods_command(CLI::App& app) {
   return [command, json]() -> int {
     if (!command->parsed()) return -1;
     if (*json) {
-      write_json();
+      write_methods_json(std::cout);
     } else {
       write_text();
     }

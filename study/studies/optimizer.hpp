@@ -69,7 +69,7 @@ struct OptimizeOptions {
   std::function<void(long evaluations, long max_evaluations, long unstable, double best)> progress;
   const std::atomic<bool>* stop = nullptr;
   const StudyResults* previous = nullptr;  ///< a file to resume from
-  /// Runs the searches elsewhere (the MPI ranks, study/cli/mpi_optimize.hpp); unset: on
+  /// Runs the searches elsewhere (the MPI ranks, study/cli/mpi_search.cpp); unset: on
   /// `threads` OpenMP threads.
   SearchRunner searches;
 };
