@@ -26,7 +26,7 @@ namespace impactid {
 struct RunOptions {
   /// A run is `unstable` as soon as its energy exceeds this multiple of the initial energy
   /// ½vᵀMv + ½uᵀKu. The energy is ½vᵀMv + ½uᵀKu for every method but central difference, whose
-  /// own discrete energy (central_difference_energy, core/methods/central_difference.hpp) stays
+  /// own discrete energy (central_difference_energy, core/methods/central_difference_recurrence.hpp) stays
   /// bounded at the magic time step, where the plain one grows with a mode that changes no nodal
   /// value. Without external work the exact energy never grows, and the stable methods here stay
   /// within a few percent of it (measured: central difference's central-velocity energy rises ~1%
