@@ -35,6 +35,19 @@ struct Tridiagonal {
   Eigen::MatrixXd dense() const;
 };
 
+/// The products under the names the sparse matrices' have (core/model/sparse_system.hpp), so that
+/// a stepper written over the system (core/model/semi_discrete_system.hpp) calls either alike.
+inline void multiply(const Tridiagonal& a, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+  a.multiply(x, y);
+}
+inline void multiply_add(const Tridiagonal& a, double s, const Eigen::VectorXd& x,
+                         Eigen::VectorXd& y) {
+  a.multiply_add(s, x, y);
+}
+inline double quadratic_form(const Tridiagonal& a, const Eigen::VectorXd& x) {
+  return a.quadratic_form(x);
+}
+
 /// LU factorisation without pivoting (the Thomas algorithm), stored so that each solve is two
 /// sweeps of 3 and 4 flops per unknown, each sweep's recurrence one multiply and one add long
 /// (the forward sweep divides by the pivot before eliminating; the back substitution runs two

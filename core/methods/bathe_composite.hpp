@@ -30,11 +30,12 @@
 #include "core/common/state.hpp"
 #include "core/contact/contact_treatment.hpp"
 #include "core/methods/method.hpp"
+#include "core/model/semi_discrete_system.hpp"
 
 namespace impactid {
 
 // System: SecondOrderSystem with ImplicitIntegrator, SparseSystem with SparseImplicitIntegrator.
-template <class Integrator, class System>
+template <class Integrator, SemiDiscreteSystem System>
 class BatheComposite {
  public:
   /// Factors both sub-steps' effective matrices. False if either is singular (or not positive

@@ -13,9 +13,6 @@ namespace impactid {
 
 bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity velocity, double dt,
                                    const State& initial, const ContactPenalties& contact) {
-  velocity_ = velocity;
-  dt_ = dt;
-  t_ = initial.t;
   contact_ = contact;
   const double bound = highest_frequency_squared_bound(system, contact);
   within_limit_ = within_explicit_limit(dt, bound);
@@ -25,19 +22,13 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   const Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, damping_weight);
   if (!factorization_.factor(lhs)) return false;
 
-  const Eigen::Index n = system.size();
   contact_influence_ = factorization_.inverse_column(system.contact_dof);
   if (system.has_far_contact()) {
     far_influence_ = factorization_.inverse_column(system.far_contact_dof);
   } else {
     far_influence_.resize(0);
   }
-  u_ = initial.u;
-  // Taylor start, second order: u₋ = u₀ − Δt·v₀ + ½Δt²·a₀. For the rod (a₀ = 0) this is the
-  // convention u₋₁ = u₀ − Δt·v0; without the a₀ term a displaced start is only first order.
-  u_previous_ = initial.u - dt * initial.v + (0.5 * dt * dt) * initial.a;
-  u_next_.resize(n);
-  scratch_.resize(n);
+  recurrence_.start(velocity, dt, initial);
   Eigen::MatrixXd delassus;
   set_up_constraints(system, factorization_, 1.0, constraint_influence_, constraint_rows_,
                      delassus);
@@ -49,102 +40,73 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
 }
 
 bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
-  const Eigen::Index n = system.size();
-  const double dt = dt_, inv_dt2 = 1.0 / (dt * dt);
-
-  // rhs = M·(2u − u₋)/Δt² − K·u − (damping term of the variant)
-  for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (2.0 * u_[i] - u_previous_[i]) * inv_dt2;
-  system.mass.multiply(scratch_, u_next_);
-  system.stiffness.multiply_add(-1.0, u_, u_next_);
-  if (system.has_damping()) {
-    if (velocity_ == CdmVelocity::central) {
-      system.damping.multiply_add(0.5 / dt, u_previous_, u_next_);
-    } else {
-      for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (u_[i] - u_previous_[i]) / dt;
-      system.damping.multiply_add(-1.0, scratch_, u_next_);
-    }
-  }
-  factorization_.solve_in_place(u_next_);
+  recurrence_.predict(system, factorization_);
+  Eigen::VectorXd& u_next = recurrence_.u_next;
+  const Eigen::VectorXd& u = recurrence_.u;
 
   double lambda = 0.0;
   const Eigen::Index contact = system.contact_dof;
   if (system.has_constraint_list()) {
     const auto m = static_cast<int>(system.constraints.size());
     // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
-    list_law_.forward_increment(system.constraints, list_, u_next_, u_, forces_);
-    apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, u_next_);
-    if (contact_.lagrange()) snap_walls(system.constraints, forces_, u_next_);
+    list_law_.forward_increment(system.constraints, list_, u_next, u, forces_);
+    apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, u_next);
+    if (contact_.lagrange()) snap_walls(system.constraints, forces_, u_next);
     at_t.multipliers = forces_;  // the same size: no allocation
     for (int j = 0; j < m; ++j) lambda = std::max(lambda, forces_[j]);
   } else if (system.has_far_contact()) {
     const Eigen::Index far = system.far_contact_dof;
     TwoWallForces forces;
     if (contact_.lagrange()) {
-      forces = solve_two_wall_contact(u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
+      forces = solve_two_wall_contact(u_next[contact] - system.gap, -system.far_gap - u_next[far],
                                       contact_influence_[contact], far_influence_[far],
                                       far_influence_[contact], contact_influence_[far]);
     } else if (contact_.law == ContactLaw::penalty) {
-      forces = {contact_.main * std::max(0.0, u_[contact] - system.gap),
-                contact_.far * std::max(0.0, -system.far_gap - u_[far])};
+      forces = {contact_.main * std::max(0.0, u[contact] - system.gap),
+                contact_.far * std::max(0.0, -system.far_gap - u[far])};
     } else {
       ContactIterations iterations;
       forces = two_wall_contact_forces(
-          u_next_[contact] - system.gap, -system.far_gap - u_next_[far],
+          u_next[contact] - system.gap, -system.far_gap - u_next[far],
           contact_influence_[contact], far_influence_[far], far_influence_[contact],
           contact_influence_[far], 1.0 / contact_.main, 1.0 / contact_.far, contact_, iterations);
       list_law_.count(iterations);
     }
-    if (forces.main > 0.0) u_next_ -= forces.main * contact_influence_;
-    if (forces.far > 0.0) u_next_ += forces.far * far_influence_;
+    if (forces.main > 0.0) u_next -= forces.main * contact_influence_;
+    if (forces.far > 0.0) u_next += forces.far * far_influence_;
     if (contact_.lagrange()) {
-      if (forces.main > 0.0) u_next_[contact] = system.gap;
-      if (forces.far > 0.0) u_next_[far] = -system.far_gap;
+      if (forces.main > 0.0) u_next[contact] = system.gap;
+      if (forces.far > 0.0) u_next[far] = -system.far_gap;
     }
     lambda = forces.main;
     at_t.far_lambda = forces.far;
   } else if (contact_.law == ContactLaw::penalty) {
-    if (system.has_contact() && u_[contact] > system.gap) {
-      lambda = contact_.main * (u_[contact] - system.gap);
-      u_next_ -= lambda * contact_influence_;
+    if (system.has_contact() && u[contact] > system.gap) {
+      lambda = contact_.main * (u[contact] - system.gap);
+      u_next -= lambda * contact_influence_;
     }
-  } else if (system.has_contact() && u_next_[contact] > system.gap) {
+  } else if (system.has_contact() && u_next[contact] > system.gap) {
     if (contact_.lagrange()) {
-      lambda = (u_next_[contact] - system.gap) / contact_influence_[contact];
-      u_next_ -= lambda * contact_influence_;
-      u_next_[contact] = system.gap;  // exact, not a few ulps off
+      lambda = (u_next[contact] - system.gap) / contact_influence_[contact];
+      u_next -= lambda * contact_influence_;
+      u_next[contact] = system.gap;  // exact, not a few ulps off
     } else {
       ContactIterations iterations;
-      lambda = single_contact_force(u_next_[contact] - system.gap, contact_influence_[contact],
+      lambda = single_contact_force(u_next[contact] - system.gap, contact_influence_[contact],
                                     1.0 / contact_.main, contact_, iterations);
       list_law_.count(iterations);
-      u_next_ -= lambda * contact_influence_;
+      u_next -= lambda * contact_influence_;
     }
   }
 
-  at_t.u = u_;
-  if (velocity_ == CdmVelocity::central) {
-    at_t.v = (u_next_ - u_previous_) / (2.0 * dt);
-  } else {
-    at_t.v = (u_ - u_previous_) / dt;
-  }
-  at_t.a = (u_next_ - 2.0 * u_ + u_previous_) * inv_dt2;
   at_t.lambda = system.has_constraint_list() ? 0.0 : lambda;  // the list's are in multipliers
-  at_t.t = t_;
-
-  u_previous_.swap(u_);
-  u_.swap(u_next_);
-  t_ += dt;
+  recurrence_.finish(at_t);
   return lambda > 0.0;
 }
 
 double CentralDifference::energy(const SecondOrderSystem& system, const State& at_t) {
   if (!within_limit_) return system.energy(at_t.u, at_t.v);
-  // After step(): u_previous_ = u_t, u_ = u_{t+Δt}; scratch_ and u_next_ are free until the next.
-  scratch_ = (u_ - u_previous_) / dt_;
-  u_next_ = 0.5 * (u_ + u_previous_);
-  return central_difference_energy(system.mass.quadratic_form(scratch_),
-                                   system.stiffness.quadratic_form(scratch_),
-                                   system.stiffness.quadratic_form(u_next_), dt_);
+  return recurrence_.energy(system);
 }
 
 double central_difference_energy(double mass_w, double stiffness_w, double stiffness_m, double dt) {

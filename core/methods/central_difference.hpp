@@ -21,6 +21,14 @@
 // the left-hand matrix's columns A⁻¹·G_kᵀ factored in initialize(): the constraints hold at t + Δt
 // and their multipliers are reported at t, as for the single wall.
 //
+// Written once with the sparse stepper (SparseCentralDifference, core/methods/
+// sparse_integrators.hpp): the start, the contact-free update, the sample and the energy
+// (core/methods/central_difference_recurrence.hpp, over any core/model/semi_discrete_system.hpp).
+// The forward-increment contact between them stays one class per system, for the reason
+// core/methods/implicit_integrator.hpp gives: stored columns A⁻¹·G_kᵀ here (and the named walls'
+// O(1) shortcuts), one more solve there, different operations whose bits the batched kernel
+// (core/batch/explicit_kernel.cpp) and the results files hold fixed.
+//
 // Thread safety: one object per thread.
 #pragma once
 
@@ -31,26 +39,11 @@
 #include "core/common/state.hpp"
 #include "core/contact/constraint_list_law.hpp"
 #include "core/contact/contact_treatment.hpp"
+#include "core/methods/central_difference_recurrence.hpp"
 #include "core/methods/method.hpp"
 #include "core/model/second_order_system.hpp"
 
 namespace impactid {
-
-/// Central difference's own energy at t + Δt/2 from u_t and u_{t+Δt}, with
-/// w = (u_{t+Δt} − u_t)/Δt and m = (u_t + u_{t+Δt})/2, given the quadratic forms wᵀMw, wᵀKw and
-/// mᵀKm:
-///   E = |½·wᵀ(M − Δt²/4·K)·w| + ½·mᵀK·m.
-/// Without the absolute value this is the energy the undamped, contact-free scheme conserves
-/// exactly (it equals ½·wᵀMw + ½·u_tᵀK·u_{t+Δt}); the plain ½vᵀMv + ½uᵀKu of the reported
-/// central velocity is not conserved, and misleads at the "magic" time step: with a lumped mass at
-/// Courant 1 the rod's highest mode has Ω = ωΔt = 2 exactly, its repeated eigenvalue −1 makes it
-/// grow linearly, u_k = (A + B·k)·(−1)^k, once contact release excites it, and the plain energy
-/// grows quadratically (13.9 times the initial by t = 2 ms on the paper's scene) while the nodal
-/// displacements stay d'Alembert's. That mode lies in the null space of M − Δt²/4·K and its
-/// midpoint m is constant, so E stays bounded. Above the limit (Ω > 2) M − Δt²/4·K is indefinite
-/// and the conserved form could stay constant while both parts grow geometrically with opposite
-/// signs: the absolute value makes each part count, so an unstable mode still raises E.
-double central_difference_energy(double mass_w, double stiffness_w, double stiffness_m, double dt);
 
 class CentralDifference {
  public:
@@ -86,14 +79,11 @@ class CentralDifference {
   long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
-  CdmVelocity velocity_ = CdmVelocity::central;
-  double dt_ = 0.0;
-  double t_ = 0.0;
+  CentralDifferenceRecurrence recurrence_;  // the update formulas, u₋, u and u₊
   bool within_limit_ = false;
   TridiagonalFactorization factorization_;
   Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
   Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
-  Eigen::VectorXd u_previous_, u_, u_next_, scratch_;
   // The constraint list's columns, their non-zero rows, G·A⁻¹·Gᵀ and per-step scratch.
   Eigen::MatrixXd constraint_influence_;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;

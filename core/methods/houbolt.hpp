@@ -49,11 +49,12 @@
 #include "core/common/state.hpp"
 #include "core/contact/contact_treatment.hpp"
 #include "core/methods/method.hpp"
+#include "core/model/semi_discrete_system.hpp"
 
 namespace impactid {
 
 // System: SecondOrderSystem with ImplicitIntegrator, SparseSystem with SparseImplicitIntegrator.
-template <class Integrator, class System>
+template <class Integrator, SemiDiscreteSystem System>
 class Houbolt {
  public:
   /// Factors the three effective matrices and starts a new run (the next step is step 1). False

@@ -32,9 +32,7 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
     far_influence_.resize(0);
     contact_free_.resize(0);
   }
-  u_predicted_.resize(n);
-  v_predicted_.resize(n);
-  rhs_.resize(n);
+  formulas_.resize(n);
   Eigen::MatrixXd delassus;
   set_up_constraints(system, factorization_, c_.b1 * dt * dt, constraint_influence_,
                      constraint_rows_, delassus);
@@ -54,73 +52,45 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
 
 void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
   with_fma_versions([&] {
-    const Eigen::Index n = system.size();
-    const double dt = dt_, dt2 = dt * dt;
-    const double af = c_.alpha_f;
-
-    // Predictors from the known part of the update formulas, then the α_f-weighted arguments of
-    // the elastic and damping forces, written over u and v (their old values are not needed).
-    // (1−α_f)·u* + α_f·u is formed as u* − α_f·(u* − u) with the increment u* − u = d kept: one
-    // multiply fewer, and exactly u* for Newmark (α_f = 0). The batched kernel does the same
-    // operations (core/batch/rod_kernel.cpp). A multiply whose product is only added is fused
-    // with the add (std::fma, correctly rounded: the same bits on every machine); the kernel
-    // fuses the same ones.
-    const double dt2_b0 = dt2 * c_.b0, dt_g0 = dt * c_.g0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double du = std::fma(dt, s.v[i], dt2_b0 * s.a[i]);
-      u_predicted_[i] = s.u[i] + du;
-      v_predicted_[i] = std::fma(dt_g0, s.a[i], s.v[i]);
-      s.u[i] = std::fma(-af, du, u_predicted_[i]);
-      s.v[i] = std::fma(-af, dt_g0 * s.a[i], v_predicted_[i]);
-    }
-    system.stiffness.multiply(s.u, rhs_);
-    rhs_ = -rhs_;
-    if (system.has_damping()) system.damping.multiply_add(-1.0, s.v, rhs_);
-    if (c_.alpha_m != 0.0) system.mass.multiply_add(-c_.alpha_m, s.a, rhs_);
+    formulas_.predict(system, c_, dt_, s);
+    Eigen::VectorXd& rhs = formulas_.rhs;
     const Eigen::Index contact = system.contact_dof;
-    rhs_[contact] -= (1.0 - c_.contact_weight) * s.lambda;
+    rhs[contact] -= (1.0 - c_.contact_weight) * s.lambda;
     if (s.far_lambda != 0.0) {
-      rhs_[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
+      rhs[system.far_contact_dof] += (1.0 - c_.contact_weight) * s.far_lambda;
     }
     for (std::size_t k = 0; k < system.constraints.size(); ++k) {
       const double force = (1.0 - c_.contact_weight) * s.multipliers[static_cast<Eigen::Index>(k)];
       if (force == 0.0) continue;
-      if (system.constraints[k].plus >= 0) rhs_[system.constraints[k].plus] -= force;
-      if (system.constraints[k].minus >= 0) rhs_[system.constraints[k].minus] += force;
+      if (system.constraints[k].plus >= 0) rhs[system.constraints[k].plus] -= force;
+      if (system.constraints[k].minus >= 0) rhs[system.constraints[k].minus] += force;
     }
-    factorization_.forward_in_place(rhs_);
+    factorization_.forward_in_place(rhs);
   });
 }
 
 void ImplicitIntegrator::update(State& s) const {
-  with_fma_versions([&] {
-    const Eigen::Index n = s.a.size();
-    const double dt = dt_, dt2 = dt * dt;
-    const double b1_dt2 = c_.b1 * dt2, g1_dt = c_.g1 * dt;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      s.a[i] = rhs_[i];
-      s.u[i] = std::fma(b1_dt2, rhs_[i], u_predicted_[i]);
-      s.v[i] = std::fma(g1_dt, rhs_[i], v_predicted_[i]);
-    }
-  });
+  with_fma_versions([&] { formulas_.update(c_, dt_, s); });
 }
 
 bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   if (system.has_constraint_list()) return step_constraints(system, s);
   if (system.has_far_contact()) return step_two_walls(system, s);
   predict(system, s);
+  Eigen::VectorXd& rhs = formulas_.rhs;
+  const Eigen::VectorXd& u_predicted = formulas_.u_predicted;
   const Eigen::Index n = system.size();
   const double dt = dt_, dt2 = dt * dt;
   const Eigen::Index contact = system.contact_dof;
 
   const bool contact_is_last = contact == n - 1;
-  if (!contact_is_last) factorization_.backward_in_place(rhs_);
+  if (!contact_is_last) factorization_.backward_in_place(rhs);
   const double gap = system.gap + gap_offsets_[0];
   double lambda = 0.0;
   ContactIterations iterations;
   if (system.has_contact()) {
-    // With the contact dof last, rhs_[contact] is final after the forward sweep.
-    const double u_free = std::fma(c_.b1 * dt2, rhs_[contact], u_predicted_[contact]);
+    // With the contact dof last, rhs[contact] is final after the forward sweep.
+    const double u_free = std::fma(c_.b1 * dt2, rhs[contact], u_predicted[contact]);
     if (u_free > gap) {
       // Force (w·λ) that moves the contact dof from u_free back onto the wall (Lagrange), or
       // the contact law's.
@@ -130,14 +100,14 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
               : single_contact_force(u_free - gap, c_.b1 * dt2 * contact_influence_[contact],
                                      main_compliance_, contact_, iterations);
       if (contact_is_last) {
-        rhs_[contact] -= weighted * contact_influence_[contact];
+        rhs[contact] -= weighted * contact_influence_[contact];
       } else {
-        rhs_ -= weighted * contact_influence_;
+        rhs -= weighted * contact_influence_;
       }
       lambda = weighted / c_.contact_weight;
     }
   }
-  if (contact_is_last) factorization_.backward_in_place(rhs_);
+  if (contact_is_last) factorization_.backward_in_place(rhs);
   update(s);
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
   if (lambda > 0.0 && contact_.lagrange()) s.u[contact] = gap;
@@ -149,7 +119,9 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
 
 bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& s) {
   predict(system, s);
-  contact_free_ = rhs_;  // the same size: no allocation
+  Eigen::VectorXd& rhs = formulas_.rhs;
+  const Eigen::VectorXd& u_predicted = formulas_.u_predicted;
+  contact_free_ = rhs;  // the same size: no allocation
   factorization_.backward_in_place(contact_free_);
   const Eigen::Index n = system.size();
   const double dt = dt_, dt2 = dt * dt;
@@ -159,8 +131,8 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
   const double k = c_.b1 * dt2;
   // The free positions as step() forms u_free (fused), so that the far wall idle changes no bit.
   const double gap = system.gap + gap_offsets_[0], far_gap = system.far_gap + gap_offsets_[1];
-  const double p_main = std::fma(k, contact_free_[contact], u_predicted_[contact]) - gap;
-  const double p_far = -far_gap - std::fma(k, contact_free_[far], u_predicted_[far]);
+  const double p_main = std::fma(k, contact_free_[contact], u_predicted[contact]) - gap;
+  const double p_far = -far_gap - std::fma(k, contact_free_[far], u_predicted[far]);
   const double d_main = k * contact_influence_[contact], d_far = k * far_influence_[far];
   const double c_main_far = k * far_influence_[contact], c_far_main = k * contact_influence_[far];
   TwoWallForces forces;
@@ -175,12 +147,12 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
   if (forces.far == 0.0 && contact == n - 1) {
     // The far wall idle: step()'s operations exactly, so that a far wall never reached changes
     // no bit of a run.
-    if (forces.main > 0.0) rhs_[contact] -= forces.main * contact_influence_[contact];
-    factorization_.backward_in_place(rhs_);
+    if (forces.main > 0.0) rhs[contact] -= forces.main * contact_influence_[contact];
+    factorization_.backward_in_place(rhs);
   } else {
-    rhs_ = contact_free_;
-    if (forces.main > 0.0) rhs_ -= forces.main * contact_influence_;
-    if (forces.far > 0.0) rhs_ += forces.far * far_influence_;
+    rhs = contact_free_;
+    if (forces.main > 0.0) rhs -= forces.main * contact_influence_;
+    if (forces.far > 0.0) rhs += forces.far * far_influence_;
   }
   update(s);
   if (forces.main > 0.0 && contact_.lagrange()) s.u[contact] = gap;
@@ -193,7 +165,9 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
 
 bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State& s) {
   predict(system, s);
-  factorization_.backward_in_place(rhs_);
+  Eigen::VectorXd& rhs = formulas_.rhs;
+  const Eigen::VectorXd& u_predicted = formulas_.u_predicted;
+  factorization_.backward_in_place(rhs);
   const double dt = dt_, k = c_.b1 * dt * dt;
   const auto m = static_cast<int>(system.constraints.size());
   // Violations of the contact-free prediction, with u_free formed as the single wall forms it.
@@ -201,12 +175,12 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
   for (int j = 0; j < m; ++j) {
     const Constraint& con = system.constraints[static_cast<std::size_t>(j)];
     double g = -(con.gap + gap_offsets_[j]);
-    if (con.plus >= 0) g += std::fma(k, rhs_[con.plus], u_predicted_[con.plus]);
-    if (con.minus >= 0) g -= std::fma(k, rhs_[con.minus], u_predicted_[con.minus]);
+    if (con.plus >= 0) g += std::fma(k, rhs[con.plus], u_predicted[con.plus]);
+    if (con.minus >= 0) g -= std::fma(k, rhs[con.minus], u_predicted[con.minus]);
     violation[j] = g;
   }
   list_law_.solve(list_, forces_);
-  apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, rhs_);
+  apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, rhs);
   update(s);
   bool active = false;
   for (int j = 0; j < m; ++j) {

@@ -26,6 +26,17 @@
 // costs the size of those bodies per active constraint. The constraint holds at the end of the
 // step, where its multiplier is reported, as for the single wall.
 //
+// Written once with the sparse integrator (core/methods/sparse_integrators.hpp): the predictors,
+// the α-weighted right-hand side and the update (core/methods/implicit_update.hpp, over any
+// core/model/semi_discrete_system.hpp). Why the contact between them stays one class per system:
+// here the correction is a stored column A⁻¹·G_kᵀ times the force, on the rows where the column
+// is non-zero (and the single wall's O(1) shortcut through the forward sweep, which only a
+// tridiagonal factorisation has); on a sparse model it is one more solve with Gᵀ·μ as right-hand
+// side, because the columns are dense there. The two are different floating-point operations, so
+// one template choosing between them would still hold both, and moving either system to the
+// other's changes the bits of its runs, which the batched kernels (core/batch/rod_kernel.cpp,
+// chain_kernel.cpp) and every results file hold fixed.
+//
 // Thread safety: one object per thread (it holds scratch vectors).
 #pragma once
 
@@ -37,6 +48,7 @@
 #include "core/common/state.hpp"
 #include "core/contact/constraint_list_law.hpp"
 #include "core/contact/contact_treatment.hpp"
+#include "core/methods/implicit_update.hpp"
 #include "core/methods/method.hpp"
 #include "core/model/second_order_system.hpp"
 
@@ -84,12 +96,13 @@ class ImplicitIntegrator {
   const Eigen::MatrixXd& delassus() const { return list_.delassus; }
 
  private:
-  /// Predictors and the contact-free right-hand side, forward-swept (left in rhs_: its last
-  /// entry is the last unknown of the contact-free acceleration; backward_in_place completes it).
+  /// Predictors and the contact-free right-hand side (core/methods/implicit_update.hpp) with the
+  /// previous step's contact forces, forward-swept (left in formulas_.rhs: its last entry is the
+  /// last unknown of the contact-free acceleration; backward_in_place completes it).
   void predict(const SecondOrderSystem& system, State& state);
   bool step_two_walls(const SecondOrderSystem& system, State& state);
   bool step_constraints(const SecondOrderSystem& system, State& state);
-  /// a = rhs_, u = u* + b1·Δt²·a, v = v* + g1·Δt·a (fused multiply-adds), every dof.
+  /// a = rhs, u = u* + b1·Δt²·a, v = v* + g1·Δt·a (ImplicitUpdate::update), every dof.
   void update(State& state) const;
 
   ImplicitCoefficients c_{};
@@ -97,7 +110,7 @@ class ImplicitIntegrator {
   TridiagonalFactorization factorization_;
   Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
   Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
-  Eigen::VectorXd u_predicted_, v_predicted_, rhs_;
+  ImplicitUpdate formulas_;  // u*, v* and the right-hand side, then the acceleration
   Eigen::VectorXd contact_free_;  // the contact-free acceleration (two walls only)
   // The constraint list's columns A⁻¹·G_kᵀ (n × m), the rows [begin, end) where each is
   // non-zero, b1·Δt²·G·A⁻¹·Gᵀ (m × m), and per-step scratch (m).

@@ -13,7 +13,7 @@ bool listed(const SparseSystem&) {
 
 }  // namespace
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 bool KimScheme<StageContact, System>::initialize(const System& system,
                                                  const KimExplicitCoefficients& coefficients,
                                                  double dt, State& start,
@@ -44,20 +44,20 @@ bool KimScheme<StageContact, System>::initialize(const System& system,
   return true;
 }
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 void KimScheme<StageContact, System>::clear_multipliers(State& at) {
   at.lambda = 0.0;
   at.far_lambda = 0.0;
   at.multipliers.setZero();
 }
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 double KimScheme<StageContact, System>::divided_difference(Eigen::Index i,
                                                            const State& state) const {
   return c_.d0 * a0_[i] + c_.dp * sub_.a[i] + c_.d1 * state.a[i];
 }
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 void KimScheme<StageContact, System>::correct(State& state) const {
   const Eigen::Index n = state.u.size();
   const double du = c_.cu * dt_ * dt_, dv = c_.cv * dt_;
@@ -68,7 +68,7 @@ void KimScheme<StageContact, System>::correct(State& state) const {
   }
 }
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 void KimScheme<StageContact, System>::correct_velocity(State& state) const {
   const Eigen::Index n = state.v.size();
   const double dv = c_.cv * dt_;
@@ -76,7 +76,7 @@ void KimScheme<StageContact, System>::correct_velocity(State& state) const {
     state.v[i] = v_predicted_[i] + dv * divided_difference(i, state);
 }
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 bool KimScheme<StageContact, System>::step(const System& system, State& state) {
   const Eigen::Index n = system.size();
   const double p = c_.p, dt = dt_, first = p * dt;

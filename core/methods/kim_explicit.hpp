@@ -71,13 +71,14 @@
 #include "core/contact/sparse_explicit_stage_contact.hpp"
 #include "core/methods/method.hpp"
 #include "core/model/second_order_system.hpp"
+#include "core/model/semi_discrete_system.hpp"
 #include "core/model/sparse_system.hpp"
 
 namespace impactid {
 
 /// The scheme on a `System` (SecondOrderSystem or SparseSystem) whose stages' contact is a
 /// `StageContact` (ExplicitStageContact or SparseExplicitStageContact); the aliases below.
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 class KimScheme {
  public:
   /// Factors M and fixes the first stage's displacement u_p = u₀ + pΔt·v₀ + (pΔt)²/2·a₀ from

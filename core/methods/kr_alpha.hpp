@@ -77,7 +77,10 @@
 //
 // A model of sparse matrices runs on core/methods/sparse_kr_alpha.hpp: the same formulas (one
 // template, core/methods/kr_alpha_recurrence.hpp) and contact conventions, with M, D and E factored
-// by core/model/sparse_factorization.hpp.
+// by core/model/sparse_factorization.hpp. The contact responses stay one class per system, for the
+// reason core/methods/implicit_integrator.hpp gives: stored responses W = E⁻¹·Gᵀ on their non-zero
+// rows here (and the named walls), one more solve with E there; different operations, whose bits
+// the batched kernel (core/batch/kr_alpha_kernel.cpp) and the results files hold fixed.
 //
 // Thread safety: one object per thread.
 #pragma once

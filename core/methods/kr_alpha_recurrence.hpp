@@ -3,7 +3,7 @@
 // written once for both systems: the tridiagonal one (core/methods/kr_alpha.hpp, Matrix =
 // Tridiagonal) and a user's sparse model (core/methods/sparse_kr_alpha.hpp, Matrix = SparseMatrix).
 // They differ only in their matrix products, the free functions multiply, multiply_add and
-// quadratic_form of each matrix type (core/model/sparse_system.hpp; the Tridiagonal ones below),
+// quadratic_form of each matrix type (core/model/sparse_system.hpp, core/algebra/tridiagonal.hpp),
 // chosen at compile time; and in their contact, which the steppers pass to step() as `enforce`.
 //
 // No allocation in step() or energy() once initialize() has sized the vectors.
@@ -16,20 +16,9 @@
 #include "core/algebra/tridiagonal.hpp"
 #include "core/common/state.hpp"
 #include "core/methods/method.hpp"
+#include "core/model/semi_discrete_system.hpp"
 
 namespace impactid {
-
-/// Tridiagonal's products under the names the sparse matrices' have (core/model/sparse_system.hpp).
-inline void multiply(const Tridiagonal& a, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-  a.multiply(x, y);
-}
-inline void multiply_add(const Tridiagonal& a, double s, const Eigen::VectorXd& x,
-                         Eigen::VectorXd& y) {
-  a.multiply_add(s, x, y);
-}
-inline double quadratic_form(const Tridiagonal& a, const Eigen::VectorXd& x) {
-  return a.quadratic_form(x);
-}
 
 template <class Matrix, class Factorization>
 struct KrAlphaRecurrence {
@@ -53,7 +42,7 @@ struct KrAlphaRecurrence {
   /// The start (core/methods/kr_alpha.hpp): u₁ = u₀ + Δt·v̂₀ + s·α1·a₀ with v̂₀ = v₀ − γΔt·α1·a₀ is
   /// u₀ + Δt·v₀ + Δt²/2·α1·a₀; `enforce(next)` applies the start's contact to `start` and u_next
   /// (and to w, the response of α1·a, and to start.a).
-  template <class System, class Enforce>
+  template <SemiDiscreteSystem System, class Enforce>
   void start(const System& system, State& start, Enforce&& enforce) {
     multiply(system.mass, start.a, w);
     d.solve_in_place(w);  // α1·a₀
@@ -65,7 +54,7 @@ struct KrAlphaRecurrence {
   /// Advances state from t to t + Δt; `enforce(next)` applies the contact of the equilibrium at
   /// t + Δt to the contact-free next displacement and to w (the acceleration follows from w) and
   /// returns whether a constraint pushes, which step() returns.
-  template <class System, class Enforce>
+  template <SemiDiscreteSystem System, class Enforce>
   bool step(const System& system, State& state, Enforce&& enforce) {
     const Eigen::Index n = system.size();
     const double af = c.alpha_f;
@@ -104,7 +93,7 @@ struct KrAlphaRecurrence {
 
   /// KrAlphaExplicit::energy's half-step energy ½·wᵀM·w + ½·mᵀK·m, w = (u_next − u)/Δt,
   /// m = (u + u_next)/2, after step() returned `state`. Uses the scratch vectors.
-  template <class System>
+  template <SemiDiscreteSystem System>
   double energy(const System& system, const State& state) {
     const Eigen::Index n = system.size();
     for (Eigen::Index i = 0; i < n; ++i) {

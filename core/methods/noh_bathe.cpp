@@ -2,7 +2,7 @@
 
 namespace impactid {
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 bool NohBatheScheme<StageContact, System>::initialize(const System& system,
                                                       const NohBatheCoefficients& coefficients,
                                                       double dt, State& start,
@@ -23,7 +23,7 @@ bool NohBatheScheme<StageContact, System>::initialize(const System& system,
   return true;
 }
 
-template <class StageContact, class System>
+template <class StageContact, SemiDiscreteSystem System>
 bool NohBatheScheme<StageContact, System>::step(const System& system, State& state) {
   const Eigen::Index n = system.size();
   const double p = c_.p, dt = dt_;

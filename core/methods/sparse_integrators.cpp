@@ -8,7 +8,6 @@
 #include "core/contact/constraint_set.hpp"
 #include "core/contact/sparse_constraints.hpp"
 #include "core/contact/stable_step.hpp"
-#include "core/methods/central_difference.hpp"
 
 namespace impactid {
 
@@ -62,10 +61,8 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
     return false;
   }
   const Eigen::Index n = system.size();
-  for (Eigen::VectorXd* v :
-       {&u_predicted_, &v_predicted_, &u_alpha_, &v_alpha_, &rhs_, &correction_}) {
-    v->resize(n);
-  }
+  formulas_.resize(n);
+  correction_.resize(n);
   const auto m = static_cast<int>(system.constraints.size());
   list_law_.initialize(contact_, m, PenaltyForm::solved_with_step, c_.contact_weight);
   list_ = list_law_.problem(delassus_matrix(system.constraints, factorization_, c_.b1 * dt * dt));
@@ -76,39 +73,24 @@ bool SparseImplicitIntegrator::initialize(const SparseSystem& system,
 }
 
 bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
-  const Eigen::Index n = system.size();
   const double dt = dt_, dt2 = dt * dt;
-  const double af = c_.alpha_f;
-  // The predictors and α-weighted arguments of the tridiagonal integrator, by the same formulas.
-  const double dt2_b0 = dt2 * c_.b0, dt_g0 = dt * c_.g0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double du = std::fma(dt, s.v[i], dt2_b0 * s.a[i]);
-    u_predicted_[i] = s.u[i] + du;
-    v_predicted_[i] = std::fma(dt_g0, s.a[i], s.v[i]);
-    u_alpha_[i] = std::fma(-af, du, u_predicted_[i]);
-    v_alpha_[i] = std::fma(-af, dt_g0 * s.a[i], v_predicted_[i]);
-  }
-  multiply(system.stiffness, u_alpha_, rhs_);
-  rhs_ = -rhs_;
-  if (system.has_damping()) multiply_add(system.damping, -1.0, v_alpha_, rhs_);
-  if (c_.alpha_m != 0.0) multiply_add(system.mass, -c_.alpha_m, s.a, rhs_);
+  // The predictors, α-weighted arguments and update of the tridiagonal integrator, by the same
+  // formulas (core/methods/implicit_update.hpp); the previous step's forces and the solve here.
+  formulas_.predict(system, c_, dt, s);
+  Eigen::VectorXd& rhs = formulas_.rhs;
+  const Eigen::VectorXd& u_predicted = formulas_.u_predicted;
   if (s.multipliers.size() > 0) {
-    add_constraint_forces(system.constraints, s.multipliers, -(1.0 - c_.contact_weight), rhs_);
+    add_constraint_forces(system.constraints, s.multipliers, -(1.0 - c_.contact_weight), rhs);
   }
-  factorization_.solve_in_place(rhs_);
+  factorization_.solve_in_place(rhs);
 
   const double k = c_.b1 * dt2;
   const bool active = contact_forces(
       system.constraints, factorization_,
-      [&](Eigen::Index i) { return std::fma(k, rhs_[i], u_predicted_[i]); },
+      [&](Eigen::Index i) { return std::fma(k, rhs[i], u_predicted[i]); },
       [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap + gap_offsets_[j]; },
-      list_law_, list_, lcp_, forces_, correction_, rhs_);
-  const double g1_dt = c_.g1 * dt;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    s.a[i] = rhs_[i];
-    s.u[i] = std::fma(k, rhs_[i], u_predicted_[i]);
-    s.v[i] = std::fma(g1_dt, rhs_[i], v_predicted_[i]);
-  }
+      list_law_, list_, lcp_, forces_, correction_, rhs);
+  formulas_.update(c_, dt, s);
   for (Eigen::Index j = 0; j < forces_.size(); ++j) {
     s.multipliers[j] = active ? forces_[j] / c_.contact_weight : 0.0;
   }
@@ -120,9 +102,6 @@ bool SparseImplicitIntegrator::step(const SparseSystem& system, State& s) {
 bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity velocity,
                                          double dt, const State& initial,
                                          const ContactPenalties& contact) {
-  velocity_ = velocity;
-  dt_ = dt;
-  t_ = initial.t;
   failure_.clear();
   contact_ = contact;
   if (!is_diagonal(system.mass)) {
@@ -141,12 +120,8 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
     failure_ = pivot_failure("the left-hand matrix M/dt^2 + C/(2 dt)", factorization_);
     return false;
   }
-  const Eigen::Index n = system.size();
-  u_ = initial.u;
-  u_previous_ = initial.u - dt * initial.v + (0.5 * dt * dt) * initial.a;
-  u_next_.resize(n);
-  scratch_.resize(n);
-  correction_.resize(n);
+  recurrence_.start(velocity, dt, initial);
+  correction_.resize(system.size());
   const auto m = static_cast<int>(system.constraints.size());
   list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);
   list_ = list_law_.problem(delassus_matrix(system.constraints, factorization_, 1.0));
@@ -156,51 +131,25 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
 }
 
 bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
-  const Eigen::Index n = system.size();
-  const double dt = dt_, inv_dt2 = 1.0 / (dt * dt);
-  for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (2.0 * u_[i] - u_previous_[i]) * inv_dt2;
-  multiply(system.mass, scratch_, u_next_);
-  multiply_add(system.stiffness, -1.0, u_, u_next_);
-  if (system.has_damping()) {
-    if (velocity_ == CdmVelocity::central) {
-      multiply_add(system.damping, 0.5 / dt, u_previous_, u_next_);
-    } else {
-      for (Eigen::Index i = 0; i < n; ++i) scratch_[i] = (u_[i] - u_previous_[i]) / dt;
-      multiply_add(system.damping, -1.0, scratch_, u_next_);
-    }
-  }
-  factorization_.solve_in_place(u_next_);
+  recurrence_.predict(system, factorization_);
+  Eigen::VectorXd& u_next = recurrence_.u_next;
   // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
-  const Eigen::VectorXd& checked = contact_.law == ContactLaw::penalty ? u_ : u_next_;
+  const Eigen::VectorXd& checked = contact_.law == ContactLaw::penalty ? recurrence_.u : u_next;
   const bool active = contact_forces(
       system.constraints, factorization_, [&](Eigen::Index i) { return checked[i]; },
       [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; }, list_law_, list_,
-      lcp_, forces_, correction_, u_next_);
-  if (active && contact_.lagrange()) snap_walls(system.constraints, forces_, u_next_);
+      lcp_, forces_, correction_, u_next);
+  if (active && contact_.lagrange()) snap_walls(system.constraints, forces_, u_next);
 
-  at_t.u = u_;
-  if (velocity_ == CdmVelocity::central) {
-    at_t.v = (u_next_ - u_previous_) / (2.0 * dt);
-  } else {
-    at_t.v = (u_ - u_previous_) / dt;
-  }
-  at_t.a = (u_next_ - 2.0 * u_ + u_previous_) * inv_dt2;
   for (Eigen::Index j = 0; j < forces_.size(); ++j) at_t.multipliers[j] = active ? forces_[j] : 0.0;
   at_t.lambda = 0.0;
-  at_t.t = t_;
-  u_previous_.swap(u_);
-  u_.swap(u_next_);
-  t_ += dt;
+  recurrence_.finish(at_t);
   return active;
 }
 
 double SparseCentralDifference::energy(const SparseSystem& system, const State& at_t) {
   if (!within_limit_) return system.energy(at_t.u, at_t.v);
-  scratch_ = (u_ - u_previous_) / dt_;
-  u_next_ = 0.5 * (u_ + u_previous_);
-  return central_difference_energy(quadratic_form(system.mass, scratch_),
-                                   quadratic_form(system.stiffness, scratch_),
-                                   quadratic_form(system.stiffness, u_next_), dt_);
+  return recurrence_.energy(system);
 }
 
 Eigen::VectorXd consistent_acceleration(const SparseSystem& system, const State& state) {

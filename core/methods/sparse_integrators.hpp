@@ -1,5 +1,7 @@
 // The integrators of core/methods/implicit_integrator.hpp and core/methods/central_difference.hpp
-// on a sparse model (core/model/sparse_system.hpp): the same update formulas, the same contact law
+// on a sparse model (core/model/sparse_system.hpp): the same update formulas (written once:
+// core/methods/implicit_update.hpp, core/methods/central_difference_recurrence.hpp; why the contact
+// stays apart: core/methods/implicit_integrator.hpp), the same contact law
 // (the constraints hold at the end of the step for the implicit family, at t + Δt for central
 // difference's forward-increment multipliers, reported at t), with M, C and K sparse and the step's
 // matrix factored by core/model/sparse_factorization.hpp once per run.
@@ -42,6 +44,8 @@
 #include "core/common/state.hpp"
 #include "core/contact/constraint_list_law.hpp"
 #include "core/contact/contact_treatment.hpp"
+#include "core/methods/central_difference_recurrence.hpp"
+#include "core/methods/implicit_update.hpp"
 #include "core/methods/method.hpp"
 #include "core/model/sparse_factorization.hpp"
 #include "core/model/sparse_system.hpp"
@@ -72,7 +76,8 @@ class SparseImplicitIntegrator {
   double dt_ = 0.0;
   ContactPenalties contact_;
   SparseFactorization factorization_;
-  Eigen::VectorXd u_predicted_, v_predicted_, u_alpha_, v_alpha_, rhs_, correction_;
+  ImplicitUpdate formulas_;  // u*, v* and the right-hand side, then the acceleration
+  Eigen::VectorXd correction_;
   ConstraintListProblem list_;  // b1·Δt²·G·A⁻¹·Gᵀ (+ diag(1/(w·k)): penalty laws)
   ConstraintListLaw list_law_;
   Eigen::VectorXd forces_;
@@ -105,13 +110,11 @@ class SparseCentralDifference {
   long unconverged_contact_steps() const { return list_law_.unconverged(); }
 
  private:
-  CdmVelocity velocity_ = CdmVelocity::central;
-  double dt_ = 0.0;
-  double t_ = 0.0;
+  CentralDifferenceRecurrence recurrence_;  // the update formulas, u₋, u and u₊
   bool within_limit_ = false;
   double stable_step_ = 0.0;
   SparseFactorization factorization_;
-  Eigen::VectorXd u_previous_, u_, u_next_, scratch_, correction_;
+  Eigen::VectorXd correction_;
   ConstraintListProblem list_;  // G·A⁻¹·Gᵀ (+ diag(1/k): penalty laws)
   Eigen::VectorXd forces_;
   ContactLcpWorkspace lcp_;

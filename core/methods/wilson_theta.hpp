@@ -62,11 +62,12 @@
 #include "core/contact/contact_treatment.hpp"
 #include "core/methods/method.hpp"
 #include "core/model/second_order_system.hpp"
+#include "core/model/semi_discrete_system.hpp"
 
 namespace impactid {
 
 // System: SecondOrderSystem with ImplicitIntegrator, SparseSystem with SparseImplicitIntegrator.
-template <class Integrator, class System>
+template <class Integrator, SemiDiscreteSystem System>
 class WilsonTheta {
  public:
   /// Factors the extended step's effective matrix. False if it is singular (or not positive

@@ -38,6 +38,11 @@ struct Constraint {
 };
 
 struct SecondOrderSystem {
+  /// The matrices' type and the factorisation of the steppers' matrices (core/model/
+  /// semi_discrete_system.hpp).
+  using Matrix = Tridiagonal;
+  using Factorization = TridiagonalFactorization;
+
   Tridiagonal mass;
   Tridiagonal damping;  ///< all zero when there is no damping; integrators then skip C terms
   Tridiagonal stiffness;

@@ -25,7 +25,14 @@ namespace impactid {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major, compressed
 
+class SparseFactorization;  // core/model/sparse_factorization.hpp, which includes this header
+
 struct SparseSystem {
+  /// The matrices' type and the factorisation of the steppers' matrices (core/model/
+  /// semi_discrete_system.hpp).
+  using Matrix = SparseMatrix;
+  using Factorization = SparseFactorization;
+
   SparseMatrix mass;
   SparseMatrix damping;  ///< no stored non-zero (or 0×0): no damping; integrators skip C terms
   SparseMatrix stiffness;

@@ -6,7 +6,6 @@
 #include <initializer_list>
 #include <limits>
 #include <string>
-#include <type_traits>
 
 #include "core/contact/constraint_list_law.hpp"
 #include "core/contact/stable_step_warning.hpp"
@@ -122,7 +121,7 @@ void run_rod_steps(const SecondOrderSystem& system, double area, const RunOption
 // A scene with a constraint list (of bodies, or a model's `system`): every contact's pressure and
 // velocity, the primary contact's also in the trace's main columns, and the largest penetration
 // of any constraint.
-template <class System, class Stepper>
+template <SemiDiscreteSystem System, class Stepper>
 void run_listed_steps(const AssembledScene& scene, const System& system, const RunOptions& options,
                       long first, State& state, ContactTrace& trace, RunSummary& summary,
                       Stepper&& stepper) {
@@ -165,7 +164,7 @@ template <class Advance, class Energy>
 LoopStepper(Advance, Energy) -> LoopStepper<Advance, Energy>;
 
 // The energy ½vᵀMv + ½uᵀKu of a state: every method's but central difference's.
-template <class System>
+template <SemiDiscreteSystem System>
 auto plain_energy(const System& system) {
   return [&system](const State& s) { return system.energy(s.u, s.v); };
 }
@@ -183,10 +182,21 @@ void count_contact_iterations(const Stepper& stepper, RunSummary& summary) {
   }
 }
 
-// The failure message of a stepper of several integrators (the sparse ones say why).
+// Why an integrator could not start: a sparse one says why (the failed pivot's DOF, a mass that
+// is not diagonal), a tridiagonal one fails only on a singular matrix, which `otherwise` names.
+template <class Integrator>
+std::string start_failure(const Integrator& integrator, const char* otherwise) {
+  if constexpr (requires { integrator.failure(); }) {
+    return integrator.failure();
+  } else {
+    return otherwise;
+  }
+}
+
+// The failure message of a stepper of several integrators: the first that says why.
 template <class Integrator>
 std::string first_failure(std::initializer_list<const Integrator*> integrators) {
-  if constexpr (std::is_same_v<Integrator, SparseImplicitIntegrator>) {
+  if constexpr (requires(const Integrator& i) { i.failure(); }) {
     for (const Integrator* i : integrators) {
       if (!i->failure().empty()) return i->failure();
     }
@@ -198,7 +208,7 @@ std::string first_failure(std::initializer_list<const Integrator*> integrators) 
 
 // Houbolt and Wilson-θ on either kind of system, with the workspace's steppers for it: true if
 // the method is one of them (the run done, or the summary failed when the stepper cannot start).
-template <class HouboltStepper, class WilsonStepper, class System, class Run>
+template <class HouboltStepper, class WilsonStepper, SemiDiscreteSystem System, class Run>
 bool run_multistep(const System& system, const MethodParams& method, double dt,
                    const ContactPenalties& contact, HouboltStepper& houbolt, WilsonStepper& wilson,
                    RunSummary& summary, Run&& run) {
@@ -240,7 +250,7 @@ std::string mass_failure(const Stepper& stepper) {
 // The Noh–Bathe explicit scheme (core/methods/noh_bathe.hpp) on either kind of system: its stable
 // step (with the penalty's springs) is reported, and a step above it is flagged before the run
 // starts (the run still goes, as central difference's does: the energy bound then stops it).
-template <class System, class Stepper, class Run>
+template <SemiDiscreteSystem System, class Stepper, class Run>
 void run_noh_bathe(const System& system, const NohBatheParams& params, double dt,
                    const ContactPenalties& contact, Stepper& stepper, State& state,
                    RunSummary& summary, Run&& run) {
@@ -258,7 +268,7 @@ void run_noh_bathe(const System& system, const NohBatheParams& params, double dt
 
 // Kim's two-stage explicit scheme (core/methods/kim_explicit.hpp): as Noh–Bathe's, its stable step
 // reported and a step above it flagged before the run starts.
-template <class System, class Stepper, class Run>
+template <SemiDiscreteSystem System, class Stepper, class Run>
 void run_kim_explicit(const System& system, const KimExplicitParams& params, double dt,
                       const ContactPenalties& contact, Stepper& stepper, State& state,
                       RunSummary& summary, Run&& run) {
@@ -277,7 +287,7 @@ void run_kim_explicit(const System& system, const KimExplicitParams& params, dou
 // The KR-α explicit method (core/methods/kr_alpha.hpp): unconditionally stable with every contact
 // law (the penalty's springs solved with its forward increment), so there is no stable step to
 // report.
-template <class System, class Stepper, class Run>
+template <SemiDiscreteSystem System, class Stepper, class Run>
 void run_kr_alpha(const System& system, const KrAlphaParams& params, double dt,
                   const ContactPenalties& contact, Stepper& stepper, State& state,
                   RunSummary& summary, Run&& run) {
@@ -307,28 +317,31 @@ void flag_penalty_step(const Stepper& stepper, double dt, const ContactPenalties
 }
 
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
-// stepper that cannot start marks the run failed.
-template <class Run>
-void run_method(const SecondOrderSystem& system, const MethodParams& method, double dt,
+// stepper that cannot start marks the run failed. One dispatch for both systems: the workspace's
+// steppers for `System` (core/run/steppers.hpp).
+template <SemiDiscreteSystem System, class Run>
+void run_method(const System& system, const MethodParams& method, double dt,
                 const ContactPenalties& contact, SimulationWorkspace& ws, State& state,
                 RunSummary& summary, Run&& run) {
-  if (run_multistep(system, method, dt, contact, ws.houbolt, ws.wilson_theta, summary, run)) {
+  Steppers<System>& steppers = ws.steppers<System>();
+  if (run_multistep(system, method, dt, contact, steppers.houbolt, steppers.wilson_theta, summary,
+                    run)) {
     return;
   }
   if (const auto* noh_bathe = std::get_if<NohBatheParams>(&method)) {
-    run_noh_bathe(system, *noh_bathe, dt, contact, ws.noh_bathe, state, summary, run);
+    run_noh_bathe(system, *noh_bathe, dt, contact, steppers.noh_bathe, state, summary, run);
     return;
   }
   if (const auto* kim = std::get_if<KimExplicitParams>(&method)) {
-    run_kim_explicit(system, *kim, dt, contact, ws.kim_explicit, state, summary, run);
+    run_kim_explicit(system, *kim, dt, contact, steppers.kim_explicit, state, summary, run);
     return;
   }
   if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&method)) {
-    run_kr_alpha(system, *kr_alpha, dt, contact, ws.kr_alpha, state, summary, run);
+    run_kr_alpha(system, *kr_alpha, dt, contact, steppers.kr_alpha, state, summary, run);
     return;
   }
   if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
-    CentralDifference& stepper = ws.central_difference;
+    auto& stepper = steppers.central_difference;
     if (stepper.initialize(system, cdm->velocity, dt, state, contact)) {
       flag_penalty_step(stepper, dt, contact, summary);
       stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
@@ -337,81 +350,29 @@ void run_method(const SecondOrderSystem& system, const MethodParams& method, dou
       count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
-      summary.message = "central difference: singular left-hand matrix";
+      summary.message =
+          "central difference: " + start_failure(stepper, "singular left-hand matrix");
     }
   } else if (is_composite(method)) {
-    auto& stepper = ws.composite;
+    auto& stepper = steppers.composite;
     if (stepper.initialize(system, composite_coefficients(method), dt, contact)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
       count_contact_iterations(stepper, summary);
     } else {
+      const std::string first = start_failure(stepper.first(), "singular effective matrix");
       summary.status = RunStatus::failed;
-      summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
+      summary.message = std::string(to_string(kind_of(method))) + ": " +
+                        (first.empty() ? start_failure(stepper.second(), "") : first);
     }
   } else {
-    ImplicitIntegrator& stepper = ws.implicit;
+    auto& stepper = steppers.implicit;
     if (stepper.initialize(system, implicit_coefficients(method), dt, contact)) {
-      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
-      count_contact_iterations(stepper, summary);
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = std::string(to_string(kind_of(method))) + ": singular effective matrix";
-    }
-  }
-}
-
-// run_method for a model's sparse system.
-template <class Run>
-void run_sparse_method(const SparseSystem& system, const MethodParams& method, double dt,
-                       const ContactPenalties& contact, SimulationWorkspace& ws, State& state,
-                       RunSummary& summary, Run&& run) {
-  if (run_multistep(system, method, dt, contact, ws.sparse_houbolt, ws.sparse_wilson_theta, summary,
-                    run)) {
-    return;
-  }
-  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&method)) {
-    run_noh_bathe(system, *noh_bathe, dt, contact, ws.sparse_noh_bathe, state, summary, run);
-    return;
-  }
-  if (const auto* kim = std::get_if<KimExplicitParams>(&method)) {
-    run_kim_explicit(system, *kim, dt, contact, ws.sparse_kim_explicit, state, summary, run);
-    return;
-  }
-  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&method)) {
-    run_kr_alpha(system, *kr_alpha, dt, contact, ws.sparse_kr_alpha, state, summary, run);
-    return;
-  }
-  if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
-    SparseCentralDifference& stepper = ws.sparse_central_difference;
-    if (stepper.initialize(system, cdm->velocity, dt, state, contact)) {
-      flag_penalty_step(stepper, dt, contact, summary);
-      stepper.step(system, state);  // the state at t_k
-      run(LoopStepper{[&](State& s) { stepper.step(system, s); },
-                      [&](const State& s) { return stepper.energy(system, s); }});
-      count_contact_iterations(stepper, summary);
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = "central difference: " + stepper.failure();
-    }
-  } else if (is_composite(method)) {
-    auto& stepper = ws.sparse_composite;
-    if (stepper.initialize(system, composite_coefficients(method), dt, contact)) {
       run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
       count_contact_iterations(stepper, summary);
     } else {
       summary.status = RunStatus::failed;
       summary.message = std::string(to_string(kind_of(method))) + ": " +
-                        (stepper.first().failure().empty() ? stepper.second().failure()
-                                                           : stepper.first().failure());
-    }
-  } else {
-    SparseImplicitIntegrator& stepper = ws.sparse_implicit;
-    if (stepper.initialize(system, implicit_coefficients(method), dt, contact)) {
-      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
-      count_contact_iterations(stepper, summary);
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = std::string(to_string(kind_of(method))) + ": " + stepper.failure();
+                        start_failure(stepper, "singular effective matrix");
     }
   }
 }
@@ -552,10 +513,9 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   if (scene.sparse) {  // a user's model with sparse matrices
     const SparseSystem& sparse = *scene.sparse;
     const ContactPenalties contact = resolve_contact(options.contact, sparse);
-    run_sparse_method(
-        sparse, method, scene.dt, contact, ws, state, summary, [&](const auto& stepper) {
-          run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, stepper);
-        });
+    run_method(sparse, method, scene.dt, contact, ws, state, summary, [&](const auto& stepper) {
+      run_listed_steps(scene, sparse, options, skipped, state, ws.trace, summary, stepper);
+    });
     summary.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;

@@ -9,32 +9,24 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/common/run_record.hpp"
 #include "core/common/state.hpp"
-#include "core/methods/bathe_composite.hpp"
-#include "core/methods/central_difference.hpp"
-#include "core/methods/houbolt.hpp"
-#include "core/methods/implicit_integrator.hpp"
-#include "core/methods/kim_explicit.hpp"
-#include "core/methods/kr_alpha.hpp"
 #include "core/methods/method.hpp"
-#include "core/methods/noh_bathe.hpp"
-#include "core/methods/sparse_integrators.hpp"
-#include "core/methods/sparse_kr_alpha.hpp"
-#include "core/methods/wilson_theta.hpp"
 #include "core/model/rod_scene.hpp"
 #include "core/model/scene_assembly.hpp"
 #include "core/reference/model_reference.hpp"
 #include "core/reference/scene_reference.hpp"
+#include "core/run/steppers.hpp"
 
 namespace impactid {
 
 struct RunOptions {
   /// A run is `unstable` as soon as its energy exceeds this multiple of the initial energy
   /// ½vᵀMv + ½uᵀKu. The energy is ½vᵀMv + ½uᵀKu for every method but central difference, whose
-  /// own discrete energy (central_difference_energy, core/methods/central_difference.hpp) stays
+  /// own discrete energy (central_difference_energy, core/methods/central_difference_recurrence.hpp) stays
   /// bounded at the magic time step, where the plain one grows with a mode that changes no nodal
   /// value. Without external work the exact energy never grows, and the stable methods here stay
   /// within a few percent of it (measured: central difference's central-velocity energy rises ~1%
@@ -63,23 +55,17 @@ struct RunOptions {
 /// Per-thread storage reused from run to run: after the first run of a given size, further
 /// runs of that size allocate nothing in the step loop.
 struct SimulationWorkspace {
-  ImplicitIntegrator implicit;
-  BatheComposite<ImplicitIntegrator, SecondOrderSystem>
-      composite;  ///< the composite schemes (Bathe, ρ∞-Bathe)
-  CentralDifference central_difference;
-  SparseImplicitIntegrator sparse_implicit;  ///< for a model's sparse system
-  SparseCentralDifference sparse_central_difference;
-  BatheComposite<SparseImplicitIntegrator, SparseSystem> sparse_composite;
-  Houbolt<ImplicitIntegrator, SecondOrderSystem> houbolt;  ///< with its past displacements
-  Houbolt<SparseImplicitIntegrator, SparseSystem> sparse_houbolt;
-  WilsonTheta<ImplicitIntegrator, SecondOrderSystem> wilson_theta;
-  WilsonTheta<SparseImplicitIntegrator, SparseSystem> sparse_wilson_theta;
-  NohBatheExplicit noh_bathe;
-  SparseNohBatheExplicit sparse_noh_bathe;
-  KimExplicit kim_explicit;
-  SparseKimExplicit sparse_kim_explicit;
-  KrAlphaExplicit kr_alpha;
-  SparseKrAlphaExplicit sparse_kr_alpha;
+  Steppers<SecondOrderSystem> tridiagonal;  ///< the rod's, a scene of bodies', a 1D model's
+  Steppers<SparseSystem> sparse;             ///< a user's model with sparse matrices
+  /// The steppers for `System`: simulate() chooses by the type of the system it runs.
+  template <SemiDiscreteSystem System>
+  Steppers<System>& steppers() {
+    if constexpr (std::is_same_v<System, SparseSystem>) {
+      return sparse;
+    } else {
+      return tridiagonal;
+    }
+  }
   State state;
   ContactTrace trace;
   /// The reference of the last scene of bodies evaluated with this workspace
