@@ -8,6 +8,18 @@ MadeMethod make(const MethodArguments&) {
   return BackwardEulerParams{};
 }
 
+MethodParams defaults() {
+  return BackwardEulerParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams&) {
+  return {};
+}
+
+ImplicitCoefficients implicit(const MethodParams&) {
+  return ImplicitCoefficients{0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0};
+}
+
 }  // namespace
 
 MethodDescriptor backward_euler_method() {
@@ -23,6 +35,9 @@ MethodDescriptor backward_euler_method() {
       .choices = no_choices,
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
+      .defaults = defaults,
+      .validate = check,
+      .implicit_coefficients = implicit,
   };
 }
 

@@ -15,6 +15,19 @@ MethodValues values(const MethodParams& params) {
   return out;
 }
 
+MethodParams defaults() {
+  return BatheParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams&) {
+  return {};
+}
+
+// ρ∞ = 0, γ = ½.
+CompositeCoefficients composite(const MethodParams&) {
+  return composite_step_coefficients(0.0, 0.5);
+}
+
 }  // namespace
 
 MethodDescriptor bathe_method() {
@@ -32,6 +45,9 @@ MethodDescriptor bathe_method() {
       .stages = 2,
       .spectrum = &kCompositeSpectrum,
       .same_parameters = same_composite_coefficients,
+      .defaults = defaults,
+      .validate = check,
+      .composite_coefficients = composite,
   };
 }
 

@@ -36,6 +36,21 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return GeneralizedAlphaParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<GeneralizedAlphaParams>(params);
+  return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
+}
+
+ImplicitCoefficients implicit(const MethodParams& params) {
+  const auto& p = std::get<GeneralizedAlphaParams>(params);
+  const auto g = generalized_alpha_from_rho_inf(p.rho_inf);
+  return newmark_family(g.bg, g.alpha_m, g.alpha_f, p.contact);
+}
+
 }  // namespace
 
 MethodDescriptor generalized_alpha_method() {
@@ -53,6 +68,10 @@ MethodDescriptor generalized_alpha_method() {
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
+      .implicit_coefficients = implicit,
+      .reports_beta_gamma = true,
   };
 }
 

@@ -40,6 +40,30 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return HhtParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<HhtParams>(params);
+  if (auto e = require_in_range("alpha", p.alpha, -0.5, 0.0, "must lie in [-0.5, 0]")) {
+    return e;
+  }
+  if (p.delta) {
+    return require_in_range("delta", *p.delta, 0.0, kFiniteMax, "must be >= 0 and finite (eq. 13)");
+  }
+  return std::nullopt;
+}
+
+double hht_delta(const HhtParams& p) {
+  return p.delta ? *p.delta : -p.alpha;
+}
+
+ImplicitCoefficients implicit(const MethodParams& params) {
+  const auto& p = std::get<HhtParams>(params);
+  return newmark_family(newmark_from_delta(hht_delta(p)), 0.0, -p.alpha, p.contact);
+}
+
 }  // namespace
 
 MethodDescriptor hht_method() {
@@ -57,6 +81,10 @@ MethodDescriptor hht_method() {
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
+      .implicit_coefficients = implicit,
+      .reports_beta_gamma = true,
   };
 }
 

@@ -54,7 +54,23 @@ double high_frequency_radius(const MethodParams&) {
 const MethodSpectrum kSpectrum{3, amplification, eigenvalues, high_frequency_radius,
                                no_stability_limit};
 
+MethodParams defaults() {
+  return HouboltParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams&) {
+  return {};
+}
+
 }  // namespace
+
+HouboltCoefficients houbolt_coefficients() {
+  HouboltCoefficients c{};
+  c.first = kLinearAcceleration;
+  c.second = {0.0, 2.0 / 5.0, 0.0, 4.0 / 5.0, 0.0, 0.0, 1.0};
+  c.steady = {0.0, 0.5, 0.0, 11.0 / 12.0, 0.0, 0.0, 1.0};
+  return c;
+}
 
 MethodDescriptor houbolt_method() {
   return {
@@ -71,6 +87,8 @@ MethodDescriptor houbolt_method() {
       .choices = no_choices,
       .spectrum = &kSpectrum,
       .same_parameters = always_same,
+      .defaults = defaults,
+      .validate = check,
   };
 }
 

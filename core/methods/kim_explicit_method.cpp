@@ -1,4 +1,8 @@
 // Kim's two-stage explicit scheme (core/methods/kim_explicit.hpp): its descriptor.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "core/methods/method_families.hpp"
 
 namespace impactid {
@@ -76,7 +80,59 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return KimExplicitParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<KimExplicitParams>(params);
+  // Below ⅓ the principal pair grows at small Ω; above ½ see KimExplicitParams.
+  if (!(p.p >= 1.0 / 3.0 && p.p <= 0.5)) {
+    return ParameterError{"p", format_value(p.p),
+                          "must lie in [1/3, 1/2] (1/3 written 0.3333333333333333) for "
+                          "kim-explicit (below 1/3 it is "
+                          "unstable at every useful step; above 1/2 its stability limit "
+                          "falls and no contact multiplier keeps the step's end on the "
+                          "wall)"};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+KimExplicitCoefficients kim_explicit_coefficients(const KimExplicitParams& params) {
+  const double p = params.p;
+  KimExplicitCoefficients c{};
+  c.p = p;
+  c.u0 = 0.5 * (1.0 - 1.0 / (3.0 * p));
+  c.up = 1.0 / (6.0 * p);
+  c.v0 = 1.0 - 1.0 / (2.0 * p);
+  c.vp = 1.0 / (2.0 * p);
+  c.d0 = 1.0 / p;
+  c.dp = -1.0 / (p * (1.0 - p));
+  c.d1 = 1.0 / (1.0 - p);
+  c.cu = (1.0 - 2.0 * p) / 12.0;
+  c.cv = (2.0 - 3.0 * p) / 6.0;
+  return c;
+}
+
+double kim_explicit_critical_omega(double p) {
+  if (!(p >= 1.0 / 3.0 && p <= 0.5)) return std::numeric_limits<double>::quiet_NaN();
+  double omega2 = 12.0 * p / (1.0 - p);  // eigenvalue +1
+  // Eigenvalue −1: the least positive root of a·X² + b·X + c (c < 0), in the cancellation-free
+  // form q = −(b + sign(b)·√disc)/2, roots q/a and c/q.
+  const double a = 12.0 * p * p * p - 6.0 * p * p - 3.0 * p + 1.0;
+  const double b = -12.0 * (5.0 * p - 1.0) * (p - 1.0);
+  const double c = 144.0 * p * (p - 1.0);
+  const double disc = b * b - 4.0 * a * c;
+  if (disc >= 0.0) {
+    const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+    for (const double root : {a != 0.0 ? q / a : -1.0, q != 0.0 ? c / q : -1.0}) {
+      if (root > 0.0) omega2 = std::min(omega2, root);
+    }
+  }
+  return std::sqrt(omega2);
+}
 
 MethodDescriptor kim_explicit_method() {
   return {
@@ -96,6 +152,9 @@ MethodDescriptor kim_explicit_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
+      .stable_step = "Omega_crit(p) over the bound on omega_max",
   };
 }
 

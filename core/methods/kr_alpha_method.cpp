@@ -96,7 +96,21 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return KrAlphaParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<KrAlphaParams>(params);
+  return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
+}
+
 }  // namespace
+
+KrAlphaCoefficients kr_alpha_coefficients(const KrAlphaParams& params) {
+  const auto g = generalized_alpha_from_rho_inf(params.rho_inf);
+  return {g.alpha_m, g.alpha_f, g.bg.beta, g.bg.gamma};
+}
 
 MethodDescriptor kr_alpha_method() {
   return {
@@ -115,6 +129,8 @@ MethodDescriptor kr_alpha_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
   };
 }
 

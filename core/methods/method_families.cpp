@@ -106,6 +106,25 @@ bool same_composite_coefficients(const MethodParams& a, const MethodParams& b) {
   return x.gamma == y.gamma && x.q0 == y.q0 && x.q1 == y.q1 && x.q2 == y.q2;
 }
 
+ImplicitCoefficients newmark_family(BetaGamma bg, double alpha_m, double alpha_f,
+                                    ContactWeighting contact) {
+  return {0.5 - bg.beta,
+          bg.beta,
+          1.0 - bg.gamma,
+          bg.gamma,
+          alpha_m,
+          alpha_f,
+          contact == ContactWeighting::endpoint ? 1.0 : 1.0 - alpha_f};
+}
+
+GeneralizedAlphaCoefficients generalized_alpha_from_rho_inf(double rho_inf) {
+  const double alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+  const double alpha_f = rho_inf / (rho_inf + 1.0);
+  const double gamma = 0.5 - alpha_m + alpha_f;
+  const double beta = 0.25 * (1.0 - alpha_m + alpha_f) * (1.0 - alpha_m + alpha_f);
+  return {alpha_m, alpha_f, {beta, gamma}};
+}
+
 MethodValues no_values(const MethodParams&) {
   return {};
 }

@@ -5,6 +5,7 @@
 // CompositeCoefficients).
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -33,6 +34,25 @@ std::optional<ParameterError> read_contact(const MethodArguments& given, Contact
 void add_beta_gamma(const MethodParams& params, bool derived, MethodValues& out);
 /// The second sub-step's weights q0, q1, q2 of a composite method (derived).
 void add_composite_weights(const MethodParams& params, MethodValues& out);
+
+/// The largest finite double: the upper end of an unbounded range check.
+inline constexpr double kFiniteMax = std::numeric_limits<double>::max();
+
+/// A member of the Newmark family (β, γ) with the α-method's α_m, α_f and contact weighting.
+ImplicitCoefficients newmark_family(BetaGamma bg, double alpha_m, double alpha_f,
+                                    ContactWeighting contact);
+
+struct GeneralizedAlphaCoefficients {
+  double alpha_m, alpha_f;
+  BetaGamma bg;
+};
+/// Chung & Hulbert 1993, eqs 25 and 17: generalized-α's and KR-α's scalars from ρ∞.
+GeneralizedAlphaCoefficients generalized_alpha_from_rho_inf(double rho_inf);
+
+/// The linear-acceleration member (Newmark β = 1/6, γ = ½): Houbolt's first step, Wilson-θ's
+/// extended step.
+inline constexpr ImplicitCoefficients kLinearAcceleration{1.0 / 3.0, 1.0 / 6.0, 0.5, 0.5,
+                                                          0.0,       0.0,       1.0};
 
 /// The single-step implicit family: amplification from implicit_coefficients(), ρ∞ in closed
 /// form, parameters equal when their coefficients are.

@@ -60,14 +60,22 @@ constexpr std::array<MethodParameter, 10> kParameters{{
 // The registry: one line per method, in MethodKind's order. Built on first use, not at static
 // initialisation: the descriptors come from other translation units, whose static order is
 // unspecified.
-const std::array<MethodDescriptor, 13>& methods() {
-  static const std::array<MethodDescriptor, 13> registered{
-      cdm_method(),          backward_euler_method(),    newmark_method(),
-      hht_method(),          generalized_alpha_method(), bathe_method(),
-      rho_bathe_method(),    tr_bdf2_method(),           houbolt_method(),
-      wilson_theta_method(), noh_bathe_method(),         kim_explicit_method(),
+const auto& methods() {
+  static const auto registered = std::to_array<MethodDescriptor>({
+      cdm_method(),
+      backward_euler_method(),
+      newmark_method(),
+      hht_method(),
+      generalized_alpha_method(),
+      bathe_method(),
+      rho_bathe_method(),
+      tr_bdf2_method(),
+      houbolt_method(),
+      wilson_theta_method(),
+      noh_bathe_method(),
+      kim_explicit_method(),
       kr_alpha_method(),
-  };
+  });
   return registered;
 }
 
@@ -181,6 +189,41 @@ std::variant<MethodParams, ParameterError> build_method(MethodKind kind,
                               " (it applies to " + methods_taking(p.name) + ")"};
   }
   return method.make(given);
+}
+
+MethodParams default_params(MethodKind kind) {
+  return descriptor(kind).defaults();
+}
+
+std::optional<ParameterError> validate(const MethodParams& params) {
+  return descriptor(params).validate(params);
+}
+
+bool is_single_step_implicit(const MethodParams& params) {
+  return descriptor(params).implicit_coefficients != nullptr;
+}
+
+ImplicitCoefficients implicit_coefficients(const MethodParams& params) {
+  const MethodDescriptor& method = descriptor(params);
+  // Not a member: a placeholder, never stepped (callers dispatch those methods elsewhere).
+  if (!method.implicit_coefficients) return {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+  return method.implicit_coefficients(params);
+}
+
+bool is_composite(const MethodParams& params) {
+  return descriptor(params).composite_coefficients != nullptr;
+}
+
+CompositeCoefficients composite_coefficients(const MethodParams& params) {
+  const MethodDescriptor& method = descriptor(params);
+  if (!method.composite_coefficients) return composite_step_coefficients(0.0, 0.5);  // Bathe's
+  return method.composite_coefficients(params);
+}
+
+std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {
+  if (!descriptor(params).reports_beta_gamma) return std::nullopt;
+  const ImplicitCoefficients c = implicit_coefficients(params);
+  return BetaGamma{c.b1, c.g1};
 }
 
 bool same_method_parameters(const MethodParams& a, const MethodParams& b) {

@@ -109,6 +109,23 @@ struct MethodDescriptor {
   /// Its families of adjustable dissipation, in the order damping matches list them; none when
   /// its dissipation is fixed (backward Euler, central difference, …).
   std::span<const MethodDampingFamily> damping_families = {};
+  /// Its default parameters (the defaults of its parameter struct).
+  MethodParams (*defaults)() = nullptr;
+  /// The first invalid field of its parameters ("delta", "rho_inf", …), or nothing.
+  std::optional<ParameterError> (*validate)(const MethodParams& params) = nullptr;
+  /// Its coefficients as a member of the single-step implicit family (ImplicitCoefficients),
+  /// what ImplicitIntegrator and the batched kernels step alone; null for the others.
+  ImplicitCoefficients (*implicit_coefficients)(const MethodParams& params) = nullptr;
+  /// Its two sub-steps' coefficients as a composite scheme (core/methods/bathe_composite.hpp);
+  /// null for the others.
+  CompositeCoefficients (*composite_coefficients)(const MethodParams& params) = nullptr;
+  /// Whether reports show the β and γ of its implicit_coefficients (the Newmark family:
+  /// Newmark, HHT, generalized-α).
+  bool reports_beta_gamma = false;
+  /// What the stable step a run of it certifies is based on ("Omega_crit(p) over the bound on
+  /// omega_max"), for `simulate`'s report; null when its runs certify none. The certificate
+  /// needs a diagonal mass.
+  const char* stable_step = nullptr;
 };
 
 /// Every method parameter's key, in the order --help and plan errors list them.

@@ -42,6 +42,29 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return NewmarkParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<NewmarkParams>(params);
+  if (p.coefficients) {
+    if (auto e = require_in_range("beta", p.coefficients->beta, std::numeric_limits<double>::min(),
+                                  kFiniteMax, "must be positive and finite")) {
+      return e;
+    }
+    return require_in_range("gamma", p.coefficients->gamma, 0.0, kFiniteMax,
+                            "must be >= 0 and finite");
+  }
+  return require_in_range("delta", p.delta, 0.0, kFiniteMax, "must be >= 0 and finite (eq. 13)");
+}
+
+ImplicitCoefficients implicit(const MethodParams& params) {
+  const auto& p = std::get<NewmarkParams>(params);
+  return newmark_family(p.coefficients ? *p.coefficients : newmark_from_delta(p.delta), 0.0, 0.0,
+                        ContactWeighting::endpoint);
+}
+
 }  // namespace
 
 MethodDescriptor newmark_method() {
@@ -58,6 +81,10 @@ MethodDescriptor newmark_method() {
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
+      .implicit_coefficients = implicit,
+      .reports_beta_gamma = true,
   };
 }
 

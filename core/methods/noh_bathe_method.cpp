@@ -1,4 +1,8 @@
 // The Noh–Bathe explicit scheme (core/methods/noh_bathe.hpp): its descriptor.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "core/methods/method_families.hpp"
 
 namespace impactid {
@@ -81,7 +85,42 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return NohBatheParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<NohBatheParams>(params);
+  // Below ½ the determinant of the amplification matrix exceeds 1 at every Ω > 0.
+  if (!(p.p >= 0.5 && p.p < 1.0)) {
+    return ParameterError{"p", format_value(p.p),
+                          "must lie in [0.5, 1) (below 0.5 the scheme is unstable for "
+                          "every time step; 1 is excluded)"};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+NohBatheCoefficients noh_bathe_coefficients(const NohBatheParams& params) {
+  const double p = params.p;
+  NohBatheCoefficients c{};
+  c.p = p;
+  c.q1 = (1.0 - 2.0 * p) / (2.0 * p * (1.0 - p));
+  c.q2 = 0.5 - p * c.q1;
+  c.q0 = -c.q1 - c.q2 + 0.5;
+  return c;
+}
+
+double noh_bathe_critical_omega(double p) {
+  if (!(p >= 0.5 && p < 1.0)) return std::numeric_limits<double>::quiet_NaN();
+  double omega2 = 4.0 / ((1.0 - p) * (3.0 * p - 1.0));  // eigenvalue +1
+  const double d = (1.0 - p) * (1.0 - p) * (2.0 * p - 1.0);
+  if (d > 0.0) omega2 = std::min(omega2, std::sqrt(8.0 / d));  // det = −1
+  const double c = (1.0 - p) * (4.0 * p * p - 3.0 * p + 1.0);
+  if (c < 0.25) omega2 = std::min(omega2, 8.0 / (1.0 + std::sqrt(1.0 - 4.0 * c)));  // −1
+  return std::sqrt(omega2);
+}
 
 MethodDescriptor noh_bathe_method() {
   return {
@@ -100,6 +139,9 @@ MethodDescriptor noh_bathe_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
+      .stable_step = "Omega_crit(p) over the bound on omega_max",
   };
 }
 

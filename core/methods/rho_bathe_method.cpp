@@ -31,6 +31,28 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return RhoBatheParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<RhoBatheParams>(params);
+  if (auto e = require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]")) {
+    return e;
+  }
+  if (p.gamma && !(*p.gamma > 0.0 && *p.gamma < 1.0)) {
+    return ParameterError{"substep_ratio", format_value(*p.gamma),
+                          "must lie in (0, 1), both ends excluded"};
+  }
+  return std::nullopt;
+}
+
+CompositeCoefficients composite(const MethodParams& params) {
+  const auto& p = std::get<RhoBatheParams>(params);
+  return composite_step_coefficients(p.rho_inf,
+                                     p.gamma.value_or(rho_bathe_default_gamma(p.rho_inf)));
+}
+
 }  // namespace
 
 MethodDescriptor rho_bathe_method() {
@@ -50,6 +72,9 @@ MethodDescriptor rho_bathe_method() {
       .spectrum = &kCompositeSpectrum,
       .same_parameters = same_composite_coefficients,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
+      .composite_coefficients = composite,
   };
 }
 

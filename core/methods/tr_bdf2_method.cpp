@@ -14,6 +14,19 @@ MethodValues values(const MethodParams& params) {
   return out;
 }
 
+MethodParams defaults() {
+  return TrBdf2Params{};
+}
+
+std::optional<ParameterError> check(const MethodParams&) {
+  return {};
+}
+
+// ρ∞ = 0, γ = 2 − √2.
+CompositeCoefficients composite(const MethodParams&) {
+  return composite_step_coefficients(0.0, rho_bathe_default_gamma(0.0));
+}
+
 }  // namespace
 
 MethodDescriptor tr_bdf2_method() {
@@ -31,6 +44,9 @@ MethodDescriptor tr_bdf2_method() {
       .stages = 2,
       .spectrum = &kCompositeSpectrum,
       .same_parameters = same_composite_coefficients,
+      .defaults = defaults,
+      .validate = check,
+      .composite_coefficients = composite,
   };
 }
 

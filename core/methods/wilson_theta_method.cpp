@@ -79,7 +79,22 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
+MethodParams defaults() {
+  return WilsonThetaParams{};
+}
+
+std::optional<ParameterError> check(const MethodParams& params) {
+  const auto& p = std::get<WilsonThetaParams>(params);
+  return require_in_range(
+      "theta", p.theta, kWilsonThetaMinimum, kFiniteMax,
+      "must be >= (1+sqrt(3))/2 = 1.3660254 (unconditional stability) and finite");
+}
+
 }  // namespace
+
+WilsonThetaCoefficients wilson_theta_coefficients(const WilsonThetaParams& params) {
+  return {params.theta, kLinearAcceleration};
+}
 
 MethodDescriptor wilson_theta_method() {
   return {
@@ -97,6 +112,8 @@ MethodDescriptor wilson_theta_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
+      .defaults = defaults,
+      .validate = check,
   };
 }
 
