@@ -245,6 +245,7 @@ struct KrAlphaParams {
   double rho_inf = 0.8;  ///< ρ∞ ∈ [0, 1]
 };
 
+/// One alternative per method, in MethodKind's order (kind_of() is the alternative's index).
 using MethodParams =
     std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams, HhtParams,
                  GeneralizedAlphaParams, BatheParams, RhoBatheParams, TrBdf2Params, HouboltParams,
@@ -278,8 +279,9 @@ struct ImplicitCoefficients {
 /// Central difference, the composite schemes, Houbolt and Wilson-θ are not.
 bool is_single_step_implicit(const MethodParams& params);
 
-/// Coefficients of a single-step implicit method (is_single_step_implicit); derived here and only
-/// here.
+/// Coefficients of a single-step implicit method (is_single_step_implicit), from its descriptor
+/// (each derived in the method's own core/methods/<method>_method.cpp only); a placeholder for
+/// the others, which are not stepped by them.
 ImplicitCoefficients implicit_coefficients(const MethodParams& params);
 
 /// The composite schemes' two sub-steps, each a member of the ImplicitCoefficients family
@@ -293,8 +295,12 @@ struct CompositeCoefficients {
   ImplicitCoefficients first, second;
 };
 
-/// Coefficients of a composite method (Bathe, ρ∞-Bathe, TR-BDF2); derived here and only here.
+/// Coefficients of a composite method (Bathe, ρ∞-Bathe, TR-BDF2), from its descriptor; Bathe's
+/// for a method that is none.
 CompositeCoefficients composite_coefficients(const MethodParams& params);
+/// The composite coefficients at high-frequency spectral radius ρ∞ and sub-step ratio γ; derived
+/// here and only here.
+CompositeCoefficients composite_step_coefficients(double rho_inf, double gamma);
 
 /// Whether a method is stepped as a composite scheme (core/methods/bathe_composite.hpp).
 bool is_composite(const MethodParams& params);

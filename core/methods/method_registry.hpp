@@ -1,16 +1,20 @@
 // One descriptor per time-stepping method, which every layer loops over: the method's name, the
 // parameters a user may give it (their keys, docs, defaults and ranges), how the given ones build
-// its parameter struct (core/methods/method.hpp), and the values it reports (its parameters and the
-// coefficients derived from them). The command line's options and --help, plan keys and sweep
-// axes, `simulate`'s and `compare`'s reports, HDF5 attributes and work-precision columns all come
-// from here, so a method is added by its own files (parameter struct, integrator, amplification)
-// and one entry in method_registry.cpp.
+// its parameter struct (core/methods/method.hpp), the values it reports (its parameters and the
+// coefficients derived from them), its amplification matrix and stability data for the spectral
+// analysis, when two of its parameter sets step alike, and its families of adjustable
+// dissipation. The command line's options and --help, plan keys and sweep axes, `simulate`'s and
+// `compare`'s reports, HDF5 attributes, work-precision columns, the spectral analysis, the
+// references' cache and the damping-matched comparisons all come from here. Each method's
+// descriptor is built in its own file, core/methods/<method>_method.cpp, and registered by one
+// line of the list in method_registry.cpp (docs/architecture.md, "Adding a method").
 //
 // Keys are shared where the meaning is: `delta` is δ of eq. 13 for Newmark and HHT alike,
 // `hht_contact` where an α-method's contact force acts. A key's description says what it is for
 // each method that takes it.
 //
-// Thread safety: the registry is immutable; every function is reentrant.
+// Thread safety: the registry is immutable once built (on first use, thread-safe); every
+// function is reentrant.
 #pragma once
 
 #include <optional>
@@ -62,6 +66,23 @@ struct ReportedValue {
   bool derived;  ///< not a parameter the user gave or could give this method
 };
 
+struct MethodSpectrum;  // core/methods/method_spectrum.hpp
+
+/// A one-parameter family of a method whose algorithmic dissipation grows with the parameter:
+/// what a damping-matched comparison (study/studies/damping_match.hpp) searches.
+struct MethodDampingFamily {
+  const char* name;       ///< "newmark", "hht-eq19", …: unique over all methods
+  const char* label;      ///< for tables: "hht (delta = -1.5*alpha)"
+  const char* parameter;  ///< the plan/CLI key of the varied parameter: "delta", "alpha", …
+  /// The searched range, from the end without algorithmic damping (ξ̄ = 0: δ = 0, α = 0,
+  /// ρ∞ = 1) to the most dissipative end.
+  double undamped_end, damped_end;
+  /// The method's parameters at a value of the varied parameter.
+  MethodParams (*params)(double parameter);
+  /// Those parameters by their plan keys, as `impactid spectral --match-damping` reports them.
+  std::vector<std::pair<const char*, double>> (*parameters)(double parameter);
+};
+
 struct MethodDescriptor {
   MethodKind kind;
   const char* name;     ///< "hht": the name on the command line, in plans and in HDF5
@@ -80,6 +101,31 @@ struct MethodDescriptor {
   /// one (two for the composite schemes and the two-stage explicit ones). The unit of issue
   /// 19's speed bound, "no method more than 2.5× HHT's batched time per dof-step per stage".
   int stages = 1;
+  /// Its amplification matrix and stability data for the spectral analysis.
+  const MethodSpectrum* spectrum = nullptr;
+  /// Whether two parameter sets of this method step alike (equal derived coefficients where
+  /// they are derived: HHT with δ unset equals HHT with δ = −α).
+  bool (*same_parameters)(const MethodParams& a, const MethodParams& b) = nullptr;
+  /// Its families of adjustable dissipation, in the order damping matches list them; none when
+  /// its dissipation is fixed (backward Euler, central difference, …).
+  std::span<const MethodDampingFamily> damping_families = {};
+  /// Its default parameters (the defaults of its parameter struct).
+  MethodParams (*defaults)() = nullptr;
+  /// The first invalid field of its parameters ("delta", "rho_inf", …), or nothing.
+  std::optional<ParameterError> (*validate)(const MethodParams& params) = nullptr;
+  /// Its coefficients as a member of the single-step implicit family (ImplicitCoefficients),
+  /// what ImplicitIntegrator and the batched kernels step alone; null for the others.
+  ImplicitCoefficients (*implicit_coefficients)(const MethodParams& params) = nullptr;
+  /// Its two sub-steps' coefficients as a composite scheme (core/methods/bathe_composite.hpp);
+  /// null for the others.
+  CompositeCoefficients (*composite_coefficients)(const MethodParams& params) = nullptr;
+  /// Whether reports show the β and γ of its implicit_coefficients (the Newmark family:
+  /// Newmark, HHT, generalized-α).
+  bool reports_beta_gamma = false;
+  /// What the stable step a run of it certifies is based on ("Omega_crit(p) over the bound on
+  /// omega_max"), for `simulate`'s report; null when its runs certify none. The certificate
+  /// needs a diagonal mass.
+  const char* stable_step = nullptr;
 };
 
 /// Every method parameter's key, in the order --help and plan errors list them.
@@ -102,6 +148,10 @@ std::string method_names();
 /// method_parameters()' order; then the descriptor's make(). Not range-checked: validate().
 std::variant<MethodParams, ParameterError> build_method(MethodKind kind,
                                                         const MethodArguments& given);
+
+/// Whether a and b are the same method with parameters that step alike (the descriptor's
+/// same_parameters).
+bool same_method_parameters(const MethodParams& a, const MethodParams& b);
 
 /// The value `params` reports under `name` (a parameter or a derived coefficient), if any.
 std::optional<double> reported_value(const MethodParams& params, std::string_view name);

@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "core/methods/method_registry.hpp"
 #include "core/model/scene_assembly.hpp"
 #include "core/reference/chain_exact.hpp"
 
@@ -56,36 +57,8 @@ bool refined_samples(const Scene& scene, const SceneDerived& derived, int k,
 }  // namespace
 
 bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
-  if (a.tolerance != b.tolerance || a.max_refinements != b.max_refinements ||
-      kind_of(a.method) != kind_of(b.method)) {
-    return false;
-  }
-  if (kind_of(a.method) == MethodKind::central_difference) {
-    return std::get<CentralDifferenceParams>(a.method).velocity ==
-           std::get<CentralDifferenceParams>(b.method).velocity;
-  }
-  if (kind_of(a.method) == MethodKind::houbolt) return true;  // no parameter
-  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&a.method)) {
-    return noh_bathe->p == std::get<NohBatheParams>(b.method).p;
-  }
-  if (const auto* kim = std::get_if<KimExplicitParams>(&a.method)) {
-    return kim->p == std::get<KimExplicitParams>(b.method).p;
-  }
-  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&a.method)) {
-    return kr_alpha->rho_inf == std::get<KrAlphaParams>(b.method).rho_inf;
-  }
-  if (const auto* wilson = std::get_if<WilsonThetaParams>(&a.method)) {
-    return wilson->theta == std::get<WilsonThetaParams>(b.method).theta;
-  }
-  if (is_composite(a.method)) {  // compare both sub-steps' coefficients
-    const CompositeCoefficients x = composite_coefficients(a.method);
-    const CompositeCoefficients y = composite_coefficients(b.method);
-    return x.gamma == y.gamma && x.q0 == y.q0 && x.q1 == y.q1 && x.q2 == y.q2;
-  }
-  const ImplicitCoefficients x = implicit_coefficients(a.method);
-  const ImplicitCoefficients y = implicit_coefficients(b.method);
-  return x.b0 == y.b0 && x.b1 == y.b1 && x.g0 == y.g0 && x.g1 == y.g1 && x.alpha_m == y.alpha_m &&
-         x.alpha_f == y.alpha_f && x.contact_weight == y.contact_weight;
+  if (a.tolerance != b.tolerance || a.max_refinements != b.max_refinements) return false;
+  return same_method_parameters(a.method, b.method);
 }
 
 std::string SceneReference::description() const {

@@ -41,19 +41,11 @@ void write_contact_law(const Simulation& sim, const Evaluation& e) {
   if (std::isfinite(e.summary.stable_dt) && c.law == ContactLaw::penalty) {
     std::printf("stable dt   %.6g s (central difference with the penalty springs)\n",
                 e.summary.stable_dt);
-  } else if (std::holds_alternative<NohBatheParams>(sim.method)) {
+  } else if (const MethodDescriptor& m = descriptor(sim.method); m.stable_step) {
     if (e.summary.stable_dt > 0.0) {
-      std::printf("stable dt   %.6g s (noh-bathe: Omega_crit(p) over the bound on omega_max)\n",
-                  e.summary.stable_dt);
+      std::printf("stable dt   %.6g s (%s: %s)\n", e.summary.stable_dt, m.name, m.stable_step);
     } else {
-      std::printf("stable dt   not certified (noh-bathe: it needs a diagonal mass)\n");
-    }
-  } else if (std::holds_alternative<KimExplicitParams>(sim.method)) {
-    if (e.summary.stable_dt > 0.0) {
-      std::printf("stable dt   %.6g s (kim-explicit: Omega_crit(p) over the bound on omega_max)\n",
-                  e.summary.stable_dt);
-    } else {
-      std::printf("stable dt   not certified (kim-explicit: it needs a diagonal mass)\n");
+      std::printf("stable dt   not certified (%s: it needs a diagonal mass)\n", m.name);
     }
   }
   if (!e.summary.warning.empty()) std::printf("warning     %s\n", e.summary.warning.c_str());

@@ -1,9 +1,9 @@
 #include "study/studies/damping_match.hpp"
 
-#include <array>
 #include <cmath>
 #include <limits>
 
+#include "core/methods/method_registry.hpp"
 #include "core/spectral/amplification.hpp"
 
 namespace impactid {
@@ -11,22 +11,40 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-constexpr std::array<DampingFamilyInfo, 9> kFamilies{{
-    {DampingFamily::newmark, "newmark", "newmark", "delta", 0.0, 2.0},
-    {DampingFamily::hht_eq19, "hht-eq19", "hht (delta = -1.5*alpha)", "alpha", 0.0, -0.5},
-    {DampingFamily::hht_eq15, "hht-eq15", "hht (delta = -alpha)", "alpha", 0.0, -0.5},
-    {DampingFamily::generalized_alpha, "generalized-alpha", "generalized-alpha", "rho_inf", 1.0,
-     0.0},
-    {DampingFamily::rho_bathe, "rho-bathe", "rho-bathe", "rho_inf", 1.0, 0.0},
-    // Wilson-θ's ξ̄ grows with θ from its stability bound (1 + √3)/2 (ξ̄(1) = 0.034 there);
-    // 4 reaches ξ̄(1) = 0.2 and more, beyond any damping a user would match.
-    {DampingFamily::wilson_theta, "wilson-theta", "wilson-theta", "theta", 1.3660254037844386, 4.0},
-    // p = ½ has no dissipation; p < 1 by its range (0.99: the scan's end inside it).
-    {DampingFamily::noh_bathe, "noh-bathe", "noh-bathe", "p", 0.5, 0.99},
-    // Kim's p = ⅓ is the least dissipative end of its range, ½ the most.
-    {DampingFamily::kim_explicit, "kim-explicit", "kim-explicit", "p", 1.0 / 3.0, 0.5},
-    {DampingFamily::kr_alpha, "kr-alpha", "kr-alpha", "rho_inf", 1.0, 0.0},
-}};
+// A family with the method it belongs to.
+struct Family {
+  DampingFamilyInfo info;
+  const MethodDescriptor* method;
+  const MethodDampingFamily* family;
+};
+
+// Every registered method's families, in registry order; built on first use.
+struct Families {
+  std::vector<Family> all;
+  std::vector<DampingFamilyInfo> infos;
+  std::vector<std::pair<const char*, MethodParams>> fixed;
+
+  Families() {
+    for (const MethodDescriptor& m : method_registry()) {
+      if (m.damping_families.empty()) fixed.emplace_back(m.name, default_params(m.kind));
+      for (const MethodDampingFamily& f : m.damping_families) {
+        const DampingFamilyInfo info{
+            DampingFamily{all.size()}, f.name, f.label, f.parameter, f.undamped_end, f.damped_end};
+        all.push_back({info, &m, &f});
+        infos.push_back(info);
+      }
+    }
+  }
+};
+
+const Families& families() {
+  static const Families registered;
+  return registered;
+}
+
+const Family& family_of(DampingFamily family) {
+  return families().all[static_cast<std::size_t>(family)];
+}
 
 double damping_ratio(DampingFamily family, double parameter, double omega_dt) {
   return spectral_properties(family_params(family, parameter), omega_dt).damping_ratio;
@@ -35,35 +53,22 @@ double damping_ratio(DampingFamily family, double parameter, double omega_dt) {
 }  // namespace
 
 std::span<const DampingFamilyInfo> damping_families() {
-  return kFamilies;
+  return families().infos;
 }
 
 const DampingFamilyInfo& family_info(DampingFamily family) {
-  return kFamilies[static_cast<std::size_t>(family)];
+  return family_of(family).info;
+}
+
+std::optional<DampingFamily> find_damping_family(std::string_view name) {
+  for (const DampingFamilyInfo& f : damping_families()) {
+    if (name == f.name) return f.family;
+  }
+  return std::nullopt;
 }
 
 MethodParams family_params(DampingFamily family, double parameter) {
-  switch (family) {
-    case DampingFamily::newmark:
-      return NewmarkParams{.delta = parameter};
-    case DampingFamily::hht_eq19:
-      return HhtParams{.alpha = parameter, .delta = -1.5 * parameter};
-    case DampingFamily::hht_eq15:
-      return HhtParams{.alpha = parameter};
-    case DampingFamily::generalized_alpha:
-      return GeneralizedAlphaParams{.rho_inf = parameter};
-    case DampingFamily::rho_bathe:
-      return RhoBatheParams{.rho_inf = parameter};
-    case DampingFamily::wilson_theta:
-      return WilsonThetaParams{.theta = parameter};
-    case DampingFamily::noh_bathe:
-      return NohBatheParams{.p = parameter};
-    case DampingFamily::kim_explicit:
-      return KimExplicitParams{.p = parameter};
-    case DampingFamily::kr_alpha:
-      return KrAlphaParams{.rho_inf = parameter};
-  }
-  return BackwardEulerParams{};
+  return family_of(family).family->params(parameter);
 }
 
 DampingMatch match_damping(DampingFamily family, double omega_dt, double target_damping_ratio) {
@@ -143,58 +148,15 @@ DampingMatch match_damping(DampingFamily family, double omega_dt, double target_
 }
 
 std::vector<std::pair<const char*, double>> family_parameters(DampingFamily family, double p) {
-  switch (family) {
-    case DampingFamily::newmark:
-      return {{"delta", p}};
-    case DampingFamily::hht_eq19:
-      return {{"alpha", p}, {"delta", -1.5 * p}};
-    case DampingFamily::hht_eq15:
-      return {{"alpha", p}, {"delta", -p}};
-    case DampingFamily::generalized_alpha:
-    case DampingFamily::rho_bathe:
-    case DampingFamily::kr_alpha:
-      return {{"rho_inf", p}};
-    case DampingFamily::wilson_theta:
-      return {{"theta", p}};
-    case DampingFamily::noh_bathe:
-    case DampingFamily::kim_explicit:
-      return {{"p", p}};
-  }
-  return {};
+  return family_of(family).family->parameters(p);
 }
 
 const char* family_method(DampingFamily family) {
-  switch (family) {
-    case DampingFamily::newmark:
-      return "newmark";
-    case DampingFamily::hht_eq19:
-    case DampingFamily::hht_eq15:
-      return "hht";
-    case DampingFamily::generalized_alpha:
-      return "generalized-alpha";
-    case DampingFamily::rho_bathe:
-      return "rho-bathe";
-    case DampingFamily::wilson_theta:
-      return "wilson-theta";
-    case DampingFamily::noh_bathe:
-      return "noh-bathe";
-    case DampingFamily::kim_explicit:
-      return "kim-explicit";
-    case DampingFamily::kr_alpha:
-      return "kr-alpha";
-  }
-  return "";
+  return family_of(family).method->name;
 }
 
 std::span<const std::pair<const char*, MethodParams>> fixed_damping_methods() {
-  static const std::pair<const char*, MethodParams> fixed[] = {
-      {"backward-euler", BackwardEulerParams{}},
-      {"cdm", CentralDifferenceParams{}},
-      {"bathe", BatheParams{}},
-      {"tr-bdf2", TrBdf2Params{}},
-      {"houbolt", HouboltParams{}},
-  };
-  return fixed;
+  return families().fixed;
 }
 
 }  // namespace impactid

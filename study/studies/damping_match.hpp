@@ -8,7 +8,10 @@
 // Pure functions, thread-safe; nothing throws.
 #pragma once
 
+#include <cstddef>
+#include <optional>
 #include <span>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -16,18 +19,11 @@
 
 namespace impactid {
 
-/// One-parameter families with adjustable dissipation.
-enum class DampingFamily {
-  newmark,            ///< Newmark, δ of eq. 13, δ ∈ [0, 2]
-  hht_eq19,           ///< HHT along the paper's eq. 19, δ = −1.5α, α ∈ [−0.5, 0]
-  hht_eq15,           ///< HHT with δ = −α (eq. 15, second order), α ∈ [−0.5, 0]
-  generalized_alpha,  ///< generalized-α, ρ∞ ∈ [0, 1]
-  rho_bathe,          ///< ρ∞-Bathe at its default sub-step ratio γ₀(ρ∞), ρ∞ ∈ [0, 1]
-  wilson_theta,       ///< Wilson-θ, θ ∈ [(1 + √3)/2, 4] (its unconditionally stable range)
-  noh_bathe,          ///< Noh–Bathe explicit, p ∈ [½, 0.99] (ξ̄ is not monotone in p)
-  kim_explicit,       ///< Kim's two-stage explicit, p ∈ [⅓, ½]
-  kr_alpha,           ///< KR-α explicit, ρ∞ ∈ [0, 1]
-};
+/// A one-parameter family with adjustable dissipation: its place in damping_families(). The
+/// families are the registered methods' (MethodDescriptor::damping_families), in registry order:
+/// newmark (δ), hht-eq19 (α, δ = −1.5α), hht-eq15 (α, δ = −α), generalized-alpha (ρ∞),
+/// rho-bathe (ρ∞ at γ₀(ρ∞)), wilson-theta (θ), noh-bathe (p), kim-explicit (p), kr-alpha (ρ∞).
+enum class DampingFamily : std::size_t {};
 
 struct DampingFamilyInfo {
   DampingFamily family;
@@ -41,9 +37,11 @@ struct DampingFamilyInfo {
   double undamped_end, damped_end;
 };
 
-/// The families, in the order above.
+/// The families, in registry order.
 std::span<const DampingFamilyInfo> damping_families();
 const DampingFamilyInfo& family_info(DampingFamily family);
+/// The family named `name` ("hht-eq15"); nullopt if no method registers it.
+std::optional<DampingFamily> find_damping_family(std::string_view name);
 
 /// The method of a family at its parameter value (hht_eq19: α and δ = −1.5α; hht_eq15: α and
 /// δ unset, i.e. −α).
@@ -56,12 +54,12 @@ const char* family_method(DampingFamily family);
 std::vector<std::pair<const char*, double>> family_parameters(DampingFamily family,
                                                               double parameter);
 
-/// The methods without a damping parameter whose fixed ξ̄(Ω) a match is reported beside, by
-/// name: backward-euler, cdm, bathe, tr-bdf2, houbolt.
+/// The methods without a damping parameter (no damping family), whose fixed ξ̄(Ω) a match is
+/// reported beside, by name, in registry order: cdm, backward-euler, bathe, tr-bdf2, houbolt.
 std::span<const std::pair<const char*, MethodParams>> fixed_damping_methods();
 
 struct DampingMatch {
-  DampingFamily family = DampingFamily::newmark;
+  DampingFamily family{};
   bool reachable = false;
   /// The matched parameter (NaN when not reachable) and the ξ̄ it gives.
   double parameter = 0.0, damping_ratio = 0.0;

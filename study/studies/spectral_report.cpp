@@ -1,5 +1,6 @@
 #include "study/studies/spectral_report.hpp"
 
+#include "core/methods/method_registry.hpp"
 #include "study/studies/spectral_study.hpp"
 
 namespace impactid {
@@ -20,9 +21,11 @@ SpectralReport spectral_report(const Simulation& simulation, std::optional<doubl
   r.period_error_coefficient = period_error_coefficient(params);
   r.max_rho = stability_scan_max_rho(params, r.omega_max);
   r.stable = is_stable(params, r.omega_max);
-  if (const auto* hht = std::get_if<HhtParams>(&params)) {
-    r.alpha = hht->alpha;
-    r.delta_min_limit = hht_delta_minimizing_period_error(hht->alpha, std::nullopt);
+  // The δ that minimises the period error is HHT's (independent α and δ): reported for the
+  // method whose parameters include α.
+  if (method_takes(descriptor(params), "alpha")) {
+    r.alpha = reported_value(params, "alpha");
+    r.delta_min_limit = hht_delta_minimizing_period_error(*r.alpha, std::nullopt);
   }
   for (const double w : omega_dt) {
     SpectralAtOmega a{w, spectral_properties(params, w)};
