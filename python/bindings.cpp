@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/common/kernel_level.hpp"
+#include "core/contact/contact_law_registry.hpp"
 #include "core/model/scene_assembly.hpp"
 #include "core/reference/model_reference.hpp"
 #include "metrics/indicator_table.hpp"
@@ -132,7 +133,7 @@ py::dict run_dict(const Simulation& sim, const Evaluation& e,
   out["message"] = e.summary.message;
   out["warning"] = e.summary.warning;
   out["contact"] = to_string(sim.run.contact.law);
-  if (sim.run.contact.law != ContactLaw::lagrange) {
+  if (descriptor(sim.run.contact.law).springs) {
     out["contact_iterations"] = e.summary.contact_iterations;
     out["unconverged_contact_steps"] = e.summary.unconverged_contact_steps;
     out["stable_dt"] = finite_or_none(e.summary.stable_dt);
@@ -427,6 +428,11 @@ PYBIND11_MODULE(_impactid, m) {
   m.def("methods", [] {
     std::vector<std::string> names;
     for (const MethodDescriptor& d : method_registry()) names.emplace_back(d.name);
+    return names;
+  });
+  m.def("contact_laws", [] {
+    std::vector<std::string> names;
+    for (const ContactLawDescriptor& d : contact_law_registry()) names.emplace_back(d.name);
     return names;
   });
   m.def("indicators", [] {

@@ -5,48 +5,6 @@
 
 namespace impactid {
 
-const char* to_string(ContactLaw law) {
-  switch (law) {
-    case ContactLaw::lagrange:
-      return "lagrange";
-    case ContactLaw::penalty:
-      return "penalty";
-    case ContactLaw::augmented_lagrangian:
-      return "augmented-lagrangian";
-  }
-  return "unknown";
-}
-
-std::optional<ContactLaw> contact_law_from_string(const std::string& name) {
-  for (ContactLaw law :
-       {ContactLaw::lagrange, ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
-    if (name == to_string(law)) return law;
-  }
-  return std::nullopt;
-}
-
-std::optional<ParameterError> validate(const ContactTreatment& t) {
-  if (t.penalty_stiffness) {
-    if (!(*t.penalty_stiffness > 0.0) || !std::isfinite(*t.penalty_stiffness)) {
-      return ParameterError{"penalty_stiffness", format_value(*t.penalty_stiffness),
-                            "must be a finite number > 0 [N/mm]"};
-    }
-  }
-  if (!(t.penalty_factor > 0.0) || !std::isfinite(t.penalty_factor)) {
-    return ParameterError{"penalty_factor", format_value(t.penalty_factor),
-                          "must be a finite number > 0"};
-  }
-  if (!(t.augmented_tolerance > 0.0 && t.augmented_tolerance < 1.0)) {
-    return ParameterError{"augmented_tolerance", format_value(t.augmented_tolerance),
-                          "must lie in (0, 1)"};
-  }
-  if (t.augmented_max_iterations < 1) {
-    return ParameterError{"augmented_max_iterations", std::to_string(t.augmented_max_iterations),
-                          "must be an integer >= 1"};
-  }
-  return std::nullopt;
-}
-
 namespace {
 
 // The law and its numbers, with the springs of a constraint list; `k(dof)` is K's diagonal entry.

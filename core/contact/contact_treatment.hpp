@@ -1,5 +1,7 @@
 // How a unilateral contact g = u[plus] − u[minus] − gap <= 0 is enforced: by a Lagrange
 // multiplier (the paper's, and the default), by a penalty force, or by an augmented Lagrangian.
+// The laws' names, parameters and validation are their registry's
+// (core/contact/contact_law_registry.hpp); this file is their arithmetic.
 // Every method enforces the constraint where its Lagrange multiplier does (core/methods/method.hpp:
 // the end of the step, and the end of each sub-step for the composite schemes; central difference
 // at t + Δt through its forward-increment force at t), and each law changes only the step's
@@ -42,35 +44,11 @@
 #include <vector>
 
 #include "core/algebra/two_wall_contact.hpp"
-#include "core/common/parameter_error.hpp"
+#include "core/contact/contact_law_registry.hpp"
 #include "core/model/second_order_system.hpp"
 #include "core/model/sparse_system.hpp"
 
 namespace impactid {
-
-enum class ContactLaw { lagrange, penalty, augmented_lagrangian };
-/// "lagrange", "penalty", "augmented-lagrangian": the names on the command line, in plans (the
-/// `contact` key and axis) and in HDF5 attributes.
-const char* to_string(ContactLaw law);
-std::optional<ContactLaw> contact_law_from_string(const std::string& name);
-
-struct ContactTreatment {
-  ContactLaw law = ContactLaw::lagrange;
-  /// [N/mm] penalty stiffness k of every contact (penalty, augmented-lagrangian); > 0. Unset: k is
-  /// penalty_factor times each contact dof's stiffness.
-  std::optional<double> penalty_stiffness;
-  double penalty_factor = 1.0;  ///< > 0; used when penalty_stiffness is unset
-  /// augmented-lagrangian: stop once the largest penetration is at most this fraction of the
-  /// step's largest contact-free penetration; in (0, 1).
-  double augmented_tolerance = 1e-6;
-  int augmented_max_iterations = 100;  ///< augmented-lagrangian: iterations per step at most; >= 1
-
-  bool operator==(const ContactTreatment&) const = default;
-};
-
-/// The first invalid field (penalty_stiffness, penalty_factor, augmented_tolerance,
-/// augmented_max_iterations), or nothing.
-std::optional<ParameterError> validate(const ContactTreatment& treatment);
 
 /// [N/mm] the spring k of a contact whose dof has stiffness K_cc: penalty_stiffness if given,
 /// otherwise penalty_factor·K_cc.
@@ -87,6 +65,9 @@ struct ContactPenalties {
   int max_iterations = 100;
 
   bool lagrange() const { return law == ContactLaw::lagrange; }
+  /// The registry's ContactLawDescriptor::explicit_force, as a comparison the step loops can
+  /// afford (tests/contact_law_registry_test.cpp holds the two equal).
+  bool explicit_force() const { return law == ContactLaw::penalty; }
 };
 
 ContactPenalties resolve_contact(const ContactTreatment& treatment,
