@@ -1,7 +1,6 @@
 // The augmented Lagrangian: Uzawa's iterations on the penalty problem of every method, from the
-// penalty's solution to Lagrange's multiplier (core/contact/contact_treatment.hpp:
-// augmented_lagrangian()). It takes the penalty's spring, which sets the iterations' speed, and
-// introduces when to stop.
+// penalty's solution to Lagrange's multiplier (core/contact/augmented_lagrangian_law.hpp). It takes
+// the penalty's spring, which sets the iterations' speed, and introduces when to stop.
 #include <string>
 
 #include "core/contact/contact_law_registry.hpp"

@@ -6,11 +6,11 @@
 // `impactid contact-laws`, `simulate`'s report and the Python module all come from here.
 //
 // Each law is defined in its own file (core/contact/lagrange_law.cpp, penalty_law.cpp,
-// augmented_lagrangian_law.cpp) with the parameters it introduces; the augmented Lagrangian also
-// takes the penalty's. The arithmetic of the laws (the forces of one wall, two walls, a constraint
-// list, Uzawa's iterations, the springs in the explicit stable step) is in core/contact/ too
-// (contact_treatment.hpp, constraint_list_law.hpp, explicit_stage_contact.hpp, stable_step.hpp);
-// docs/architecture.md, "Adding a contact law", lists what a new law touches.
+// augmented_lagrangian_law.cpp) with the parameters it introduces and its own arithmetic (the
+// spring's k, Uzawa's iterations: penalty_law.hpp, augmented_lagrangian_law.hpp). The solves that
+// the steppers call (one wall, two walls, a constraint list, the explicit stages, the explicit
+// stable step) are in core/contact/ too (contact_treatment, constraint_list_law, ...);
+// docs/architecture.md, "A contact law", lists what a new law touches.
 //
 // Whether a method refuses a law is the method's to say, not the law's: core/methods sits above
 // core/contact and may name laws, not the other way round. No method refuses one today (KR-α

@@ -28,10 +28,6 @@ ContactPenalties resolve_listed(const ContactTreatment& t,
 
 }  // namespace
 
-double penalty_stiffness(const ContactTreatment& t, double dof_stiffness) {
-  return t.penalty_stiffness ? *t.penalty_stiffness : t.penalty_factor * dof_stiffness;
-}
-
 ContactPenalties resolve_contact(const ContactTreatment& t, const SecondOrderSystem& system) {
   const Eigen::VectorXd& k = system.stiffness.diag;
   ContactPenalties out =
@@ -52,7 +48,7 @@ double single_contact_force(double p, double d, double compliance,
   if (penalties.law != ContactLaw::augmented_lagrangian) return p / (d + compliance);
   double mu = 0.0, shift = 0.0;
   iterations = augmented_lagrangian(
-      1, &compliance, p, penalties, &mu, &shift,
+      1, &compliance, p, penalties.tolerance, penalties.max_iterations, &mu, &shift,
       [&](const double* s, double* out) { out[0] = (p + s[0]) / (d + compliance); },
       [&](const double* out, int) { return p - d * out[0]; });
   return mu;
@@ -69,7 +65,8 @@ TwoWallForces two_wall_contact_forces(double p_main, double p_far, double d_main
   const double compliance[2] = {main_compliance, far_compliance};
   double mu[2] = {0.0, 0.0}, shift[2];
   iterations = augmented_lagrangian(
-      2, compliance, std::max(p_main, p_far), penalties, mu, shift,
+      2, compliance, std::max(p_main, p_far), penalties.tolerance, penalties.max_iterations, mu,
+      shift,
       [&](const double* sh, double* out) {
         const TwoWallForces f =
             solve_two_wall_contact(p_main + sh[0], p_far + sh[1], dm, df, c_main_far, c_far_main);

@@ -44,15 +44,13 @@
 #include <vector>
 
 #include "core/algebra/two_wall_contact.hpp"
+#include "core/contact/augmented_lagrangian_law.hpp"
 #include "core/contact/contact_law_registry.hpp"
+#include "core/contact/penalty_law.hpp"
 #include "core/model/second_order_system.hpp"
 #include "core/model/sparse_system.hpp"
 
 namespace impactid {
-
-/// [N/mm] the spring k of a contact whose dof has stiffness K_cc: penalty_stiffness if given,
-/// otherwise penalty_factor·K_cc.
-double penalty_stiffness(const ContactTreatment& treatment, double dof_stiffness);
 
 /// A treatment resolved for one system: the law and each constraint's penalty stiffness k [N/mm]
 /// (unused for lagrange). What the integrators' initialize() take.
@@ -74,37 +72,6 @@ ContactPenalties resolve_contact(const ContactTreatment& treatment,
                                  const SecondOrderSystem& system);
 /// The same for a model of sparse matrices: its constraint list (main and far unused).
 ContactPenalties resolve_contact(const ContactTreatment& treatment, const SparseSystem& system);
-
-/// Iterations of one step's contact solve (augmented-lagrangian; 0 for the others).
-struct ContactIterations {
-  int iterations = 0;
-  bool converged = true;
-};
-
-/// Uzawa's iterations (augmented-lagrangian) on a problem of m contacts: `solve_penalized(shift,
-/// mu)` must write to mu the solution of the penalty problem whose contact-free penetrations are
-/// p + shift (shift_k = μ_j,k·compliance_k), `penetration(mu, k)` the penetration g_k that mu
-/// leaves. `mu` holds the last iterate; `shift` (m entries) is scratch. No allocation.
-template <class SolvePenalized, class Penetration>
-ContactIterations augmented_lagrangian(int m, const double* compliance, double largest_free,
-                                       const ContactPenalties& penalties, double* mu, double* shift,
-                                       SolvePenalized&& solve_penalized,
-                                       Penetration&& penetration) {
-  ContactIterations out;
-  for (int k = 0; k < m; ++k) shift[k] = 0.0;
-  const double bound = penalties.tolerance * largest_free;
-  for (out.iterations = 1;; ++out.iterations) {
-    solve_penalized(shift, mu);
-    double worst = 0.0;
-    for (int k = 0; k < m; ++k) worst = std::max(worst, penetration(mu, k));
-    if (worst <= bound) return out;
-    if (out.iterations == penalties.max_iterations) {
-      out.converged = false;
-      return out;
-    }
-    for (int k = 0; k < m; ++k) shift[k] = mu[k] * compliance[k];
-  }
-}
 
 /// One contact's weighted force under a law other than Lagrange's, from its contact-free
 /// penetration p > 0, the penetration d a unit weighted force removes, and its compliance

@@ -2,12 +2,18 @@
 // (core/contact/contact_treatment.hpp: how each family of methods applies it, and why the
 // default k is the contact dof's own stiffness). Its two parameters set k; the augmented
 // Lagrangian takes them too.
+#include "core/contact/penalty_law.hpp"
+
 #include <cmath>
 #include <limits>
 
 #include "core/contact/contact_law_registry.hpp"
 
 namespace impactid {
+
+double penalty_stiffness(const ContactTreatment& t, double dof_stiffness) {
+  return t.penalty_stiffness ? *t.penalty_stiffness : t.penalty_factor * dof_stiffness;
+}
 namespace {
 
 constexpr ContactLawParameter kPenaltyParameters[] = {
