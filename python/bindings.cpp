@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/common/kernel_level.hpp"
+#include "core/contact/contact_law_registry.hpp"
 #include "core/model/scene_assembly.hpp"
 #include "core/reference/model_reference.hpp"
 #include "metrics/indicator_table.hpp"
@@ -133,7 +134,7 @@ py::dict run_dict(const Simulation& sim, const Evaluation& e,
   out["message"] = e.summary.message;
   out["warning"] = e.summary.warning;
   out["contact"] = to_string(sim.run.contact.law);
-  if (sim.run.contact.law != ContactLaw::lagrange) {
+  if (descriptor(sim.run.contact.law).springs) {
     out["contact_iterations"] = e.summary.contact_iterations;
     out["unconverged_contact_steps"] = e.summary.unconverged_contact_steps;
     out["stable_dt"] = finite_or_none(e.summary.stable_dt);
@@ -436,6 +437,11 @@ PYBIND11_MODULE(_impactid, m) {
     std::ostringstream out;
     write_methods_json(out);
     return out.str();
+  });
+  m.def("contact_laws", [] {
+    std::vector<std::string> names;
+    for (const ContactLawDescriptor& d : contact_law_registry()) names.emplace_back(d.name);
+    return names;
   });
   m.def("indicators", [] {
     std::vector<std::string> names;

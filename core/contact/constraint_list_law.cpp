@@ -88,7 +88,8 @@ void ConstraintListLaw::solve(const ConstraintListProblem& problem, Eigen::Vecto
   // Uzawa's iterations: μ_{i+1} solves the penalised problem whose violations are shifted by
   // compliance·μ_i; the penetration μ leaves is p − D·μ.
   count(augmented_lagrangian(
-      m, compliance_.data(), violation_.maxCoeff(), contact_, forces.data(), shift_.data(),
+      m, compliance_.data(), violation_.maxCoeff(), contact_.tolerance, contact_.max_iterations,
+      forces.data(), shift_.data(),
       [&](const double* sh, double* out) {
         for (int j = 0; j < m; ++j) shifted_[j] = violation_[j] + sh[j];
         solve_lcp(problem.penalized, shifted_.data(), out);

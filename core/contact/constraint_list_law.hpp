@@ -6,11 +6,11 @@
 // method's step operator, core/algebra/contact_lcp.hpp), by the law:
 // - **lagrange**: LCP(−p, D) by Murty's pivoting; the gaps hold exactly.
 // - **penalty**, in one of two forms, fixed at initialize() by the method:
-//   - `PenaltyForm::solved_with_step` (the implicit methods): the same LCP with
-//     D + diag(compliance), the spring solved with the step;
-//   - `PenaltyForm::explicit_spring` (central difference, the explicit stages, KR-α's refusal
-//     aside): μ_j = k_j·max(0, g_j) of the violation at the displacement the equilibrium is
-//     taken at; no solve.
+//   - `PenaltyForm::solved_with_step` (the implicit methods, KR-α's forward increment): the same
+//     LCP with D + diag(compliance), the spring solved with the step;
+//   - `PenaltyForm::explicit_spring` (central difference, the explicit stages):
+//     μ_j = k_j·max(0, g_j) of the violation at the displacement the equilibrium is taken at; no
+//     solve.
 // - **augmented-lagrangian**: Uzawa's iterations (core/contact/contact_treatment.hpp) on the
 // penalised
 //   problem (D + C)·μ = p + C·μ_i, C = diag(compliance), counted here.

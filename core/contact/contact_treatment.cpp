@@ -5,48 +5,6 @@
 
 namespace impactid {
 
-const char* to_string(ContactLaw law) {
-  switch (law) {
-    case ContactLaw::lagrange:
-      return "lagrange";
-    case ContactLaw::penalty:
-      return "penalty";
-    case ContactLaw::augmented_lagrangian:
-      return "augmented-lagrangian";
-  }
-  return "unknown";
-}
-
-std::optional<ContactLaw> contact_law_from_string(const std::string& name) {
-  for (ContactLaw law :
-       {ContactLaw::lagrange, ContactLaw::penalty, ContactLaw::augmented_lagrangian}) {
-    if (name == to_string(law)) return law;
-  }
-  return std::nullopt;
-}
-
-std::optional<ParameterError> validate(const ContactTreatment& t) {
-  if (t.penalty_stiffness) {
-    if (!(*t.penalty_stiffness > 0.0) || !std::isfinite(*t.penalty_stiffness)) {
-      return ParameterError{"penalty_stiffness", format_value(*t.penalty_stiffness),
-                            "must be a finite number > 0 [N/mm]"};
-    }
-  }
-  if (!(t.penalty_factor > 0.0) || !std::isfinite(t.penalty_factor)) {
-    return ParameterError{"penalty_factor", format_value(t.penalty_factor),
-                          "must be a finite number > 0"};
-  }
-  if (!(t.augmented_tolerance > 0.0 && t.augmented_tolerance < 1.0)) {
-    return ParameterError{"augmented_tolerance", format_value(t.augmented_tolerance),
-                          "must lie in (0, 1)"};
-  }
-  if (t.augmented_max_iterations < 1) {
-    return ParameterError{"augmented_max_iterations", std::to_string(t.augmented_max_iterations),
-                          "must be an integer >= 1"};
-  }
-  return std::nullopt;
-}
-
 namespace {
 
 // The law and its numbers, with the springs of a constraint list; `k(dof)` is K's diagonal entry.
@@ -70,10 +28,6 @@ ContactPenalties resolve_listed(const ContactTreatment& t,
 
 }  // namespace
 
-double penalty_stiffness(const ContactTreatment& t, double dof_stiffness) {
-  return t.penalty_stiffness ? *t.penalty_stiffness : t.penalty_factor * dof_stiffness;
-}
-
 ContactPenalties resolve_contact(const ContactTreatment& t, const SecondOrderSystem& system) {
   const Eigen::VectorXd& k = system.stiffness.diag;
   ContactPenalties out =
@@ -94,7 +48,7 @@ double single_contact_force(double p, double d, double compliance,
   if (penalties.law != ContactLaw::augmented_lagrangian) return p / (d + compliance);
   double mu = 0.0, shift = 0.0;
   iterations = augmented_lagrangian(
-      1, &compliance, p, penalties, &mu, &shift,
+      1, &compliance, p, penalties.tolerance, penalties.max_iterations, &mu, &shift,
       [&](const double* s, double* out) { out[0] = (p + s[0]) / (d + compliance); },
       [&](const double* out, int) { return p - d * out[0]; });
   return mu;
@@ -111,7 +65,8 @@ TwoWallForces two_wall_contact_forces(double p_main, double p_far, double d_main
   const double compliance[2] = {main_compliance, far_compliance};
   double mu[2] = {0.0, 0.0}, shift[2];
   iterations = augmented_lagrangian(
-      2, compliance, std::max(p_main, p_far), penalties, mu, shift,
+      2, compliance, std::max(p_main, p_far), penalties.tolerance, penalties.max_iterations, mu,
+      shift,
       [&](const double* sh, double* out) {
         const TwoWallForces f =
             solve_two_wall_contact(p_main + sh[0], p_far + sh[1], dm, df, c_main_far, c_far_main);

@@ -1,5 +1,7 @@
 // How a unilateral contact g = u[plus] − u[minus] − gap <= 0 is enforced: by a Lagrange
 // multiplier (the paper's, and the default), by a penalty force, or by an augmented Lagrangian.
+// The laws' names, parameters and validation are their registry's
+// (core/contact/contact_law_registry.hpp); this file is their arithmetic.
 // Every method enforces the constraint where its Lagrange multiplier does (core/methods/method.hpp:
 // the end of the step, and the end of each sub-step for the composite schemes; central difference
 // at t + Δt through its forward-increment force at t), and each law changes only the step's
@@ -42,39 +44,13 @@
 #include <vector>
 
 #include "core/algebra/two_wall_contact.hpp"
-#include "core/common/parameter_error.hpp"
+#include "core/contact/augmented_lagrangian_law.hpp"
+#include "core/contact/contact_law_registry.hpp"
+#include "core/contact/penalty_law.hpp"
 #include "core/model/second_order_system.hpp"
 #include "core/model/sparse_system.hpp"
 
 namespace impactid {
-
-enum class ContactLaw { lagrange, penalty, augmented_lagrangian };
-/// "lagrange", "penalty", "augmented-lagrangian": the names on the command line, in plans (the
-/// `contact` key and axis) and in HDF5 attributes.
-const char* to_string(ContactLaw law);
-std::optional<ContactLaw> contact_law_from_string(const std::string& name);
-
-struct ContactTreatment {
-  ContactLaw law = ContactLaw::lagrange;
-  /// [N/mm] penalty stiffness k of every contact (penalty, augmented-lagrangian); > 0. Unset: k is
-  /// penalty_factor times each contact dof's stiffness.
-  std::optional<double> penalty_stiffness;
-  double penalty_factor = 1.0;  ///< > 0; used when penalty_stiffness is unset
-  /// augmented-lagrangian: stop once the largest penetration is at most this fraction of the
-  /// step's largest contact-free penetration; in (0, 1).
-  double augmented_tolerance = 1e-6;
-  int augmented_max_iterations = 100;  ///< augmented-lagrangian: iterations per step at most; >= 1
-
-  bool operator==(const ContactTreatment&) const = default;
-};
-
-/// The first invalid field (penalty_stiffness, penalty_factor, augmented_tolerance,
-/// augmented_max_iterations), or nothing.
-std::optional<ParameterError> validate(const ContactTreatment& treatment);
-
-/// [N/mm] the spring k of a contact whose dof has stiffness K_cc: penalty_stiffness if given,
-/// otherwise penalty_factor·K_cc.
-double penalty_stiffness(const ContactTreatment& treatment, double dof_stiffness);
 
 /// A treatment resolved for one system: the law and each constraint's penalty stiffness k [N/mm]
 /// (unused for lagrange). What the integrators' initialize() take.
@@ -87,43 +63,15 @@ struct ContactPenalties {
   int max_iterations = 100;
 
   bool lagrange() const { return law == ContactLaw::lagrange; }
+  /// The registry's ContactLawDescriptor::explicit_force, as a comparison the step loops can
+  /// afford (tests/contact_law_registry_test.cpp holds the two equal).
+  bool explicit_force() const { return law == ContactLaw::penalty; }
 };
 
 ContactPenalties resolve_contact(const ContactTreatment& treatment,
                                  const SecondOrderSystem& system);
 /// The same for a model of sparse matrices: its constraint list (main and far unused).
 ContactPenalties resolve_contact(const ContactTreatment& treatment, const SparseSystem& system);
-
-/// Iterations of one step's contact solve (augmented-lagrangian; 0 for the others).
-struct ContactIterations {
-  int iterations = 0;
-  bool converged = true;
-};
-
-/// Uzawa's iterations (augmented-lagrangian) on a problem of m contacts: `solve_penalized(shift,
-/// mu)` must write to mu the solution of the penalty problem whose contact-free penetrations are
-/// p + shift (shift_k = μ_j,k·compliance_k), `penetration(mu, k)` the penetration g_k that mu
-/// leaves. `mu` holds the last iterate; `shift` (m entries) is scratch. No allocation.
-template <class SolvePenalized, class Penetration>
-ContactIterations augmented_lagrangian(int m, const double* compliance, double largest_free,
-                                       const ContactPenalties& penalties, double* mu, double* shift,
-                                       SolvePenalized&& solve_penalized,
-                                       Penetration&& penetration) {
-  ContactIterations out;
-  for (int k = 0; k < m; ++k) shift[k] = 0.0;
-  const double bound = penalties.tolerance * largest_free;
-  for (out.iterations = 1;; ++out.iterations) {
-    solve_penalized(shift, mu);
-    double worst = 0.0;
-    for (int k = 0; k < m; ++k) worst = std::max(worst, penetration(mu, k));
-    if (worst <= bound) return out;
-    if (out.iterations == penalties.max_iterations) {
-      out.converged = false;
-      return out;
-    }
-    for (int k = 0; k < m; ++k) shift[k] = mu[k] * compliance[k];
-  }
-}
 
 /// One contact's weighted force under a law other than Lagrange's, from its contact-free
 /// penetration p > 0, the penetration d a unit weighted force removes, and its compliance

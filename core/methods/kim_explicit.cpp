@@ -106,7 +106,7 @@ bool KimScheme<StageContact, System>::step(const System& system, State& state) {
   contact_.solve_acceleration(system, u_predicted_, v_predicted_, state.a);
   correct(state);
   clear_multipliers(state);
-  if (contact_.law().law == ContactLaw::penalty) {
+  if (contact_.law().explicit_force()) {
     // The explicit spring force of the equilibrium at ũ₁ (the header): it moves u₁ by s_u per
     // unit of a₁ and the velocity through the divided difference; nothing is solved for the
     // next force point.
@@ -133,7 +133,7 @@ bool KimScheme<StageContact, System>::step(const System& system, State& state) {
   for (Eigen::Index i = 0; i < n; ++i) {
     u_next_[i] = state.u[i] + first * state.v[i] + half_first2 * state.a[i];
   }
-  if (contact_.law().law != ContactLaw::penalty &&
+  if (!contact_.law().explicit_force() &&
       contact_.enforce(system, next_, state.a, u_next_, u_next_)) {
     contact_.add_last(system, state);
     contact_.apply_last(system, sample_.scale, state.u);

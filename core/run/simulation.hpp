@@ -46,9 +46,9 @@ struct RunOptions {
   /// mass-proportional damping), the steps up to shortly before the impact are filled in rather
   /// than computed; the results differ from stepped ones by round-off only.
   bool skip_free_flight = true;
-  /// How every contact is enforced (core/contact/contact_treatment.hpp): Lagrange multipliers by
-  /// default; penalty and augmented Lagrangian on every scene, for the methods that take them
-  /// (KR-α refuses the penalty).
+  /// How every contact is enforced (core/contact/contact_law_registry.hpp lists the laws):
+  /// Lagrange multipliers by default; the penalty and the augmented Lagrangian on every scene,
+  /// with every method.
   ContactTreatment contact;
 };
 

@@ -50,6 +50,7 @@ __all__ = [
     "parameters",
     "kernels",
     "methods",
+    "contact_laws",
 ]
 
 
@@ -89,6 +90,12 @@ def parameters() -> list[dict]:
 def methods() -> list[str]:
     """Every method's name, in the order `impactid compare` lists them."""
     return _impactid.methods()
+
+
+def contact_laws() -> list[str]:
+    """Every contact law's name (the values of `contact=`), in the order `impactid contact-laws`
+    lists them; that command describes each with its parameters."""
+    return _impactid.contact_laws()
 
 
 class Run:

@@ -106,3 +106,18 @@ def test_an_unknown_keyword_is_refused_with_a_suggestion(function, keyword, sugg
 def test_an_unknown_keyword_without_a_near_name():
     with pytest.raises(TypeError, match=r"unexpected keyword argument 'zzzz'$"):
         impactid.simulate(zzzz=1)
+
+
+def test_contact_laws_are_the_programs_and_every_law_parameter_a_keyword(executable):
+    done = subprocess.run([executable, "contact-laws", "--json"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    laws = json.loads(done.stdout)
+    assert impactid.contact_laws() == [law["name"] for law in laws]
+    info = {p["name"]: p for p in impactid.parameters()}
+    assert info["contact"]["choices"].split("|") == impactid.contact_laws()
+    simulate = inspect.signature(impactid.simulate).parameters
+    for law in laws:
+        for p in law["parameters"]:
+            assert p["name"] in simulate, (law["name"], p["name"])
+            assert info[p["name"]]["kind"] == p["kind"]
+            assert info[p["name"]]["unit"] == p["unit"]

@@ -13,6 +13,7 @@
 
 #include "core/common/kernel_level.hpp"
 #include "study/cli/command_line.hpp"
+#include "study/cli/contact_laws_command.hpp"
 #include "study/cli/merge_command.hpp"
 #include "study/cli/methods_command.hpp"
 #include "study/cli/model_export.hpp"
@@ -132,8 +133,8 @@ int impactid_main(int argc, char** argv, const Runners& runners) {
       impactid::add_simulate_command(app), impactid::add_compare_command(app),
       impactid::add_spectral_command(app), impactid::add_run_command(app, runners),
       impactid::add_export_command(app),   impactid::add_export_model_command(app),
-      impactid::add_methods_command(app),  impactid::add_merge_command(app),
-      impactid::add_plot_command(app),
+      impactid::add_methods_command(app),  impactid::add_contact_laws_command(app),
+      impactid::add_merge_command(app),    impactid::add_plot_command(app),
   };
   if (argc <= 1) {  // nothing asked: what there is to ask, as --help gives it
     std::cout << app.help();

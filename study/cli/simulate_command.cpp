@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 
+#include "core/contact/contact_law_registry.hpp"
 #include "study/cli/command_line.hpp"
 #include "study/formats/json_writer.hpp"
 #include "study/io/history_file.hpp"
@@ -23,22 +24,23 @@ void for_each_used_parameter(const Simulation& sim, Emit&& emit) {
   }
 }
 
-// The contact law's line of the text report, when it is not Lagrange's, and a run's warning.
+// The contact law's line of the text report, for a law with springs, and a run's warning.
 void write_contact_law(const Simulation& sim, const Evaluation& e) {
   const ContactTreatment& c = sim.run.contact;
-  if (c.law != ContactLaw::lagrange) {
+  const ContactLawDescriptor& law = descriptor(c.law);
+  if (law.springs) {
     std::string stiffness = c.penalty_stiffness
                                 ? "k = " + format_value(*c.penalty_stiffness) + " N/mm"
                                 : "k = " + format_value(c.penalty_factor) + " x K_cc";
     std::printf("contact law %s, %s; largest penetration = %.4g mm", to_string(c.law),
                 stiffness.c_str(), e.indicators.max_penetration);
-    if (c.law == ContactLaw::augmented_lagrangian) {
+    if (law.iterates) {
       std::printf("; %ld iteration(s), %ld step(s) at the cap of %d", e.summary.contact_iterations,
                   e.summary.unconverged_contact_steps, c.augmented_max_iterations);
     }
     std::printf("\n");
   }
-  if (std::isfinite(e.summary.stable_dt) && c.law == ContactLaw::penalty) {
+  if (std::isfinite(e.summary.stable_dt) && law.explicit_force) {
     std::printf("stable dt   %.6g s (central difference with the penalty springs)\n",
                 e.summary.stable_dt);
   } else if (const MethodDescriptor& m = descriptor(sim.method); m.stable_step) {
@@ -77,7 +79,7 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("message").value(e.summary.message);
   json.key("warning").value(e.summary.warning);
   json.key("contact").value(to_string(sim.run.contact.law));
-  if (sim.run.contact.law != ContactLaw::lagrange) {
+  if (descriptor(sim.run.contact.law).springs) {
     json.key("contact_iterations").value(e.summary.contact_iterations);
     json.key("unconverged_contact_steps").value(e.summary.unconverged_contact_steps);
     json.key("stable_dt").value(e.summary.stable_dt);

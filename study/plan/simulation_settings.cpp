@@ -8,6 +8,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/contact/contact_law_registry.hpp"
 #include "core/reference/model_reference.hpp"
 #include "study/plan/scene_path.hpp"
 
@@ -17,7 +18,8 @@ namespace {
 using G = ParameterGroup;
 using K = ParameterKind;
 
-// The scene's keys (the one-body rod's, and those every scene takes), then the method and its
+// The scene's keys (the one-body rod's, and those every scene takes), with the contact law and its
+// parameters (from core/contact/contact_law_registry.hpp) after `mass`, then the method and its
 // parameters (from core/methods/method_registry.hpp), then the output's.
 constexpr ParameterInfo kSceneParameters[] = {
 
@@ -35,26 +37,6 @@ constexpr ParameterInfo kSceneParameters[] = {
      "none: the paper's single wall; >= 0)",
      "", ""},
     {"mass", G::scene, K::choice, "", "mass matrix (default lumped)", "lumped|consistent", ""},
-    {"contact", G::scene, K::choice, "",
-     "how contacts are enforced: Lagrange multipliers (default), penalty springs, or augmented "
-     "Lagrangian (Uzawa) iterations on the penalty",
-     "lagrange|penalty|augmented-lagrangian", ""},
-    {"penalty_stiffness", G::scene, K::real, "N/mm",
-     "penalty stiffness k of every contact (penalty, augmented-lagrangian; default "
-     "penalty_factor times each contact dof's stiffness), > 0",
-     "", ""},
-    {"penalty_factor", G::scene, K::real, "",
-     "k as a multiple of the contact dof's stiffness K_cc (E*A/h for the rod) when "
-     "penalty_stiffness is not given (default 1), > 0; for augmented-lagrangian it sets only the "
-     "iterations' speed, which falls with courant^2: raise it where steps end at the cap (10 for "
-     "rho-bathe, tr-bdf2, noh-bathe, kim-explicit at courant 0.5; docs/methods.md)",
-     "", ""},
-    {"augmented_tolerance", G::scene, K::real, "",
-     "augmented-lagrangian: iterate until the penetration is at most this fraction of the step's "
-     "contact-free one (default 1e-6), in (0, 1)",
-     "", ""},
-    {"augmented_max_iterations", G::scene, K::integer, "",
-     "augmented-lagrangian: iterations per step at most (default 100), >= 1", "", ""},
     {"rayleigh_mass", G::scene, K::real, "1/s", "Rayleigh a0 in C = a0*M + a1*K (default 0)", "",
      ""},
     {"rayleigh_stiffness", G::scene, K::real, "s", "Rayleigh a1 in C = a0*M + a1*K (default 0)", "",
@@ -100,8 +82,8 @@ constexpr ParameterInfo kOutputParameters[] = {
      ""},
 };
 
-// The table, built once: the method rows and choice lists come from the method registry, their
-// text kept in `text` (a deque: its strings do not move).
+// The table, built once: the contact law's and the method's rows and choice lists come from their
+// registries, their text kept in `text` (a deque: its strings do not move).
 struct ParameterTable {
   std::deque<std::string> text;
   std::vector<ParameterInfo> rows;
@@ -111,7 +93,18 @@ const ParameterTable& table() {
   static const ParameterTable t = [] {
     ParameterTable out;
     const auto keep = [&](std::string s) { return out.text.emplace_back(std::move(s)).c_str(); };
-    for (const ParameterInfo& info : kSceneParameters) out.rows.push_back(info);
+    for (const ParameterInfo& info : kSceneParameters) {
+      out.rows.push_back(info);
+      if (std::string_view(info.name) != "mass") continue;
+      out.rows.push_back({"contact", G::scene, K::choice, "",
+                          "how contacts are enforced (default lagrange; `impactid contact-laws` "
+                          "lists each law with its parameters)",
+                          keep(contact_law_names()), ""});
+      for (const ContactLawParameter& p : contact_law_parameters()) {
+        out.rows.push_back(
+            {p.name, G::scene, p.integer ? K::integer : K::real, p.unit, p.description, "", ""});
+      }
+    }
     out.rows.push_back({"method", G::method, K::choice, "", "time-stepping method (default hht)",
                         keep(method_names()), ""});
     for (const MethodParameter& p : method_parameters()) {
@@ -156,9 +149,9 @@ std::optional<ParameterError> assign_choice(SimulationSettings& s, const Paramet
     if (!v) return bad();
     s.scene.mass = *v;
   } else if (name == "contact") {
-    const auto v = contact_law_from_string(text);
-    if (!v) return bad();
-    s.run.contact.law = *v;
+    const ContactLawDescriptor* law = find_contact_law(text);
+    if (!law) return bad();
+    s.run.contact.law = law->law;
   } else if (name == "method") {
     const auto v = method_kind_from_string(text);
     if (!v) return bad();
@@ -240,24 +233,8 @@ std::optional<ParameterError> assign_number(SimulationSettings& s, const Paramet
     s.verdict.eps_v = v;
   else if (name == "verdict_nop_v")
     s.verdict.nop_v = v;
-  else if (name == "penalty_stiffness")
-    s.run.contact.penalty_stiffness = v;
-  else if (name == "penalty_factor")
-    s.run.contact.penalty_factor = v;
-  else if (name == "augmented_tolerance")
-    s.run.contact.augmented_tolerance = v;
-  else if (name == "augmented_max_iterations")
-    s.run.contact.augmented_max_iterations = static_cast<int>(v);
-  return std::nullopt;
-}
-
-// The contact treatment's numbers by key (NaN: penalty_stiffness not given); nothing for other
-// keys.
-std::optional<double> contact_value(const ContactTreatment& c, std::string_view name) {
-  if (name == "penalty_stiffness") return c.penalty_stiffness.value_or(NAN);
-  if (name == "penalty_factor") return c.penalty_factor;
-  if (name == "augmented_tolerance") return c.augmented_tolerance;
-  if (name == "augmented_max_iterations") return c.augmented_max_iterations;
+  else if (const ContactLawParameter* p = find_contact_law_parameter(name))
+    p->assign(s.run.contact, v);
   return std::nullopt;
 }
 
@@ -414,7 +391,9 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
 }
 
 std::optional<double> numeric_value(const Simulation& sim, std::string_view name) {
-  if (const auto contact = contact_value(sim.run.contact, name)) return *contact;
+  // NaN: penalty_stiffness not given (the factor applies).
+  if (const ContactLawParameter* p = find_contact_law_parameter(name))
+    return p->value(sim.run.contact);
   if (name == "verdict_eps_p") return sim.verdict.eps_p;
   if (name == "verdict_nop_p") return sim.verdict.nop_p;
   if (name == "verdict_eps_v") return sim.verdict.eps_v;
