@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """`impactid simulate --history FILE` replaces another run's histories, and nothing else without
---force (issue 38, item 6: it replaced a study's results file without a word).
+--force; `impactid run --shard K/N --output FILE` does not replace another shard's file without
+--force (issue 38, item 6: each replaced the earlier file without a word).
 
 Usage: overwrite_test.py IMPACTID SOURCE_DIR
 """
@@ -42,6 +43,26 @@ def main():
                 if again.returncode != 0:
                     failures.append(f"{history} (run {attempt}): exit {again.returncode}:\n"
                                     f"{again.stderr[-2000:]}")
+        # Three shards given one --output: the second must not replace the first's points.
+        plan = os.path.join(source, "plans", "hht-delta-alpha.toml")
+        shared = os.path.join(tmp, "med.h5")
+        first = run(impactid, "run", plan, "--shard", "0/3", "--output", shared)
+        if first.returncode != 0:
+            failures.append(f"shard 0/3: exit {first.returncode}:\n{first.stderr[-2000:]}")
+        else:
+            before = open(shared, "rb").read()
+            second = run(impactid, "run", plan, "--shard", "1/3", "--output", shared)
+            if second.returncode != 1 or "holds shard 0/3, not shard 1/3" not in second.stderr:
+                failures.append(f"shard 1/3 over 0/3's file: not refused (exit "
+                                f"{second.returncode}):\n{second.stderr[-2000:]}")
+            if open(shared, "rb").read() != before:
+                failures.append("shard 1/3 changed shard 0/3's file although refused")
+            same = run(impactid, "run", plan, "--shard", "0/3", "--output", shared)
+            if same.returncode != 0:
+                failures.append(f"shard 0/3 again over its own file: exit {same.returncode}")
+            forced = run(impactid, "run", plan, "--shard", "1/3", "--output", shared, "--force")
+            if forced.returncode != 0:
+                failures.append(f"shard 1/3 --force: exit {forced.returncode}")
     for f in failures:
         print(f)
     print(f"overwrite_test: {len(failures)} failure(s)")

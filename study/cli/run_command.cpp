@@ -614,6 +614,25 @@ int run_plan(const RunArguments& args, const Runners& runners) {
       return kExitBadInput;
     }
   }
+  // A shard's file is the only record of its points until the merge: a run that would replace
+  // one with another shard's, or with another plan's (the same --output given to every shard
+  // by mistake), is refused unless --force says it is meant.
+  if (!args.resume && previous && !args.force) {
+    std::optional<ShardMark> mark;
+    try {
+      mark = shard_mark(*previous);
+    } catch (const ShardError&) {
+    }
+    if (mark && (mark->shard != shard || previous->plan_text != plan.text)) {
+      std::cerr << "impactid run: " << output.string() << " holds shard "
+                << to_string(mark->shard)
+                << (previous->plan_text != plan.text ? " of another plan" : "") << ", not "
+                << (shard ? "shard " + to_string(*shard) : std::string("the whole plan"))
+                << "; it was left untouched (give each shard its own file: leave --output "
+                   "out, or --force to replace it)\n";
+      return kExitFailure;
+    }
+  }
   if (!args.resume) previous.reset();
   const double previous_wall_time = previous ? previous->wall_time_s : 0.0;
 
@@ -758,6 +777,8 @@ std::function<int()> add_run_command(CLI::App& app, Runners runners) {
       ->type_name("FILE");
   command->add_flag("--resume", args->resume,
                     "Keep the points already in the results file; compute only the rest");
+  command->add_flag("--force", args->force,
+                    "Replace the results file even if it holds another shard's points");
   command
       ->add_option("--shard", args->shard,
                    "Compute only shard K of N (0 <= K < N: every N-th window of 16 points, "

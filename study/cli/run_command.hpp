@@ -24,6 +24,7 @@ struct RunArguments {
   int threads = 0;
   bool resume = false;
   bool dry_run = false;
+  bool force = false;  ///< replace a results file that holds another shard or another plan's shard
   std::string shard;  ///< "K/N", or "" (then a Slurm array task's, or the whole plan)
 };
 
