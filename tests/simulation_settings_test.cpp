@@ -74,6 +74,10 @@ TEST(SimulationSettings, TextIsParsedStrictly) {
   SimulationSettings s;
   EXPECT_EQ(assign_text(s, "courant", "0.5x")->constraint, "must be a number");
   EXPECT_EQ(assign_text(s, "courant", "")->constraint, "must be a number");
+  // Issue 38: 1e400 is a number, only not a double's; the message says which.
+  EXPECT_EQ(assign_text(s, "courant", "1e400")->constraint,
+            "is a number beyond the range of double (magnitudes from about 2.2e-308 to 1.8e308)");
+  EXPECT_EQ(assign_text(s, "courant", "1e400x")->constraint, "must be a number");
   EXPECT_EQ(assign_text(s, "elements", "2.5")->constraint, "must be an integer below 2e9");
   EXPECT_EQ(assign_text(s, "elements", "1e10")->constraint, "must be an integer below 2e9");
   EXPECT_EQ(assign_text(s, "bogus", "1")->constraint, "is not a parameter");

@@ -296,6 +296,11 @@ std::optional<ParameterError> assign_text(SimulationSettings& settings, std::str
   const std::string t(text);
   // from_chars accepts "nan" and "inf": they are then rejected by the range checks, by name.
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec == std::errc::result_out_of_range && end == t.data() + t.size()) {
+    return ParameterError{std::string(name), t,
+                          "is a number beyond the range of double (magnitudes from about "
+                          "2.2e-308 to 1.8e308)"};
+  }
   if (ec != std::errc() || end != t.data() + t.size() || t.empty()) {
     return ParameterError{std::string(name), t, "must be a number"};
   }
