@@ -4,18 +4,6 @@
 namespace impactid {
 namespace {
 
-MadeMethod make(const MethodArguments&) {
-  return BackwardEulerParams{};
-}
-
-MethodParams defaults() {
-  return BackwardEulerParams{};
-}
-
-std::optional<ParameterError> check(const MethodParams&) {
-  return {};
-}
-
 ImplicitCoefficients implicit(const MethodParams&) {
   return ImplicitCoefficients{0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0};
 }
@@ -30,13 +18,13 @@ MethodDescriptor backward_euler_method() {
           "backward Euler (eqs 8-10): implicit, first order, unconditionally stable, "
           "strongly dissipative",
       .parameters = {},
-      .make = make,
+      .make = make_default<BackwardEulerParams>,
       .values = no_values,
       .choices = no_choices,
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
-      .defaults = defaults,
-      .validate = check,
+      .defaults = default_of<BackwardEulerParams>,
+      .validate = no_check,
       .implicit_coefficients = implicit,
   };
 }

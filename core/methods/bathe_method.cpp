@@ -5,22 +5,10 @@
 namespace impactid {
 namespace {
 
-MadeMethod make(const MethodArguments&) {
-  return BatheParams{};
-}
-
 MethodValues values(const MethodParams& params) {
   MethodValues out;
   add_composite_weights(params, out);
   return out;
-}
-
-MethodParams defaults() {
-  return BatheParams{};
-}
-
-std::optional<ParameterError> check(const MethodParams&) {
-  return {};
 }
 
 // ρ∞ = 0, γ = ½.
@@ -39,14 +27,14 @@ MethodDescriptor bathe_method() {
           "trapezoidal sub-step to t + dt/2, then the 3-point backward Euler formula; "
           "implicit, second order, rho_inf = 0; contact enforced at both sub-steps",
       .parameters = {},
-      .make = make,
+      .make = make_default<BatheParams>,
       .values = values,
       .choices = no_choices,
       .stages = 2,
       .spectrum = &kCompositeSpectrum,
       .same_parameters = same_composite_coefficients,
-      .defaults = defaults,
-      .validate = check,
+      .defaults = default_of<BatheParams>,
+      .validate = no_check,
       .composite_coefficients = composite,
   };
 }

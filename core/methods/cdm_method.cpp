@@ -55,14 +55,6 @@ double stability_limit(const MethodParams&) {
 const MethodSpectrum kSpectrum{2, amplification, eigenvalues, unbounded_high_frequency_radius,
                                stability_limit};
 
-MethodParams defaults() {
-  return CentralDifferenceParams{};
-}
-
-std::optional<ParameterError> check(const MethodParams&) {
-  return {};
-}
-
 }  // namespace
 
 MethodDescriptor cdm_method() {
@@ -79,8 +71,8 @@ MethodDescriptor cdm_method() {
       .choices = choices,
       .spectrum = &kSpectrum,
       .same_parameters = same,
-      .defaults = defaults,
-      .validate = check,
+      .defaults = default_of<CentralDifferenceParams>,
+      .validate = no_check,
   };
 }
 

@@ -36,10 +36,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return GeneralizedAlphaParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<GeneralizedAlphaParams>(params);
   return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
@@ -68,7 +64,7 @@ MethodDescriptor generalized_alpha_method() {
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<GeneralizedAlphaParams>,
       .validate = check,
       .implicit_coefficients = implicit,
       .reports_beta_gamma = true,

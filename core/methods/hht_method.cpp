@@ -40,10 +40,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return HhtParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<HhtParams>(params);
   if (auto e = require_in_range("alpha", p.alpha, -0.5, 0.0, "must lie in [-0.5, 0]")) {
@@ -81,7 +77,7 @@ MethodDescriptor hht_method() {
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<HhtParams>,
       .validate = check,
       .implicit_coefficients = implicit,
       .reports_beta_gamma = true,

@@ -4,10 +4,6 @@
 namespace impactid {
 namespace {
 
-MadeMethod make(const MethodArguments&) {
-  return HouboltParams{};
-}
-
 // Houbolt's recurrence (2 + Ω²)·u_{n+1} = 5u_n − 4u_{n−1} + u_{n−2} (core/methods/houbolt.hpp
 // without damping and contact) as the companion matrix on y_n = (u_n, u_{n−1}, u_{n−2}).
 template <class Scalar>
@@ -54,14 +50,6 @@ double high_frequency_radius(const MethodParams&) {
 const MethodSpectrum kSpectrum{3, amplification, eigenvalues, high_frequency_radius,
                                no_stability_limit};
 
-MethodParams defaults() {
-  return HouboltParams{};
-}
-
-std::optional<ParameterError> check(const MethodParams&) {
-  return {};
-}
-
 }  // namespace
 
 HouboltCoefficients houbolt_coefficients() {
@@ -82,13 +70,13 @@ MethodDescriptor houbolt_method() {
           "dissipative at every frequency; started by the same cubic on the initial "
           "velocity and acceleration",
       .parameters = {},
-      .make = make,
+      .make = make_default<HouboltParams>,
       .values = no_values,
       .choices = no_choices,
       .spectrum = &kSpectrum,
       .same_parameters = always_same,
-      .defaults = defaults,
-      .validate = check,
+      .defaults = default_of<HouboltParams>,
+      .validate = no_check,
   };
 }
 

@@ -80,10 +80,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return KimExplicitParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<KimExplicitParams>(params);
   // Below ⅓ the principal pair grows at small Ω; above ½ see KimExplicitParams.
@@ -152,7 +148,7 @@ MethodDescriptor kim_explicit_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<KimExplicitParams>,
       .validate = check,
       .stable_step = "Omega_crit(p) over the bound on omega_max",
   };

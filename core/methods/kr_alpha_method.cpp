@@ -96,10 +96,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return KrAlphaParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<KrAlphaParams>(params);
   return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
@@ -129,7 +125,7 @@ MethodDescriptor kr_alpha_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<KrAlphaParams>,
       .validate = check,
   };
 }

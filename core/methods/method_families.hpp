@@ -23,6 +23,20 @@ using MadeMethod = std::variant<MethodParams, ParameterError>;
 
 MethodValues no_values(const MethodParams& params);
 MethodChoices no_choices(const MethodParams& params);
+/// defaults of every method: its parameter struct as its fields' initialisers give it.
+template <class Params>
+MethodParams default_of() {
+  return Params{};
+}
+/// make of a method without parameters (build_method has checked that none was given).
+template <class Params>
+MadeMethod make_default(const MethodArguments&) {
+  return Params{};
+}
+/// validate of a method whose parameters have no range to check (or none at all).
+inline std::optional<ParameterError> no_check(const MethodParams&) {
+  return std::nullopt;
+}
 /// same_parameters of a method without parameters: two of its sets always step alike.
 bool always_same(const MethodParams& a, const MethodParams& b);
 

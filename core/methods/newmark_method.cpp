@@ -42,10 +42,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return NewmarkParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<NewmarkParams>(params);
   if (p.coefficients) {
@@ -81,7 +77,7 @@ MethodDescriptor newmark_method() {
       .spectrum = &kSingleStepImplicitSpectrum,
       .same_parameters = same_implicit_coefficients,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<NewmarkParams>,
       .validate = check,
       .implicit_coefficients = implicit,
       .reports_beta_gamma = true,

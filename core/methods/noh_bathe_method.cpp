@@ -85,10 +85,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return NohBatheParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<NohBatheParams>(params);
   // Below ½ the determinant of the amplification matrix exceeds 1 at every Ω > 0.
@@ -139,7 +135,7 @@ MethodDescriptor noh_bathe_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<NohBatheParams>,
       .validate = check,
       .stable_step = "Omega_crit(p) over the bound on omega_max",
   };

@@ -31,10 +31,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return RhoBatheParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<RhoBatheParams>(params);
   if (auto e = require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]")) {
@@ -72,7 +68,7 @@ MethodDescriptor rho_bathe_method() {
       .spectrum = &kCompositeSpectrum,
       .same_parameters = same_composite_coefficients,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<RhoBatheParams>,
       .validate = check,
       .composite_coefficients = composite,
   };

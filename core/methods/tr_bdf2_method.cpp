@@ -4,22 +4,10 @@
 namespace impactid {
 namespace {
 
-MadeMethod make(const MethodArguments&) {
-  return TrBdf2Params{};
-}
-
 MethodValues values(const MethodParams& params) {
   MethodValues out;
   add_composite_weights(params, out);
   return out;
-}
-
-MethodParams defaults() {
-  return TrBdf2Params{};
-}
-
-std::optional<ParameterError> check(const MethodParams&) {
-  return {};
 }
 
 // ρ∞ = 0, γ = 2 − √2.
@@ -38,14 +26,14 @@ MethodDescriptor tr_bdf2_method() {
           "trapezoidal sub-step, then BDF2; implicit, second order, L-stable; rho-bathe's "
           "default (rho_inf = 0); contact enforced at both sub-steps",
       .parameters = {},
-      .make = make,
+      .make = make_default<TrBdf2Params>,
       .values = values,
       .choices = no_choices,
       .stages = 2,
       .spectrum = &kCompositeSpectrum,
       .same_parameters = same_composite_coefficients,
-      .defaults = defaults,
-      .validate = check,
+      .defaults = default_of<TrBdf2Params>,
+      .validate = no_check,
       .composite_coefficients = composite,
   };
 }

@@ -79,10 +79,6 @@ constexpr MethodDampingFamily kDampingFamilies[] = {
      }},
 };
 
-MethodParams defaults() {
-  return WilsonThetaParams{};
-}
-
 std::optional<ParameterError> check(const MethodParams& params) {
   const auto& p = std::get<WilsonThetaParams>(params);
   return require_in_range(
@@ -112,7 +108,7 @@ MethodDescriptor wilson_theta_method() {
       .spectrum = &kSpectrum,
       .same_parameters = same,
       .damping_families = kDampingFamilies,
-      .defaults = defaults,
+      .defaults = default_of<WilsonThetaParams>,
       .validate = check,
   };
 }

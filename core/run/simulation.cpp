@@ -247,39 +247,23 @@ std::string mass_failure(const Stepper& stepper) {
   }
 }
 
-// The Noh–Bathe explicit scheme (core/methods/noh_bathe.hpp) on either kind of system: its stable
-// step (with the penalty's springs) is reported, and a step above it is flagged before the run
-// starts (the run still goes, as central difference's does: the energy bound then stops it).
-template <SemiDiscreteSystem System, class Stepper, class Run>
-void run_noh_bathe(const System& system, const NohBatheParams& params, double dt,
-                   const ContactPenalties& contact, Stepper& stepper, State& state,
-                   RunSummary& summary, Run&& run) {
-  if (!stepper.initialize(system, noh_bathe_coefficients(params), dt, state, contact)) {
+// The two-stage explicit schemes, Noh–Bathe's and Kim's (core/methods/noh_bathe.hpp,
+// kim_explicit.hpp), on either kind of system: the stable step (with the penalty's springs) is
+// reported, and a step above it is flagged before the run starts (the run still goes, as central
+// difference's does: the energy bound then stops it). `name` and the parameter p, the
+// coefficients and the critical Ωₙ are the scheme's.
+template <SemiDiscreteSystem System, class Coefficients, class Stepper, class Run>
+void run_two_stage_explicit(const System& system, const char* name, double p,
+                            const Coefficients& coefficients, double critical_omega, double dt,
+                            const ContactPenalties& contact, Stepper& stepper, State& state,
+                            RunSummary& summary, Run&& run) {
+  if (!stepper.initialize(system, coefficients, dt, state, contact)) {
     summary.status = RunStatus::failed;
-    summary.message = "noh-bathe: " + mass_failure(stepper);
+    summary.message = std::string(name) + ": " + mass_failure(stepper);
     return;
   }
   summary.stable_dt = stepper.stable_step();
-  summary.warning = stable_step_warning(stepper, "noh-bathe", params.p,
-                                        noh_bathe_critical_omega(params.p), dt, contact.law);
-  run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
-  count_contact_iterations(stepper, summary);
-}
-
-// Kim's two-stage explicit scheme (core/methods/kim_explicit.hpp): as Noh–Bathe's, its stable step
-// reported and a step above it flagged before the run starts.
-template <SemiDiscreteSystem System, class Stepper, class Run>
-void run_kim_explicit(const System& system, const KimExplicitParams& params, double dt,
-                      const ContactPenalties& contact, Stepper& stepper, State& state,
-                      RunSummary& summary, Run&& run) {
-  if (!stepper.initialize(system, kim_explicit_coefficients(params), dt, state, contact)) {
-    summary.status = RunStatus::failed;
-    summary.message = "kim-explicit: " + mass_failure(stepper);
-    return;
-  }
-  summary.stable_dt = stepper.stable_step();
-  summary.warning = stable_step_warning(stepper, "kim-explicit", params.p,
-                                        kim_explicit_critical_omega(params.p), dt, contact.law);
+  summary.warning = stable_step_warning(stepper, name, p, critical_omega, dt, contact.law);
   run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
   count_contact_iterations(stepper, summary);
 }
@@ -329,11 +313,15 @@ void run_method(const System& system, const MethodParams& method, double dt,
     return;
   }
   if (const auto* noh_bathe = std::get_if<NohBatheParams>(&method)) {
-    run_noh_bathe(system, *noh_bathe, dt, contact, steppers.noh_bathe, state, summary, run);
+    run_two_stage_explicit(system, "noh-bathe", noh_bathe->p, noh_bathe_coefficients(*noh_bathe),
+                           noh_bathe_critical_omega(noh_bathe->p), dt, contact, steppers.noh_bathe,
+                           state, summary, run);
     return;
   }
   if (const auto* kim = std::get_if<KimExplicitParams>(&method)) {
-    run_kim_explicit(system, *kim, dt, contact, steppers.kim_explicit, state, summary, run);
+    run_two_stage_explicit(system, "kim-explicit", kim->p, kim_explicit_coefficients(*kim),
+                           kim_explicit_critical_omega(kim->p), dt, contact, steppers.kim_explicit,
+                           state, summary, run);
     return;
   }
   if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&method)) {

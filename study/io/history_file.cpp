@@ -152,12 +152,13 @@ void write_csv(const std::filesystem::path& path, const std::vector<Column>& col
   // A failed write (a full disk, a file size limit) leaves no temporary file, and `path` as it
   // was; the system's reason is in the message.
   const auto fail = [&](const std::string& what) {
-    const std::string reason = std::strerror(errno);
+    const std::string reason = errno != 0 ? std::strerror(errno) : "the stream failed";
     std::error_code ignored;
     std::filesystem::remove(temporary, ignored);
     throw HistoryFileError(path.string() + ": " + what + ": " + reason);
   };
   {
+    errno = 0;  // what the stream's failure leaves is the reason; nothing earlier's
     std::ofstream out(temporary);
     if (!out) fail("cannot open " + temporary.string() + " for writing");
     out.precision(17);
