@@ -30,10 +30,7 @@ MethodChoices choices(const MethodParams& params) {
 
 constexpr MethodDampingFamily kDampingFamilies[] = {
     {"generalized-alpha", "generalized-alpha", "rho_inf", 1.0, 0.0,
-     [](double rho_inf) -> MethodParams { return GeneralizedAlphaParams{.rho_inf = rho_inf}; },
-     [](double rho_inf) -> std::vector<std::pair<const char*, double>> {
-       return {{"rho_inf", rho_inf}};
-     }},
+     [](double rho_inf) -> MethodParams { return GeneralizedAlphaParams{.rho_inf = rho_inf}; }},
 };
 
 std::optional<ParameterError> check(const MethodParams& params) {

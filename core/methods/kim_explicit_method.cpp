@@ -74,10 +74,7 @@ const MethodSpectrum kSpectrum{3, amplification, eigenvalues, unbounded_high_fre
 // p = ⅓ is the least dissipative end of its range, ½ the most.
 constexpr MethodDampingFamily kDampingFamilies[] = {
     {"kim-explicit", "kim-explicit", "p", 1.0 / 3.0, 0.5,
-     [](double p) -> MethodParams { return KimExplicitParams{.p = p}; },
-     [](double p) -> std::vector<std::pair<const char*, double>> {
-       return {{"p", p}};
-     }},
+     [](double p) -> MethodParams { return KimExplicitParams{.p = p}; }},
 };
 
 std::optional<ParameterError> check(const MethodParams& params) {

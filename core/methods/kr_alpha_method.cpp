@@ -90,10 +90,7 @@ const MethodSpectrum kSpectrum{3, amplification, eigenvalues, high_frequency_rad
 
 constexpr MethodDampingFamily kDampingFamilies[] = {
     {"kr-alpha", "kr-alpha", "rho_inf", 1.0, 0.0,
-     [](double rho_inf) -> MethodParams { return KrAlphaParams{.rho_inf = rho_inf}; },
-     [](double rho_inf) -> std::vector<std::pair<const char*, double>> {
-       return {{"rho_inf", rho_inf}};
-     }},
+     [](double rho_inf) -> MethodParams { return KrAlphaParams{.rho_inf = rho_inf}; }},
 };
 
 std::optional<ParameterError> check(const MethodParams& params) {

@@ -79,8 +79,9 @@ struct MethodDampingFamily {
   double undamped_end, damped_end;
   /// The method's parameters at a value of the varied parameter.
   MethodParams (*params)(double parameter);
-  /// Those parameters by their plan keys, as `impactid spectral --match-damping` reports them.
-  std::vector<std::pair<const char*, double>> (*parameters)(double parameter);
+  /// Those parameters by their plan keys, as `impactid spectral --match-damping` reports them;
+  /// nullptr (the default) when the varied parameter is the only one: {{parameter, value}}.
+  std::vector<std::pair<const char*, double>> (*parameters)(double parameter) = nullptr;
 };
 
 struct MethodDescriptor {

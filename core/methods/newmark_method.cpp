@@ -36,10 +36,7 @@ MethodValues values(const MethodParams& params) {
 // exactly backward Euler's ξ̄).
 constexpr MethodDampingFamily kDampingFamilies[] = {
     {"newmark", "newmark", "delta", 0.0, 2.0,
-     [](double delta) -> MethodParams { return NewmarkParams{.delta = delta}; },
-     [](double delta) -> std::vector<std::pair<const char*, double>> {
-       return {{"delta", delta}};
-     }},
+     [](double delta) -> MethodParams { return NewmarkParams{.delta = delta}; }},
 };
 
 std::optional<ParameterError> check(const MethodParams& params) {

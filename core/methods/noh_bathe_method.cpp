@@ -79,10 +79,7 @@ const MethodSpectrum kSpectrum{3, amplification, eigenvalues, unbounded_high_fre
 // monotone in p.
 constexpr MethodDampingFamily kDampingFamilies[] = {
     {"noh-bathe", "noh-bathe", "p", 0.5, 0.99,
-     [](double p) -> MethodParams { return NohBatheParams{.p = p}; },
-     [](double p) -> std::vector<std::pair<const char*, double>> {
-       return {{"p", p}};
-     }},
+     [](double p) -> MethodParams { return NohBatheParams{.p = p}; }},
 };
 
 std::optional<ParameterError> check(const MethodParams& params) {

@@ -25,10 +25,7 @@ MethodValues values(const MethodParams& params) {
 // At its default sub-step ratio γ₀(ρ∞).
 constexpr MethodDampingFamily kDampingFamilies[] = {
     {"rho-bathe", "rho-bathe", "rho_inf", 1.0, 0.0,
-     [](double rho_inf) -> MethodParams { return RhoBatheParams{.rho_inf = rho_inf}; },
-     [](double rho_inf) -> std::vector<std::pair<const char*, double>> {
-       return {{"rho_inf", rho_inf}};
-     }},
+     [](double rho_inf) -> MethodParams { return RhoBatheParams{.rho_inf = rho_inf}; }},
 };
 
 std::optional<ParameterError> check(const MethodParams& params) {

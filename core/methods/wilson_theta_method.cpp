@@ -73,10 +73,7 @@ const MethodSpectrum kSpectrum{3, amplification, eigenvalues, high_frequency_rad
 // and more, beyond any damping a user would match.
 constexpr MethodDampingFamily kDampingFamilies[] = {
     {"wilson-theta", "wilson-theta", "theta", 1.3660254037844386, 4.0,
-     [](double theta) -> MethodParams { return WilsonThetaParams{.theta = theta}; },
-     [](double theta) -> std::vector<std::pair<const char*, double>> {
-       return {{"theta", theta}};
-     }},
+     [](double theta) -> MethodParams { return WilsonThetaParams{.theta = theta}; }},
 };
 
 std::optional<ParameterError> check(const MethodParams& params) {

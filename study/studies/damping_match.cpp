@@ -148,7 +148,9 @@ DampingMatch match_damping(DampingFamily family, double omega_dt, double target_
 }
 
 std::vector<std::pair<const char*, double>> family_parameters(DampingFamily family, double p) {
-  return family_of(family).family->parameters(p);
+  const MethodDampingFamily& f = *family_of(family).family;
+  if (f.parameters == nullptr) return {{f.parameter, p}};
+  return f.parameters(p);
 }
 
 const char* family_method(DampingFamily family) {
