@@ -47,6 +47,15 @@ TEST(CommandLine, BadValuesExitTwoNamingOptionAndValue) {
   expect_bad_input("simulate --courant 1 --dt 1e-7", "cannot be given with courant");
   expect_bad_input("simulate --history out.txt", "--history = out.txt");
   expect_bad_input("simulate --no-such-option 1", "no-such-option");
+  // --set names the key as given (issue 38: `name=x: must be a number`).
+  const std::string bodies = "simulate --scene " + std::string(IMPACTID_SOURCE_DIR) +
+                             "/plans/two-rods.toml --set ";
+  expect_bad_input(bodies + "body.striker.velocity=x",
+                   "impactid simulate: --set body.striker.velocity = x: must be a number");
+  expect_bad_input(bodies + "body.striker.velocity=1e400",
+                   "--set body.striker.velocity = 1e400: is a number beyond the range of double");
+  expect_bad_input(bodies + "name=x", "impactid simulate: --set name = x: is not a parameter");
+  expect_bad_input(bodies + "velocity", "--set = velocity: must be KEY=VALUE");
 }
 
 // A word the program does not know gets the nearest it knows: a command, an option of the

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """A results file that cannot be written (issue 38, items 1 and 2): a full disk or a file size
-limit ends `impactid run` and `impactid simulate --history` with exit status 1 and a message
+limit ends `impactid run`, `impactid simulate --history` (HDF5 or CSV) and `impactid export` with
+exit status 1 and a message
 naming the file and the system's reason, no temporary file left behind, and the file that was
 there before intact. Before, HDF5 crashed in H5Fclose (SIGSEGV) and every computed point was
 lost; a failed checkpoint inside the parallel sweep aborted the program (SIGABRT).
@@ -73,8 +74,22 @@ def main():
         history = os.path.join(tmp, "history.h5")
         result = run([impactid, "simulate", "--history", history], limit=LIMIT)
         expect_failed_write(result, history, ["File too large"], failures, "simulate --history")
+        history_csv = os.path.join(tmp, "history.csv")
+        result = run([impactid, "simulate", "--history", history_csv], limit=LIMIT)
+        expect_failed_write(result, history_csv, ["File too large"], failures,
+                            "simulate --history as CSV")
 
-        # 3. A full disk, and a checkpoint that fits once but not twice.
+        # 3. A CSV export past the limit (before: "points.csv: write failed", no reason).
+        big = os.path.join(tmp, "big.h5")
+        plan = os.path.join(source, "plans", "hht-delta-alpha.toml")
+        if run([impactid, "run", plan, "--output", big]).returncode == 0:
+            points = os.path.join(tmp, "csv", "points.csv")
+            result = run([impactid, "export", big, "--csv", os.path.join(tmp, "csv")], limit=LIMIT)
+            expect_failed_write(result, points, ["File too large"], failures, "export")
+        else:
+            failures.append(f"the run of {plan} failed")
+
+        # 4. A full disk, and a checkpoint that fits once but not twice.
         disk = os.path.join(tmp, "disk")
         os.mkdir(disk)
         if try_mount(disk, "200k"):
@@ -100,6 +115,17 @@ def main():
                                         f"{output[-2000:]}")
             finally:
                 subprocess.run(["umount", disk])
+            # 5. A read-only file system (before: "H5Fcreate failed", no reason).
+            readonly = os.path.join(tmp, "readonly")
+            os.mkdir(readonly)
+            if try_mount(readonly, "64k,ro"):
+                try:
+                    target = os.path.join(readonly, "demo.h5")
+                    result = run([impactid, "run", demo, "--output", target])
+                    expect_failed_write(result, target, ["Read-only file system"], failures,
+                                        "run, read-only file system")
+                finally:
+                    subprocess.run(["umount", readonly])
         else:
             print("disk_full_test: cannot mount a tmpfs here (not root, or no CAP_SYS_ADMIN): "
                   "the full-disk case is not checked; the size-limit cases are")

@@ -100,12 +100,20 @@ TEST(MatrixMarket, VectorsInEitherFormat) {
   }
 }
 
+// Issue 38: a plan naming /etc/passwd as a matrix made the message show its first line. A file
+// that is not a Matrix Market file is refused without a word of its content.
+TEST(MatrixMarket, AFileThatIsNotOneIsNotEchoed) {
+  const std::string message = error_of("root:secret-token:0:0:root:/root:/bin/bash\n");
+  EXPECT_NE(message.find("is not a Matrix Market file"), std::string::npos) << message;
+  EXPECT_EQ(message.find("secret-token"), std::string::npos) << message;
+}
+
 TEST(MatrixMarket, BadFilesNameTheFileTheLineAndTheValue) {
   const std::string banner = "%%MatrixMarket matrix coordinate real general\n";
   const std::string path = scratch_path("matrix_market", "bad.mtx").string();
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"", path + ": is empty"},
-      {"3 3 1\n1 1 1\n", path + ":1: the first line must be the banner"},
+      {"3 3 1\n1 1 1\n", path + ":1: is not a Matrix Market file"},
       {"%%MatrixMarket matrix coordinate complex general\n",
        path + ":1: field 'complex' is not read"},
       {"%%MatrixMarket matrix coordinate pattern general\n",

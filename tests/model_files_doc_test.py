@@ -109,6 +109,9 @@ MISTAKES = [
     ("reference column", append('[scene.reference]\nfile = "r.csv"\n'),
      {"r.csv": "t,w.force\n0.001,0\n"},
      'column "w.force" is not <contact>.pressure or <contact>.velocity of a contact of the model'),
+    ("reference not one", append('[scene.reference]\nfile = "r.csv"\n'),
+     {"r.csv": "root:secret-token:0:0\n"},
+     "is not a reference history: its header's first column must be t"),
 ]
 
 
@@ -196,6 +199,8 @@ def main():
                                  text=True, timeout=60)
             if run.returncode != 2 or words not in run.stderr:
                 failures.append(f"{what}: exit {run.returncode}, expected 2 with {words!r}; stderr: {run.stderr.strip()}")
+            elif "secret-token" in run.stderr:  # a file that is not what it should be is not echoed
+                failures.append(f"{what}: the message shows the file's content: {run.stderr.strip()}")
             elif "scene.toml:" not in run.stderr and "r.csv" not in words:
                 failures.append(f"{what}: the message does not name the file: {run.stderr.strip()}")
             if flat(words) not in page:

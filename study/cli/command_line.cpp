@@ -70,7 +70,9 @@ bool apply_scene_options(const SceneOptions& options, SimulationSettings& settin
       return false;
     }
     if (auto error = assign_text(settings, item.substr(0, eq), item.substr(eq + 1))) {
-      report(*error, command);
+      // Named as the user gave it (--set KEY=VALUE), not as the option --KEY it may also be.
+      std::cerr << "impactid " << command << ": --set " << error->field << " = " << error->value
+                << ": " << error->constraint << '\n';
       return false;
     }
   }

@@ -116,10 +116,11 @@ struct Header {
 Header read_banner(MarketReader& r) {
   const std::vector<std::string_view> f = r.first_line();
   if (f.empty() || lower(f[0]) != "%%matrixmarket") {
+    // Not a Matrix Market file: nothing of it is echoed, since a plan can name any file the user
+    // may read (plans are trusted input, plans/README.md; but a message should not show a secret).
     r.fail(
-        "the first line must be the banner '%%MatrixMarket matrix <format> <field> "
-        "<symmetry>', not '" +
-        (f.empty() ? std::string() : std::string(f[0])) + "'");
+        "is not a Matrix Market file: its first line must be the banner '%%MatrixMarket matrix "
+        "<format> <field> <symmetry>'");
   }
   if (f.size() != 5 || lower(f[1]) != "matrix") {
     r.fail("the banner must read '%%MatrixMarket matrix <format> <field> <symmetry>'");

@@ -1,8 +1,6 @@
 #include "study/io/history_file.hpp"
 
 #include <array>
-#include <cerrno>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -12,6 +10,7 @@
 #include "core/reference/exact_solution.hpp"
 #include "core/run/references.hpp"
 #include "study/formats/hdf5_file.hpp"
+#include "study/formats/text_file.hpp"
 
 namespace impactid {
 namespace {
@@ -147,37 +146,23 @@ std::vector<Column> model_history_columns(const ModelScene& scene, const Contact
 }
 
 void write_csv(const std::filesystem::path& path, const std::vector<Column>& columns) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  // A failed write (a full disk, a file size limit) leaves no temporary file, and `path` as it
-  // was; the system's reason is in the message.
-  const auto fail = [&](const std::string& what) {
-    const std::string reason = errno != 0 ? std::strerror(errno) : "the stream failed";
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw HistoryFileError(path.string() + ": " + what + ": " + reason);
-  };
-  {
-    errno = 0;  // what the stream's failure leaves is the reason; nothing earlier's
-    std::ofstream out(temporary);
-    if (!out) fail("cannot open " + temporary.string() + " for writing");
-    out.precision(17);
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      out << (c ? "," : "") << columns[c].name << '[' << columns[c].units << ']';
-    }
-    out << '\n';
-    for (std::size_t i = 0; i < columns[0].values.size(); ++i) {
+  try {
+    write_text_atomically(path, [&](std::ostream& out) {
+      out.precision(17);
       for (std::size_t c = 0; c < columns.size(); ++c) {
-        out << (c ? "," : "") << columns[c].values[i];
+        out << (c ? "," : "") << columns[c].name << '[' << columns[c].units << ']';
       }
       out << '\n';
-    }
-    out.close();  // the last buffered bytes are written here, and may fail here
-    if (!out) fail("cannot write " + temporary.string());
+      for (std::size_t i = 0; i < columns[0].values.size(); ++i) {
+        for (std::size_t c = 0; c < columns.size(); ++c) {
+          out << (c ? "," : "") << columns[c].values[i];
+        }
+        out << '\n';
+      }
+    });
+  } catch (const TextFileError& e) {
+    throw HistoryFileError(e.what());
   }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) throw HistoryFileError(path.string() + ": " + ec.message());
 }
 
 void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& columns,

@@ -4,8 +4,6 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <functional>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -15,6 +13,7 @@
 #include "core/run/simulation.hpp"
 #include "metrics/verdict.hpp"
 #include "study/formats/hdf5_file.hpp"
+#include "study/formats/text_file.hpp"
 
 namespace impactid {
 namespace {
@@ -283,29 +282,6 @@ void put_number(std::ostream& out, double value) {
 // far_contact_episodes without a far wall) is left out of the CSV files.
 bool all_nan(const ResultColumn& c) {
   return std::all_of(c.values.begin(), c.values.end(), [](double v) { return std::isnan(v); });
-}
-
-// Writes <path>.tmp, then renames it over <path>.
-void write_text_atomically(const std::filesystem::path& path,
-                           const std::function<void(std::ostream&)>& write) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  std::error_code ec;
-  try {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path.string() + ": cannot create " + temporary.string());
-    write(out);
-    out.close();
-    if (!out) throw std::runtime_error(path.string() + ": write failed");
-  } catch (...) {
-    std::filesystem::remove(temporary, ec);
-    throw;
-  }
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    throw std::runtime_error(path.string() + ": cannot replace: " + ec.message());
-  }
 }
 
 // The k-th value of a dimension as CSV: a number, or a choice axis's word.

@@ -297,7 +297,8 @@ ReferenceHistory read_reference_csv(const std::filesystem::path& file, const Mod
     if (!header) {
       header = true;
       if (cells.empty() || cells[0] != "t")
-        error("the first column must be t, not \"" + (cells.empty() ? "" : cells[0]) + "\"");
+        // Not a reference history: nothing of the file is echoed (as for a Matrix Market file).
+        error("is not a reference history: its header's first column must be t");
       columns.push_back(&out.t);
       for (std::size_t c = 1; c < cells.size(); ++c) {
         const std::size_t dot = cells[c].rfind('.');
