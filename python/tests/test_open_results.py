@@ -54,7 +54,7 @@ def test_a_good_file_loads_its_values(results):
     with h5py.File(results, "r") as f:
         np.testing.assert_array_equal(ds.status.values, f["status"][()])
         np.testing.assert_array_equal(ds.eps_p.values, f["eps_p"][()])
-    assert "impactid_checksum" in ds.attrs  # xarray shows it; impactid's readers leave it out
+    assert "impactid_checksum" not in ds.attrs  # storage, not the study: left out
 
 
 def test_a_flipped_value_is_refused_naming_file_and_dataset(copy):
