@@ -30,7 +30,9 @@
 #include "study/cli/command_line.hpp"
 #include "study/cli/methods_command.hpp"
 #include "study/cli/run_command.hpp"
+#include "study/formats/hdf5_file.hpp"
 #include "study/io/history_file.hpp"
+#include "study/io/results_file.hpp"
 #include "study/plan/plan.hpp"
 #include "study/studies/damping_match.hpp"
 #include "study/studies/evaluation.hpp"
@@ -423,6 +425,15 @@ PYBIND11_MODULE(_impactid, m) {
   m.def("match_damping", &python::match);
   m.def("plan_output", &python::plan_output);
   m.def("run_plan", &python::run_plan_file);
+  // open_results's checks: read_results, as `impactid export`, `merge` and `run --resume` read
+  // a file (format, checksums, status codes, axes), its message in a ValueError.
+  m.def("check_results", [](const std::string& path) {
+    try {
+      read_results(path);
+    } catch (const Hdf5Error& e) {
+      throw py::value_error(e.what());
+    }
+  });
   m.def("parameters", &python::parameters);
   m.def("version", [] { return std::string(kVersion) + "+" + kGitRevision; });
   m.def("kernels", [] { return describe_kernel_selection(); });

@@ -12,8 +12,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -437,6 +439,112 @@ TEST_F(ResultsFileTest, ForeignHdf5FileIsRejectedByName) {
   message = error_of([&] { read_results(file("future.h5")); });
   EXPECT_NE(std::string::npos, message.find(file("future.h5").string())) << message;
   EXPECT_NE(std::string::npos, message.find("impactid-results-2")) << message;
+}
+
+// --- checksums (issue 38: a flipped bit was read as a value) ---
+
+// Flips `mask` in the byte `offset` bytes after the first occurrence of `pattern` in the file.
+void flip_after(const fs::path& path, const std::string& pattern, std::size_t offset,
+                unsigned char mask) {
+  std::string bytes = contents(path);
+  const std::size_t at = bytes.find(pattern);
+  ASSERT_NE(std::string::npos, at) << "not in " << path;
+  ASSERT_EQ(std::string::npos, bytes.find(pattern, at + 1)) << "found twice in " << path;
+  bytes[at + offset] = static_cast<char>(bytes[at + offset] ^ mask);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+std::string bytes_of(double value) {
+  std::string out(sizeof value, '\0');
+  std::memcpy(out.data(), &value, sizeof value);
+  return out;
+}
+
+TEST_F(ResultsFileTest, EveryNumericDatasetIsStoredWithAFletcher32Checksum) {
+  write_results(file("r.h5"), grid_results());
+  H5::H5File f(file("r.h5").string(), H5F_ACC_RDONLY);
+  for (const char* name : {"alpha", "dt", "status", "gamma", "beta", "p_max", "eps_p"}) {
+    const H5::DSetCreatPropList plist = f.openDataSet(name).getCreatePlist();
+    unsigned flags = 0;
+    std::size_t values = 0;
+    EXPECT_GE(H5Pget_filter_by_id2(plist.getId(), H5Z_FILTER_FLETCHER32, &flags, &values, nullptr,
+                                   0, nullptr, nullptr),
+              0)
+        << name;
+  }
+  EXPECT_TRUE(f.openGroup("/").attrExists(kChecksumAttribute));
+}
+
+TEST_F(ResultsFileTest, AFlippedValueIsRefusedNamingFileAndDataset) {
+  write_results(file("r.h5"), grid_results());
+  // eps_p[9] = 6.02e23: one bit of its exponent would read as 1.2e24 without the checksum.
+  flip_after(file("r.h5"), bytes_of(6.02e23), 7, 0x01);
+  const std::string message = error_of([&] { read_results(file("r.h5")); });
+  EXPECT_EQ(0u, message.find(file("r.h5").string() + ": eps_p: data corrupted")) << message;
+}
+
+TEST_F(ResultsFileTest, AFlippedValueOfACompressedDatasetIsRefused) {
+  StudyResults r = list_results();
+  const std::size_t n = 5000;  // above compress_large_datasets' 4096: chunked and deflated
+  r.dimensions[0].values.resize(n);
+  std::iota(r.dimensions[0].values.begin(), r.dimensions[0].values.end(), 0.0);
+  r.status.assign(n, 0);
+  for (ResultColumn& c : r.parameters) c.values.assign(n, 0.5);
+  for (ResultColumn& c : r.indicators) {
+    c.values.resize(n);
+    for (std::size_t i = 0; i < n; ++i) c.values[i] = 1.0 / static_cast<double>(i + 1);
+  }
+  write_results_compressed(file("s.h5"), r);
+  const std::string name = r.indicators.front().name;
+  haddr_t address = 0;
+  hsize_t size = 0;
+  {
+    H5::H5File f(file("s.h5").string(), H5F_ACC_RDONLY);
+    const H5::DataSet d = f.openDataSet(name);
+    unsigned filter_mask = 0;
+    hsize_t offset[1] = {0};
+    ASSERT_GE(H5Dget_chunk_info(d.getId(), d.getSpace().getId(), 0, offset, &filter_mask, &address,
+                                &size),
+              0);
+    ASSERT_LT(size, n * sizeof(double));  // deflated
+  }
+  std::string bytes = contents(file("s.h5"));
+  bytes[address + size / 2] = static_cast<char>(bytes[address + size / 2] ^ 0x04);
+  std::ofstream(file("s.h5"), std::ios::binary | std::ios::trunc) << bytes;
+  const std::string message = error_of([&] { read_results(file("s.h5")); });
+  EXPECT_EQ(0u, message.find(file("s.h5").string() + ": " + name + ": data corrupted")) << message;
+}
+
+TEST_F(ResultsFileTest, DamagedTextIsRefusedByTheChecksumOfAttributesAndText) {
+  write_results(file("r.h5"), grid_results());
+  flip_after(file("r.h5"), "[grid]\nalpha", 1, 0x01);  // the plan's text: "[grid]" -> "[frid]"
+  const std::string message = error_of([&] { read_results(file("r.h5")); });
+  EXPECT_EQ(0u,
+            message.find(file("r.h5").string() + ": the checksum of its attributes and text (/@" +
+                         kChecksumAttribute + "): data corrupted"))
+      << message;
+}
+
+TEST_F(ResultsFileTest, AFileWithoutChecksumsIsReadWithANote) {
+  const StudyResults written = grid_results();
+  write_results(file("r.h5"), written);
+  {
+    H5::H5File f(file("r.h5").string(), H5F_ACC_RDWR);
+    f.openGroup("/").removeAttr(kChecksumAttribute);
+  }
+  testing::internal::CaptureStderr();
+  const StudyResults read = read_results(file("r.h5"));
+  const std::string err = testing::internal::GetCapturedStderr();
+  expect_same_results(written, read);
+  EXPECT_NE(std::string::npos, err.find(file("r.h5").string() + ": no checksums")) << err;
+}
+
+TEST_F(ResultsFileTest, TheChecksumAttributeIsNoStudyAttribute) {
+  write_results(file("r.h5"), grid_results());
+  const StudyResults read = read_results(file("r.h5"));
+  for (const auto& [name, value] : read.numeric_attributes) EXPECT_NE(kChecksumAttribute, name);
+  write_results(file("again.h5"), read);  // a resumed file: one checksum, not a copy of the old
+  expect_same_results(read, read_results(file("again.h5")));
 }
 
 // --- CSV export ---

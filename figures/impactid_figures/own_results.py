@@ -18,10 +18,13 @@ knows no plan: it reads the file's `format` and `study_kind` attributes (results
                         run and a zoom at the first contact
 
 plot_file(path, out_dir, fmt) returns the files written. A file that is not impactid's, or has
-nothing to draw, raises BadFile with the reason.
+nothing to draw, raises BadFile with the reason; so does a damaged file (a dataset whose Fletcher32
+checksum HDF5 refuses, or attributes and text that do not match the file's impactid_checksum).
 """
 
 import math
+import struct
+import zlib
 from pathlib import Path
 
 import h5py
@@ -47,6 +50,67 @@ class BadFile(Exception):
 # Columns with role "indicator" that are no indicator of accuracy to draw as a surface.
 NOT_DRAWN = {"practical", "wall_time_s", "wall_time_max_s", "steps", "dof_steps", "objective", "feasible"}
 LOG_INDICATORS = {"eps_p", "eps_v", "p_max", "p_max_ratio", "energy_ratio", "wall_time_s"}
+# The checksum of a file's attributes and text, as study/formats/hdf5_file.cpp computes it
+# (metadata_checksum): objects by path, attributes by name, each item a field (8-byte
+# little-endian length, then its bytes), CRC-32 over all fields.
+CHECKSUM_ATTRIBUTE = "impactid_checksum"
+DIMENSION_SCALE_ATTRIBUTES = {"CLASS", "NAME", "DIMENSION_LIST", "REFERENCE_LIST"}
+
+
+def metadata_checksum(f):
+    crc = 0
+
+    def field(data):
+        nonlocal crc
+        crc = zlib.crc32(struct.pack("<Q", len(data)) + data, crc)
+
+    def visit(obj, path):
+        field(path.encode())
+        for name in sorted(obj.attrs.keys(), key=lambda n: n.encode()):
+            if name == CHECKSUM_ATTRIBUTE or name in DIMENSION_SCALE_ATTRIBUTES:
+                continue
+            value = obj.attrs[name]
+            if isinstance(value, bytes):
+                value = value.decode()
+            if isinstance(value, str):
+                field(name.encode())
+                field(value.encode())
+                continue
+            value = np.asarray(value)
+            if value.dtype.kind == "f":
+                kind = "<f8"
+            elif value.dtype.kind in "iu":
+                kind = "<i8"
+            else:
+                continue  # references and other types are not covered
+            field(name.encode())
+            field(value.astype(kind).tobytes())
+        if isinstance(obj, h5py.Group):
+            for name in sorted(obj.keys(), key=lambda n: n.encode()):
+                visit(obj[name], ("/" if path == "/" else path + "/") + name)
+        elif obj.dtype.kind in "OSU":
+            for item in np.asarray(obj.asstr()[()]).ravel():
+                field(item.encode())
+
+    visit(f, "/")
+    return crc
+
+
+def verify(f, path):
+    """Raises BadFile when a dataset's stored checksum or the file's impactid_checksum refuses it."""
+    for name, d in f.items():
+        if isinstance(d, h5py.Dataset):
+            try:
+                d[()]
+            except OSError as error:
+                raise BadFile(f"{path}: {name}: data corrupted: its stored checksum does not match "
+                              f"the bytes read ({error}); the file is damaged") from None
+    if CHECKSUM_ATTRIBUTE in f.attrs and int(f.attrs[CHECKSUM_ATTRIBUTE]) != metadata_checksum(f):
+        raise BadFile(f"{path}: the checksum of its attributes and text (/@{CHECKSUM_ATTRIBUTE}): data "
+                      f"corrupted: the stored checksum does not match the attributes and text read "
+                      f"(the file is damaged)")
+
+
 STATUS_MARKS = {1: ("x", "unstable"), 2: ("+", "failed"), -1: (".", "not done")}
 
 
@@ -59,6 +123,7 @@ def plot_file(path, out_dir=None, fmt="png"):
         with h5py.File(path, "r") as f:
             fmt_attr = text(f.attrs.get("format", ""))
             names = set(f.keys())
+            verify(f, path)
     except OSError as error:
         raise BadFile(f"{path}: not an HDF5 file ({error})") from None
     out_dir.mkdir(parents=True, exist_ok=True)

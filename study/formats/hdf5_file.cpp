@@ -5,8 +5,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <functional>
+#include <iostream>
 #include <numeric>
 #include <system_error>
 
@@ -44,11 +49,51 @@ std::string failure_text(const H5::Exception& e) {
   return innermost.empty() || innermost == detail ? detail : detail + " (" + innermost + ")";
 }
 
+// True when HDF5's error stack reports a checksum that does not match its data: a dataset's
+// Fletcher32 ("data error detected by Fletcher32 checksum") or an object header's or index's
+// metadata checksum ("incorrect metadata checksum after all read attempts").
+bool checksum_failed() {
+  bool failed = false;
+  const H5E_walk2_t visit = [](unsigned, const H5E_error2_t* error, void* data) -> herr_t {
+    if (error->desc && std::strstr(error->desc, "checksum")) *static_cast<bool*>(data) = true;
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, visit, &failed);
+  return failed;
+}
+
+std::string corrupted(const std::filesystem::path& file, const std::string& object) {
+  return file.string() + ": " + object +
+         ": data corrupted: its stored checksum does not match the bytes read (the file is "
+         "damaged; use a backup or run it again)";
+}
+
+// A read refused by a checksum. HDF5's error stack, which says so, is cleared by the next HDF5
+// call, such as closing the dataset as the exception leaves its scope: the read is checked
+// where it fails (checked_read, inside the scope of the objects it reads through) and carried
+// out as this.
+struct ChecksumMismatch : H5::Exception {
+  ChecksumMismatch() : H5::Exception("read", "checksum mismatch") {}
+};
+
+template <class Fn>
+auto checked_read(Fn&& read) {
+  try {
+    return read();
+  } catch (const H5::Exception&) {
+    if (checksum_failed()) throw ChecksumMismatch();
+    throw;
+  }
+}
+
 template <class Fn>
 auto guarded(const std::filesystem::path& file, const std::string& object, Fn&& fn) {
   try {
     return fn();
+  } catch (const ChecksumMismatch&) {
+    throw Hdf5Error(corrupted(file, object));
   } catch (const H5::Exception& e) {
+    if (checksum_failed()) throw Hdf5Error(corrupted(file, object));
     throw Hdf5Error(file.string() + ": " + object + ": " + failure_text(e));
   }
 }
@@ -58,14 +103,14 @@ template <class Fn>
 auto with_object(H5::H5File& file, const std::string& path, Fn&& fn) {
   if (path == "/") {
     H5::Group root = file.openGroup("/");
-    return fn(static_cast<H5::H5Object&>(root));
+    return checked_read([&] { return fn(static_cast<H5::H5Object&>(root)); });
   }
   if (file.childObjType(path) == H5O_TYPE_GROUP) {
     H5::Group group = file.openGroup(path);
-    return fn(static_cast<H5::H5Object&>(group));
+    return checked_read([&] { return fn(static_cast<H5::H5Object&>(group)); });
   }
   H5::DataSet dataset = file.openDataSet(path);
-  return fn(static_cast<H5::H5Object&>(dataset));
+  return checked_read([&] { return fn(static_cast<H5::H5Object&>(dataset)); });
 }
 
 H5::Attribute replace_attribute(H5::H5Object& object, const std::string& name,
@@ -93,12 +138,15 @@ H5::DSetCreatPropList dataset_properties() {
 
 // Chunks of at most 2^16 elements (512 KB of doubles, inside HDF5's default 1 MB chunk cache),
 // whole along the last dimensions first, so that a row-major table is cut into runs of
-// consecutive points.
+// consecutive points. Every dataset is chunked (Fletcher32 needs it) and HDF5 stores edge chunks
+// whole, so the dimension that is cut is cut into equal pieces: 1000 rows of 1000 points go in
+// 16 chunks of 63 rows (8 rows of padding), not 65 (40 rows, 320 KB of padding a dataset).
 Hdf5Dims chunk_shape(const Hdf5Dims& dims) {
   Hdf5Dims chunk(dims.size(), 1);
   hsize_t budget = hsize_t{1} << 16;
   for (std::size_t d = dims.size(); d-- > 0 && budget > 1;) {
-    chunk[d] = std::min(dims[d], budget);
+    const hsize_t pieces = std::max<hsize_t>(1, (dims[d] + budget - 1) / budget);
+    chunk[d] = std::max<hsize_t>(1, (dims[d] + pieces - 1) / pieces);
     budget /= chunk[d];
   }
   return chunk;
@@ -114,11 +162,18 @@ void write_numeric_dataset(H5::H5File& file, const std::filesystem::path& path,
   guarded(path, name, [&] {
     H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
     H5::DSetCreatPropList properties = dataset_properties();
-    if (compressed && !dims.empty() && data.size() >= 4096) {
+    // Fletcher32 needs chunked storage; a dataset of no elements has no bytes to check, and a
+    // scalar one cannot be chunked (no dataset written here is scalar).
+    if (!dims.empty() && !data.empty()) {
       const Hdf5Dims chunk = chunk_shape(dims);
       properties.setChunk(static_cast<int>(chunk.size()), chunk.data());
-      properties.setShuffle();
-      properties.setDeflate(1);
+      if (compressed && data.size() >= 4096) {
+        properties.setShuffle();
+        properties.setDeflate(1);
+      }
+      // Added last, so it checks the stored (compressed) bytes and runs first on read, before
+      // zlib sees them.
+      properties.setFletcher32();
     }
     H5::DataSet d = file.createDataSet(name, type, space, properties);
     if (!data.empty()) d.write(data.data(), type);  // a zero-size dataset has nothing to write
@@ -130,7 +185,7 @@ std::vector<T> read_numeric_dataset(H5::H5File& file, const std::string& name,
                                     const H5::PredType& type) {
   H5::DataSet d = file.openDataSet(name);
   std::vector<T> out(static_cast<std::size_t>(d.getSpace().getSimpleExtentNpoints()));
-  if (!out.empty()) d.read(out.data(), type);
+  if (!out.empty()) checked_read([&] { d.read(out.data(), type); });
   return out;
 }
 
@@ -214,6 +269,191 @@ H5::Attribute open_scalar_attribute(H5::H5Object& object, const std::string& nam
   return a;
 }
 
+// Bob Jenkins' lookup3 hashlittle (public domain), byte by byte as HDF5's
+// H5_checksum_lookup3 reads it: HDF5's checksum of its metadata (initial value 0).
+std::uint32_t lookup3(const unsigned char* key, std::size_t length) {
+  const auto rot = [](std::uint32_t x, int k) { return (x << k) | (x >> (32 - k)); };
+  std::uint32_t a = 0xdeadbeefu + static_cast<std::uint32_t>(length);
+  std::uint32_t b = a;
+  std::uint32_t c = a;
+  const auto word = [](const unsigned char* p) {
+    return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
+           std::uint32_t{p[3]} << 24;
+  };
+  for (; length > 12; length -= 12, key += 12) {
+    a += word(key);
+    b += word(key + 4);
+    c += word(key + 8);
+    a -= c;
+    a ^= rot(c, 4);
+    c += b;
+    b -= a;
+    b ^= rot(a, 6);
+    a += c;
+    c -= b;
+    c ^= rot(b, 8);
+    b += a;
+    a -= c;
+    a ^= rot(c, 16);
+    c += b;
+    b -= a;
+    b ^= rot(a, 19);
+    a += c;
+    c -= b;
+    c ^= rot(b, 4);
+    b += a;
+  }
+  if (length == 0) return c;
+  std::array<std::uint32_t*, 3> words{&a, &b, &c};
+  for (std::size_t i = 0; i < length; ++i) *words[i / 4] += std::uint32_t{key[i]} << (8 * (i % 4));
+  c ^= b;
+  c -= rot(b, 14);
+  a ^= c;
+  a -= rot(c, 11);
+  b ^= a;
+  b -= rot(a, 25);
+  c ^= b;
+  c -= rot(b, 16);
+  a ^= c;
+  a -= rot(c, 4);
+  b ^= a;
+  b -= rot(a, 14);
+  c ^= b;
+  c -= rot(b, 24);
+  return c;
+}
+
+// HDF5 1.10.8's H5Fget_file_image clears the superblock's status flags in the image (the
+// in-memory file is open for writing; the image is a closed file) but leaves the superblock's
+// checksum as computed with them set, so every reader refuses the image ("incorrect metadata
+// checksum"). The superblock of versions 2 and 3 (the 1.10 format asked for above) is 12 bytes,
+// four addresses, then the lookup3 checksum of all that: recomputed here.
+void repair_superblock_checksum(std::vector<char>& image) {
+  auto* bytes = reinterpret_cast<unsigned char*>(image.data());
+  if (image.size() < 12 || bytes[8] < 2) return;  // versions 0 and 1 have no checksum
+  const std::size_t checked_size = 12 + 4 * std::size_t{bytes[9]};  // bytes[9]: address size
+  if (image.size() < checked_size + 4) return;
+  const std::uint32_t checksum = lookup3(bytes, checked_size);
+  for (std::size_t i = 0; i < 4; ++i) {
+    bytes[checked_size + i] = static_cast<unsigned char>(checksum >> (8 * i));
+  }
+}
+
+// --- the checksum of attributes and text ------------------------------------------------------
+
+// CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320: zlib's crc32 and Python's
+// zlib.crc32), bit by bit: it runs once per file over a few kilobytes of text.
+std::uint32_t crc32_update(std::uint32_t crc, const void* bytes, std::size_t size) {
+  const auto* p = static_cast<const unsigned char*>(bytes);
+  crc = ~crc;
+  for (std::size_t i = 0; i < size; ++i) {
+    crc ^= p[i];
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+// The checksum's input is a sequence of fields, each its length (8 bytes, little-endian: the
+// only byte order impactid runs on) then its bytes, so that no two different files give one
+// sequence.
+struct Digest {
+  std::uint32_t crc = 0;
+  void field(const void* bytes, std::size_t size) {
+    const std::uint64_t length = size;
+    crc = crc32_update(crc, &length, sizeof length);
+    crc = crc32_update(crc, bytes, size);
+  }
+  void field(const std::string& text) { field(text.data(), text.size()); }
+};
+
+// HDF5's dimension-scale bookkeeping (H5DS): object references (addresses in the file, which a
+// repacked file changes) and fixed names that H5DS writes; not results, so not covered.
+bool is_dimension_scale_attribute(const std::string& name) {
+  return name == "CLASS" || name == "NAME" || name == "DIMENSION_LIST" || name == "REFERENCE_LIST";
+}
+
+std::vector<std::string> sorted_attribute_names(H5::H5Object& object) {
+  std::vector<std::string> names;
+  const int count = object.getNumAttrs();
+  for (int i = 0; i < count; ++i) {
+    names.push_back(c_name(
+        [&](char* buffer, std::size_t size) {
+          return H5Aget_name_by_idx(object.getId(), ".", H5_INDEX_NAME, H5_ITER_INC,
+                                    static_cast<hsize_t>(i), buffer, size, H5P_DEFAULT);
+        },
+        "H5Aget_name_by_idx"));
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// An attribute's value as the checksum reads it: text as its UTF-8 bytes, numbers as 8-byte
+// little-endian doubles or integers; other types (references) are not covered.
+void add_attribute(Digest& digest, H5::H5Object& object, const std::string& name) {
+  H5::Attribute a = object.openAttribute(name);
+  const auto n = static_cast<std::size_t>(a.getSpace().getSimpleExtentNpoints());
+  const H5T_class_t type = a.getTypeClass();
+  if (type == H5T_STRING && n == 1) {  // impactid writes scalar text only
+    std::string text;
+    a.read(a.getStrType(), text);
+    digest.field(name);
+    digest.field(text);
+  } else if (type == H5T_FLOAT) {
+    std::vector<double> v(n);
+    if (n > 0) a.read(H5::PredType::NATIVE_DOUBLE, v.data());
+    digest.field(name);
+    digest.field(v.data(), v.size() * sizeof(double));
+  } else if (type == H5T_INTEGER) {
+    std::vector<std::int64_t> v(n);
+    if (n > 0) a.read(H5::PredType::NATIVE_INT64, v.data());
+    digest.field(name);
+    digest.field(v.data(), v.size() * sizeof(std::int64_t));
+  }
+}
+
+// The checksum of everything in a file that HDF5's own checksums miss: every attribute (the
+// plan's text is kept in the file's global heap, which has no checksum) and the text datasets
+// (variable-length strings, also in the global heap, which Fletcher32 cannot cover: it would
+// check only their heap addresses). Objects by path ("/", then the root's members by name,
+// recursively), attributes by name; kChecksumAttribute and H5DS's bookkeeping left out.
+std::uint32_t metadata_checksum(H5::H5File& file) {
+  Digest digest;
+  std::function<void(const std::string&)> visit;
+  const auto visit_object = [&](const std::string& path) {
+    digest.field(path);
+    const auto add_attributes = [&](H5::H5Object& o) {
+      for (const std::string& name : sorted_attribute_names(o)) {
+        if (name == kChecksumAttribute || is_dimension_scale_attribute(name)) continue;
+        add_attribute(digest, o, name);
+      }
+    };
+    if (path == "/" || file.childObjType(path) == H5O_TYPE_GROUP) {
+      H5::Group g = file.openGroup(path);
+      add_attributes(g);
+      std::vector<std::string> members;
+      for (hsize_t i = 0; i < g.getNumObjs(); ++i) members.push_back(g.getObjnameByIdx(i));
+      std::sort(members.begin(), members.end());
+      for (const std::string& m : members) visit(path == "/" ? "/" + m : path + "/" + m);
+      return;
+    }
+    H5::DataSet d = file.openDataSet(path);
+    add_attributes(d);
+    if (d.getTypeClass() != H5T_STRING) return;  // numbers: Fletcher32
+    const auto n = static_cast<std::size_t>(d.getSpace().getSimpleExtentNpoints());
+    std::vector<char*> pointers(n, nullptr);
+    const H5::StrType type = utf8_string_type();
+    if (n > 0) d.read(pointers.data(), type);
+    for (char*& p : pointers) {
+      digest.field(p ? std::string(p) : std::string());
+      std::free(p);
+      p = nullptr;
+    }
+  };
+  visit = [&](const std::string& path) { checked_read([&] { visit_object(path); }); };
+  visit("/");
+  return digest.crc;
+}
+
 }  // namespace
 
 Hdf5Writer::Hdf5Writer(std::filesystem::path path) : path_(std::move(path)) {
@@ -238,6 +478,10 @@ Hdf5Writer::Hdf5Writer(std::filesystem::path path) : path_(std::move(path)) {
     // its image (see the header: HDF5 never writes to the disk itself).
     H5::FileAccPropList access;
     access.setCore(kMemoryIncrement, false);
+    // HDF5 1.10's file format: a dataset of one chunk (every one under 2^16 elements) is indexed
+    // in its own layout message; the 1.8 format's B-tree per chunked dataset would double a
+    // history file of small datasets. Also gives every object header a checksum.
+    access.setLibverBounds(H5F_LIBVER_V110, H5F_LIBVER_V110);
     file_.emplace(temporary_.string(), H5F_ACC_TRUNC, properties, access);
   });
 }
@@ -352,11 +596,20 @@ void Hdf5Writer::attach_scale(const std::string& dataset, const std::string& sca
 }
 
 void Hdf5Writer::commit() {
+  guarded(path_, std::string("/@") + kChecksumAttribute, [&] {
+    const long checksum = metadata_checksum(*file_);
+    H5::Group root = file_->openGroup("/");
+    replace_attribute(root, kChecksumAttribute, H5::PredType::NATIVE_LONG,
+                      H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_LONG, &checksum);
+  });
   const std::vector<char> image = guarded(path_, "/", [&] {
     file_->flush(H5F_SCOPE_GLOBAL);
-    const ssize_t size = checked(H5Fget_file_image(file_->getId(), nullptr, 0), "H5Fget_file_image");
+    const ssize_t size =
+        checked(H5Fget_file_image(file_->getId(), nullptr, 0), "H5Fget_file_image");
     std::vector<char> bytes(static_cast<std::size_t>(size));
     checked(H5Fget_file_image(file_->getId(), bytes.data(), bytes.size()), "H5Fget_file_image");
+    repair_superblock_checksum(bytes);
     return bytes;
   });
   guarded(path_, "/", [&] { file_->close(); });
@@ -378,14 +631,40 @@ void Hdf5Writer::commit() {
   sync_to_disk(folder, O_RDONLY | O_DIRECTORY);
 }
 
-Hdf5Reader::Hdf5Reader(const std::filesystem::path& path) : path_(path) {
+Hdf5Reader::Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked) : path_(path) {
   if (!std::filesystem::exists(path)) throw Hdf5Error(path.string() + ": no such file");
   try {
     file_.openFile(path.string(), H5F_ACC_RDONLY);
   } catch (const H5::Exception& e) {
+    if (checksum_failed()) throw Hdf5Error(corrupted(path, "/"));
     throw Hdf5Error(path.string() +
                     ": not a readable HDF5 file (truncated or corrupt?): " + failure_text(e));
   }
+  const std::string what =
+      std::string("the checksum of its attributes and text (/@") + kChecksumAttribute + ")";
+  checksummed_ = guarded(path_, "/", [&] {
+    H5::Group root = file_.openGroup("/");
+    return root.attrExists(kChecksumAttribute);
+  });
+  if (!checksummed_) {
+    if (unchecked == UncheckedFile::note) {
+      std::cerr << "impactid: note: " << path_.string()
+                << ": no checksums (written by an impactid before they were added, or by "
+                   "another program): its data are read unverified\n";
+    }
+    return;
+  }
+  guarded(path_, what, [&] {
+    H5::Group root = file_.openGroup("/");
+    long stored = 0;
+    open_scalar_attribute(root, kChecksumAttribute).read(H5::PredType::NATIVE_LONG, &stored);
+    const long computed = metadata_checksum(file_);
+    if (stored != computed) {
+      throw Hdf5Error(path_.string() + ": " + what +
+                      ": data corrupted: the stored checksum does not match the attributes and "
+                      "text read (the file is damaged; use a backup or run it again)");
+    }
+  });
 }
 
 bool Hdf5Reader::exists(const std::string& path) const {
@@ -444,7 +723,7 @@ std::vector<std::string> Hdf5Reader::strings(const std::string& dataset) const {
     const auto n = static_cast<std::size_t>(d.getSpace().getSimpleExtentNpoints());
     std::vector<char*> pointers(n, nullptr);
     const H5::StrType type = utf8_string_type();
-    if (n > 0) d.read(pointers.data(), type);
+    if (n > 0) checked_read([&] { d.read(pointers.data(), type); });
     std::vector<std::string> out;
     for (char* p : pointers) {
       out.emplace_back(p ? p : "");
@@ -531,12 +810,14 @@ std::vector<std::string> Hdf5Reader::attribute_names(const std::string& object) 
       std::vector<std::string> names;
       const int count = o.getNumAttrs();
       for (int i = 0; i < count; ++i) {
-        names.push_back(c_name(
+        std::string name = c_name(
             [&](char* buffer, std::size_t size) {
               return H5Aget_name_by_idx(o.getId(), ".", index, H5_ITER_INC, static_cast<hsize_t>(i),
                                         buffer, size, H5P_DEFAULT);
             },
-            "H5Aget_name_by_idx"));
+            "H5Aget_name_by_idx");
+        if (object == "/" && name == kChecksumAttribute) continue;  // storage, not content
+        names.push_back(std::move(name));
       }
       return names;
     });

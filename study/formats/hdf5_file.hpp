@@ -10,6 +10,26 @@
 // write of the image fails cleanly, with the system's reason (No space left on device, Read-only
 // file system) in the Hdf5Error.
 //
+// Every number is stored with a checksum that is verified on every read, so a flipped bit is an
+// error naming the file and the object, never a value (issue 38):
+//   - numeric datasets are chunked (whole when under 2^16 elements) with HDF5's Fletcher32
+//     filter; HDF5 checks it on each read, in impactid and in any other reader (h5py, xarray,
+//     netCDF-C), and deflate, where on, runs before it on write;
+//   - HDF5's own metadata (object headers, chunk indexes) carries checksums in the 1.10 file
+//     format, which the writer asks for (so reading needs HDF5 1.10 or later);
+//   - what neither covers, the attributes (the plan's text lives in the file's global heap,
+//     which has no checksum) and text datasets (Fletcher32 on variable-length strings would
+//     check only their heap addresses), is covered by one CRC-32 over all of them, written at
+//     commit() as the root attribute kChecksumAttribute and checked when a Hdf5Reader opens the
+//     file. HDF5 does not know it: other readers do not check it (Python's open_results does,
+//     through this code). H5DS's dimension-scale bookkeeping is left out: its object
+//     references are file addresses (h5repack changes them, not the study); CLASS, NAME and
+//     REFERENCE_LIST sit in checksummed object headers, and DIMENSION_LIST, in the global heap,
+//     is checked by its use: read_results requires one scale per axis, of matching length.
+// A file without kChecksumAttribute (written before checksums, or by another program) is read
+// unverified, with a note on stderr. A checksum that does not match is an Hdf5Error "FILE:
+// OBJECT: data corrupted: …".
+//
 // Files track the creation order of their root group's links and attributes (as netCDF-4
 // does), so members() and attribute_names() list them in the order they were written.
 //
@@ -34,6 +54,14 @@ struct Hdf5Error : std::runtime_error {
 
 using Hdf5Dims = std::vector<hsize_t>;
 
+/// The root attribute holding the CRC-32 of a file's attributes and text datasets (see above).
+/// Hdf5Reader::attribute_names leaves it out: it describes the storage, not the content.
+inline constexpr const char* kChecksumAttribute = "impactid_checksum";
+
+/// What a Hdf5Reader does with a file without checksums: say so on stderr, or nothing (a probe
+/// that only asks which kind of file it is; the reader that loads it says it).
+enum class UncheckedFile { note, quiet };
+
 class Hdf5Writer {
  public:
   /// Starts the file in memory (creating <path>'s parent folders). Throws Hdf5Error.
@@ -51,8 +79,8 @@ class Hdf5Writer {
   void attribute(const std::string& object, const std::string& name, std::span<const int> values);
 
   void group(const std::string& path);
-  /// Numeric datasets of 4096 elements or more created after this call are stored in chunks,
-  /// shuffled and deflated (zlib level 1): a shard's file, whose other shards' points are NaN,
+  /// Numeric datasets of 4096 elements or more created after this call are also shuffled and
+  /// deflated (zlib level 1): a shard's file, whose other shards' points are NaN,
   /// shrinks to about its own points. Readers need nothing: HDF5 undoes it.
   void compress_large_datasets(bool on) { compressed_ = on; }
   /// A row-major dataset of the given shape (product of dims == data.size()).
@@ -80,10 +108,16 @@ class Hdf5Writer {
 };
 
 /// Read access to a results file. Throws Hdf5Error naming the file for a missing, truncated or
-/// corrupt file and for a missing object.
+/// corrupt file and for a missing object. Opening checks the checksum of the attributes and
+/// text; each dataset read checks its Fletcher32 (HDF5 does); a mismatch throws "FILE: OBJECT:
+/// data corrupted: …".
 class Hdf5Reader {
  public:
-  explicit Hdf5Reader(const std::filesystem::path& path);
+  explicit Hdf5Reader(const std::filesystem::path& path,
+                      UncheckedFile unchecked = UncheckedFile::note);
+
+  /// False for a file written without checksums, read unverified.
+  bool checksummed() const { return checksummed_; }
 
   bool exists(const std::string& path) const;
   /// Names of a group's members, in creation order when the file tracks it, else by name.
@@ -113,6 +147,7 @@ class Hdf5Reader {
  private:
   std::filesystem::path path_;
   mutable H5::H5File file_;  // HDF5 opens objects through non-const handles
+  bool checksummed_ = false;
 };
 
 }  // namespace impactid

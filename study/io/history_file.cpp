@@ -222,7 +222,7 @@ bool is_history_file(const std::filesystem::path& path) {
     return std::getline(in, first) && first.rfind("t[", 0) == 0;
   }
   try {
-    const Hdf5Reader file(path);
+    const Hdf5Reader file(path, UncheckedFile::quiet);
     return file.has_attribute("/", "method") && !file.has_attribute("/", "format") &&
            file.exists("t");
   } catch (const Hdf5Error&) {

@@ -14,6 +14,8 @@
 #include "metrics/verdict.hpp"
 #include "study/formats/hdf5_file.hpp"
 #include "study/formats/text_file.hpp"
+#include "study/io/history_file.hpp"
+#include "study/studies/spectral_study.hpp"
 
 namespace impactid {
 namespace {
@@ -106,7 +108,9 @@ std::optional<std::string> inconsistency(const StudyResults& r) {
   std::set<std::string> attributes;
   const auto claim_attribute = [&](const std::string& name) -> std::optional<std::string> {
     if (name.empty()) return "a study attribute with an empty name";
-    if (is_fixed_attribute(name)) return "study attribute \"" + name + "\": reserved name";
+    if (is_fixed_attribute(name) || name == kChecksumAttribute) {
+      return "study attribute \"" + name + "\": reserved name";
+    }
     if (!attributes.insert(name).second) return "study attribute \"" + name + "\": used twice";
     return std::nullopt;
   };
@@ -207,12 +211,20 @@ class ResultsReader {
     return file_.attribute_string(object, name);
   }
 
+  // impactid's other HDF5 files are named, so that a wrong file given is recognised.
   void check_format() const {
     if (!file_.has_attribute("/", "format")) {
+      if (is_history_file(path_)) {
+        throw error("not an impactid results file: a history file (impactid simulate --history)");
+      }
       throw error("not an impactid results file (no root attribute `format`)");
     }
     const std::string format =
         file_.attribute_is_text("/", "format") ? file_.attribute_string("/", "format") : "";
+    if (format == kSpectralFormat) {
+      throw error("not an impactid results file: a spectral file (format \"" + format +
+                  "\", impactid spectral)");
+    }
     if (format != kFormat) {
       throw error("format \"" + format + "\" is not " + kFormat +
                   " (a different kind of file, or written by another impactid version)");

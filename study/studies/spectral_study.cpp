@@ -216,7 +216,7 @@ void write_spectral_results(const std::filesystem::path& path, const SpectralRes
 
 bool is_spectral_results_file(const std::filesystem::path& path) {
   try {
-    const Hdf5Reader file(path);
+    const Hdf5Reader file(path, UncheckedFile::quiet);
     return file.has_attribute("/", "format") && file.attribute_is_text("/", "format") &&
            file.attribute_string("/", "format") == kSpectralFormat;
   } catch (const std::exception&) {
