@@ -25,6 +25,9 @@ std::optional<ContactWeighting> contact_weighting_from_string(const std::string&
 MethodKind kind_of(const MethodParams& params) {
   // MethodParams lists its alternatives in MethodKind's order (method.hpp says so, and
   // tests/method_registry_test.cpp checks every kind through default_params()).
+  if (const auto* registered = std::get_if<RegisteredMethodParams>(&params)) {
+    return registered->kind;
+  }
   return static_cast<MethodKind>(params.index());
 }
 

@@ -6,6 +6,7 @@
 // our −α for HHT. Generalized-α follows Chung & Hulbert (1993), doi:10.1115/1.2900803.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <variant>
@@ -27,7 +28,9 @@ enum class MethodKind {
   wilson_theta,
   noh_bathe,
   kim_explicit,
-  kr_alpha
+  kr_alpha,
+  /// The first kind register_method() hands out; each registration takes the next.
+  first_registered
 };
 /// "cdm", "backward-euler", "newmark", "hht", "generalized-alpha", …: the names used alike on the
 /// command line, in plan files and in HDF5 attributes (core/methods/method_registry.hpp holds
@@ -245,11 +248,24 @@ struct KrAlphaParams {
   double rho_inf = 0.8;  ///< ρ∞ ∈ [0, 1]
 };
 
-/// One alternative per method, in MethodKind's order (kind_of() is the alternative's index).
+/// The parameters of a method registered from outside the library (register_method(),
+/// core/methods/method_registry.hpp): its kind, given by the registration, and the values of its
+/// number parameters in its descriptor's `parameters` order. What they mean is the method's own
+/// business (its descriptor's hooks read them); the library only carries them.
+struct RegisteredMethodParams {
+  static constexpr int kMaxParameters = 4;
+  MethodKind kind{};
+  std::array<double, kMaxParameters> values{};
+  bool operator==(const RegisteredMethodParams&) const = default;
+};
+
+/// One alternative per built-in method, in MethodKind's order (kind_of() is the alternative's
+/// index), then one for every registered method.
 using MethodParams =
     std::variant<CentralDifferenceParams, BackwardEulerParams, NewmarkParams, HhtParams,
                  GeneralizedAlphaParams, BatheParams, RhoBatheParams, TrBdf2Params, HouboltParams,
-                 WilsonThetaParams, NohBatheParams, KimExplicitParams, KrAlphaParams>;
+                 WilsonThetaParams, NohBatheParams, KimExplicitParams, KrAlphaParams,
+                 RegisteredMethodParams>;
 
 MethodKind kind_of(const MethodParams& params);
 /// Default parameters of a method.

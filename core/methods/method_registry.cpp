@@ -1,6 +1,8 @@
 #include "core/methods/method_registry.hpp"
 
 #include <array>
+#include <stdexcept>
+#include <vector>
 
 namespace impactid {
 
@@ -57,26 +59,45 @@ constexpr std::array<MethodParameter, 10> kParameters{{
      "endpoint|weighted"},
 }};
 
-// The registry: one line per method, in MethodKind's order. Built on first use, not at static
-// initialisation: the descriptors come from other translation units, whose static order is
-// unspecified.
-const auto& methods() {
-  static const auto registered = std::to_array<MethodDescriptor>({
-      cdm_method(),
-      backward_euler_method(),
-      newmark_method(),
-      hht_method(),
-      generalized_alpha_method(),
-      bathe_method(),
-      rho_bathe_method(),
-      tr_bdf2_method(),
-      houbolt_method(),
-      wilson_theta_method(),
-      noh_bathe_method(),
-      kim_explicit_method(),
-      kr_alpha_method(),
-  });
+// Room for the registered methods beside the built-in ones: the registry's storage is reserved
+// once, so that descriptor references stay valid while methods are registered.
+constexpr std::size_t kRegistryCapacity = 64;
+
+// The registry: one line per built-in method, in MethodKind's order, then the registered ones.
+// Built on first use, not at static initialisation: the descriptors come from other translation
+// units, whose static order is unspecified.
+std::vector<MethodDescriptor>& methods() {
+  static std::vector<MethodDescriptor> registered = [] {
+    std::vector<MethodDescriptor> out;
+    out.reserve(kRegistryCapacity);
+    for (MethodDescriptor m : {
+             cdm_method(),
+             backward_euler_method(),
+             newmark_method(),
+             hht_method(),
+             generalized_alpha_method(),
+             bathe_method(),
+             rho_bathe_method(),
+             tr_bdf2_method(),
+             houbolt_method(),
+             wilson_theta_method(),
+             noh_bathe_method(),
+             kim_explicit_method(),
+             kr_alpha_method(),
+         }) {
+      out.push_back(m);
+    }
+    return out;
+  }();
   return registered;
+}
+
+// A registered method's parameters carry its kind, which its own hooks cannot know (they are
+// plain functions written before the registration handed the kind out): stamped here, where
+// the library builds them.
+MethodParams stamped(MethodParams params, MethodKind kind) {
+  if (auto* registered = std::get_if<RegisteredMethodParams>(&params)) registered->kind = kind;
+  return params;
 }
 
 std::string join(const auto& items, const auto& name_of) {
@@ -188,11 +209,48 @@ std::variant<MethodParams, ParameterError> build_method(MethodKind kind,
                           std::string("is not a parameter of method ") + method.name +
                               " (it applies to " + methods_taking(p.name) + ")"};
   }
-  return method.make(given);
+  auto made = method.make(given);
+  if (auto* params = std::get_if<MethodParams>(&made)) *params = stamped(*params, kind);
+  return made;
 }
 
 MethodParams default_params(MethodKind kind) {
-  return descriptor(kind).defaults();
+  return stamped(descriptor(kind).defaults(), kind);
+}
+
+MethodKind register_method(MethodDescriptor method) {
+  std::vector<MethodDescriptor>& registry = methods();
+  const std::string name = method.name ? method.name : "";
+  const auto refuse = [&](const std::string& why) {
+    throw std::invalid_argument("register_method(\"" + name + "\"): " + why);
+  };
+  if (name.empty()) refuse("a method needs a name");
+  if (method_kind_from_string(name)) refuse("the name is taken");
+  if (!method.summary) refuse("a method needs a summary");
+  if (!method.make || !method.values || !method.choices || !method.defaults || !method.validate ||
+      !method.same_parameters || !method.spectrum) {
+    refuse("make, values, choices, defaults, validate, same_parameters and spectrum are needed");
+  }
+  if (method.parameters.size() > RegisteredMethodParams::kMaxParameters) {
+    refuse("takes more than " + std::to_string(RegisteredMethodParams::kMaxParameters) +
+           " parameters");
+  }
+  for (const char* parameter : method.parameters) {
+    const MethodParameter* p = find_method_parameter(parameter);
+    if (!p || p->choice) refuse(std::string(parameter) + " is not a number key of the table");
+  }
+  // The steppers a registered method may use: the single-step implicit family's or the
+  // composite schemes', chosen by the coefficients it gives (core/run/simulation.cpp).
+  if (!method.implicit_coefficients == !method.composite_coefficients) {
+    refuse("give exactly one of implicit_coefficients and composite_coefficients");
+  }
+  // A damping family's params() could not carry the kind (stamped() cannot reach it).
+  if (!method.damping_families.empty()) refuse("damping families are for built-in methods");
+  if (registry.size() == registry.capacity()) refuse("the registry is full");
+  // The built-in methods fill the kinds before first_registered, one each, in order.
+  method.kind = static_cast<MethodKind>(registry.size());
+  registry.push_back(method);
+  return method.kind;
 }
 
 std::optional<ParameterError> validate(const MethodParams& params) {

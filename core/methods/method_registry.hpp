@@ -13,8 +13,8 @@
 // `hht_contact` where an α-method's contact force acts. A key's description says what it is for
 // each method that takes it.
 //
-// Thread safety: the registry is immutable once built (on first use, thread-safe); every
-// function is reentrant.
+// Thread safety: the registry is built on first use (thread-safe) and changes only by
+// register_method(), which belongs to start-up; every other function is reentrant.
 #pragma once
 
 #include <optional>
@@ -143,6 +143,19 @@ bool method_takes(const MethodDescriptor& method, std::string_view parameter);
 std::string methods_taking(std::string_view parameter);
 /// Every method's name, as "cdm|backward-euler|…".
 std::string method_names();
+
+/// Adds a method written outside the library (docs/architecture.md, "A method outside the
+/// library") and returns the kind it is known by from then on: `simulate`, sweeps, plans (by its
+/// name), the references and the spectral analysis take it as they take a built-in method. Its
+/// parameters are RegisteredMethodParams (the library stamps its kind into them); its
+/// `parameters` are number keys of method_parameters(), at most
+/// RegisteredMethodParams::kMaxParameters; it is stepped as a member of the single-step implicit
+/// family or as a composite scheme, by the coefficients it gives (exactly one of
+/// implicit_coefficients and composite_coefficients); it has no damping families. The descriptor's
+/// `kind` is ignored. Throws std::invalid_argument naming the method and what is missing.
+/// Register at start-up, before any thread reads the registry: registration is not synchronised
+/// with readers.
+MethodKind register_method(MethodDescriptor method);
 
 /// The parameters of `kind` from the given ones: a key the method does not take is an error
 /// ("is not a parameter of method cdm (it applies to newmark|hht)"), checked in
