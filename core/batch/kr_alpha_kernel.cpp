@@ -26,8 +26,6 @@ namespace {
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // E's factorisation's numbers of a row in every lane: TridiagonalFactorization's 1/pivot,
 // −lower/pivot, −upper/pivot (negated as the sweeps negate them) and the product of two upper
 // ratios.
