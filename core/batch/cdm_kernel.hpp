@@ -73,7 +73,7 @@ struct CdmBatch {
                                                    const RowFactors& uniform_row, Lanes& velocity) {
   // Local copies, so that the compiler keeps them in registers: a store through a Lanes pointer
   // (may_alias) could otherwise change them, and every use would reload them
-  // (core/batch/rod_kernel.cpp's step_lanes).
+  // (core/batch/rod_step.hpp's step_lanes).
   const CdmRows b = rows;
   const RowFactors uniform = uniform_row;
   const Eigen::Index last = b.n - 1;
