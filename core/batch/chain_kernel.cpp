@@ -13,7 +13,9 @@
 #include "core/batch/batched_chain.hpp"
 
 // Last: the level's target for the rest of the file (core/batch/kernel_target.hpp), then the lane
-// vocabulary, compiled for the level (kept in this order: clang-format would sort them).
+// vocabulary and this kernel's parts (chain_step.hpp: headers of this file alone, so that the
+// kernel stays one translation unit), compiled for the level (kept in this order: clang-format
+// would sort them).
 // clang-format off
 #include "core/batch/kernel_target.hpp"
 #include "core/batch/simd_lanes.hpp"

@@ -16,7 +16,9 @@
 #include "core/model/second_order_system.hpp"
 
 // Last: the level's target for the rest of the file (core/batch/kernel_target.hpp), then the lane
-// vocabulary, compiled for the level (kept in this order: clang-format would sort them).
+// vocabulary and this kernel's parts (rod_step.hpp, rod_step_kinds.hpp: headers of this file alone,
+// so that the kernel stays one translation unit), compiled for the level (kept in this order:
+// clang-format would sort them).
 // clang-format off
 #include "core/batch/kernel_target.hpp"
 #include "core/batch/batch_lanes.hpp"
