@@ -24,7 +24,7 @@ VALUE = re.compile(r"\bContactLaw::(\w+)")
 ALLOWED = {
     "core/batch/batch_eligibility.cpp":
         "the batched kernels take Lagrange's law only; the others run scalar",
-    "core/batch/explicit_kernel.cpp":
+    "core/batch/explicit_stage.hpp":
         "the batched explicit kernel's stable-step warning names the law for the scalar run's text",
     "core/methods/central_difference.cpp":
         "central difference's explicit penalty force at t and its walls' forces under the penalty",

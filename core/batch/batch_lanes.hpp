@@ -38,8 +38,8 @@ inline namespace IMPACTID_KERNEL_NAMESPACE {
 
 // The samples of the contact pressure and velocity of every lane, [sample][lane] as the step
 // gives them, written into the lanes' traces (one vector per lane) a chunk at a time. Written
-// sample by sample, the 2·kBatchLanes scattered stores and the lane loop around them were a
-// twentieth of the batch's time.
+// sample by sample, the 2·kBatchLanes scattered stores and the lane loop around them took a
+// share of the batch's time worth saving (the figure is in the git log).
 constexpr long kTraceChunk = 32;
 struct TraceChunk {
   Lanes pressure[kTraceChunk], velocity[kTraceChunk];
@@ -233,7 +233,7 @@ inline bool prepare_lane(const SecondOrderSystem& system, std::span<const RodSce
   ContactTrace& trace = traces[lane];
   const auto samples = static_cast<std::size_t>(derived.step_count);
   // NaN from the lane's last computed sample on is filled in after the run (finish_lanes: the
-  // samples before it are all written): filling the whole trace first wrote 40 KB per lane twice.
+  // samples before it are all written): filling the whole trace first wrote each trace twice.
   trace.pressure.resize(samples);
   trace.velocity.resize(samples);
   trace.displacement.clear();

@@ -41,13 +41,13 @@
 // before the back substitutions that apply them; the start is KimExplicit::initialize's.
 //
 // Per unknown and step a lane costs (central difference, no damping, either mass; counted at
-// the loops in core/batch/explicit_kernel.cpp): the forward pass 2·u_t − u_{t−Δt}, times 1/Δt² (2
+// the loops in core/batch/cdm_kernel.hpp): the forward pass 2·u_t − u_{t−Δt}, times 1/Δt² (2
 // mul 1 sub), M's row (1 mul for the off-diagonal product shared by two rows, 1 FMA, 1 add), K's
 // row (2 mul, 2 add, and the subtraction from M's), the forward sweep (1 mul 1 FMA); the back
 // substitution 2 FMA: 6 mul + 4 FMA + 5 add/sub = 19 flops in 15 instructions (HHT's step: 23
 // in 14), with 2 stores per unknown and register (HHT's: 4). While some lane is in contact the
 // back substitution also subtracts λ·A⁻¹·e_c (1 mul 1 sub 1 blend). The velocity and the
-// contact are computed at the contact node only. Noh–Bathe (core/batch/explicit_kernel.cpp counts
+// contact are computed at the contact node only. Noh–Bathe (core/batch/noh_bathe_kernel.hpp counts
 // it): 43 flops in 37 instructions a step of two stages, 10 stores per unknown and register;
 // Kim's (kim_step_lanes): 47 flops in 41 instructions a step of two stages, 9 stores.
 //

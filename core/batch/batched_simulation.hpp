@@ -28,7 +28,7 @@
 // Per unknown and step (HHT or Newmark with a lumped or consistent mass, no damping, α_m = 0)
 // a lane costs 3 multiplies, 9 fused multiply-adds and 2 adds (23 flops in 14 instructions);
 // the contact adds a few flops at the contact node only (2 divides among them). Damping adds
-// 9, α_m ≠ 0 adds 6 (core/batch/rod_kernel.cpp counts them at the loop).
+// 9, α_m ≠ 0 adds 6 (core/batch/rod_step.hpp counts them at the loop).
 //
 // The composite schemes (Bathe, ρ∞-Bathe, TR-BDF2: BatheComposite::step) run the same step
 // twice per step, each sub-step from plain u, v, a (no deferred update: 19 flops per unknown

@@ -26,8 +26,6 @@ namespace {
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 // E's factorisation's numbers of a row in every lane: TridiagonalFactorization's 1/pivot,
 // −lower/pivot, −upper/pivot (negated as the sweeps negate them) and the product of two upper
 // ratios.
@@ -240,7 +238,7 @@ class RightHandSide {
                                                         Lanes& velocity) {
   // A local copy of the pointers and bounds, so that the compiler keeps them in registers: a store
   // through a Lanes pointer (may_alias) could otherwise change them, and every use would reload
-  // them (core/batch/rod_kernel.cpp's step_lanes). The constants (KrConstants) and `uniform` are
+  // them (core/batch/rod_step.hpp's step_lanes). The constants (KrConstants) and `uniform` are
   // copied by each pass, as far as it uses them, into registers.
   const KrRows b = rows;
   const KrConstants& k = *b.constants;

@@ -43,8 +43,8 @@ inline namespace IMPACTID_KERNEL_NAMESPACE {
 // One register: kRegisterLanes doubles, the level's native vector (8 on x86-64-v4, 4 on
 // x86-64-v3); may_alias: registers are read from LaneBlock storage. Why native: a GCC vector
 // wider than the target's registers is lowered through the stack, lane by lane: the 512-bit
-// registers of the first kernels cost a 95 KB stack frame, lane-by-lane moves and 30-60 times
-// the time on AVX2 (docs/performance.md).
+// registers of the first kernels cost a large stack frame, lane-by-lane moves and most of the
+// speed on AVX2 (docs/performance.md).
 constexpr int kRegisterLanes = IMPACTID_KERNEL_REGISTER_LANES;
 
 // The runs a kernel steps together: 16 on x86-64-v4 (two registers), 8 on x86-64-v3 (two
@@ -55,6 +55,9 @@ constexpr int kRegisterLanes = IMPACTID_KERNEL_REGISTER_LANES;
 constexpr int kLanes = IMPACTID_KERNEL_BATCH_LANES;
 constexpr int kRegisters = kLanes / kRegisterLanes;
 static_assert(kLanes % kRegisterLanes == 0 && kBatchLanes % kLanes == 0);
+
+// The gap of a lane that never touches a wall (the unused lanes', the free ones').
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A sub-batch's share of a batch's per-run arrays (its start states, its traces).
 template <class T>

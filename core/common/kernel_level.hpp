@@ -11,7 +11,7 @@
 //
 // Why not GCC's target_clones: its resolver, run by the dynamic loader, picked the baseline
 // version on AMD Zen 3 (AVX2, FMA) for "arch=x86-64-v3", "avx2" and even "arch=x86-64-v2",
-// while __builtin_cpu_supports said yes in the same process: the kernels ran 30-60 times
+// while __builtin_cpu_supports said yes in the same process: the kernels ran many times
 // slower, and nothing said so. The choice here is made by the program after
 // __builtin_cpu_init, can be printed (`impactid --version`), forced, and tested on the machine
 // that runs it (tests/kernel_level_test.cpp).

@@ -1,7 +1,7 @@
 // The warning an explicit stage scheme's run (Noh–Bathe's, core/methods/noh_bathe.hpp; Kim's,
 // core/methods/kim_explicit.hpp) gets before it starts when its step exceeds the scheme's stable
 // step: the run still goes, and the energy bound stops it if it blows up (as central difference's).
-// simulate() (core/run/simulation.cpp) and the batched kernel (core/batch/explicit_kernel.cpp) both
+// simulate() (core/run/simulation.cpp) and the batched kernel (core/batch/explicit_stage.hpp) both
 // report it, so that a batched lane's summary equals the scalar run's bit for bit.
 //
 // Thread safety: a pure function.

@@ -27,7 +27,7 @@
 // The forward-increment contact between them stays one class per system, for the reason
 // core/methods/implicit_integrator.hpp gives: stored columns A⁻¹·G_kᵀ here (and the named walls'
 // O(1) shortcuts), one more solve there, different operations whose bits the batched kernel
-// (core/batch/explicit_kernel.cpp) and the results files hold fixed.
+// (core/batch/cdm_kernel.hpp) and the results files hold fixed.
 //
 // Thread safety: one object per thread.
 #pragma once
