@@ -3,8 +3,9 @@
 // other thread counts; after SIGKILL of a worker or of rank 0, --resume computes only what is
 // missing and ends with the same file; an error on a worker names the point and keeps what was
 // computed; shards run over MPI merge to the same file; SIGUSR1 to mpirun stops the job with
-// everything computed saved; an optimisation's searches, spread over the ranks, give the same file
-// too. Registered only when impactid-mpi is built (tests/CMakeLists.txt says so otherwise).
+// everything computed saved; a stopped (SIGSTOP) worker's batches go to the other ranks and the
+// run ends with the same file; an optimisation's searches, spread over the ranks, give the same
+// file too. Registered only when impactid-mpi is built (tests/CMakeLists.txt says so otherwise).
 #include <dirent.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -142,20 +143,26 @@ std::optional<pid_t> rank_pid(pid_t mpirun, int rank) {
   return std::nullopt;
 }
 
-// mpirun -np 3 in a child process (output to a log), its pid.
-pid_t start_mpirun(const fs::path& out, const fs::path& log, bool resume) {
+// mpirun -np 3 of `impactid-mpi run PLAN --output OUT ARGUMENTS` in a child process (output to
+// a log), its pid.
+pid_t start_mpirun(const fs::path& plan, const fs::path& out, const fs::path& log,
+                   const std::string& arguments) {
   const pid_t child = fork();
   if (child == 0) {
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(fd, 1);
     dup2(fd, 2);
     std::string command = "exec " + kMpirun + " -np 3 -x OMP_NUM_THREADS=1 " +
-                          IMPACTID_MPI_EXECUTABLE + " run " + study().plan.string() + " --output " +
-                          out.string() + (resume ? " --resume" : "");
+                          IMPACTID_MPI_EXECUTABLE + " run " + plan.string() + " --output " +
+                          out.string() + " " + arguments;
     execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   return child;
+}
+
+pid_t start_mpirun(const fs::path& out, const fs::path& log, bool resume) {
+  return start_mpirun(study().plan, out, log, resume ? "--resume" : "");
 }
 
 std::string read_text(const fs::path& path) {
@@ -224,6 +231,79 @@ TEST(MpiRun, SigkillOfAWorkerThenResumeEndsWithTheSameFile) {
 
 TEST(MpiRun, SigkillOfRankZeroThenResumeEndsWithTheSameFile) {
   kill_rank_then_resume(0);
+}
+
+// A process that exists and is not a zombie.
+bool alive(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string skip, comm, state;
+  return static_cast<bool>(stat >> skip >> comm >> state) && state != "Z";
+}
+
+// SIGSTOP of a worker holding batches (study/cli/mpi_stall.hpp): its batches are handed to the
+// other ranks after the bound (the defaults: 10 times the expected time, at least 5 s), the run
+// ends without it, saying so, and its file is the single process's. Before the fix the master
+// waited for the stopped rank forever. The plan is kPlan on a 1000-element rod (about 2 s on one
+// core) so that the worker is stopped with most of the plan still to compute.
+TEST(MpiRun, AStoppedWorkersBatchesGoToTheOtherRanksAndTheRunEnds) {
+  std::string text = kPlan;
+  text.replace(text.find("elements = 500"), 14, "elements = 1000");
+  const fs::path plan = testing::write_file(scratch("stall.toml"), text);
+  const fs::path single = scratch("stall-single.h5");
+  const auto o =
+      testing::run_impactid("run " + plan.string() + " --threads 2 --output " + single.string());
+  ASSERT_EQ(o.status, 0) << o.text;
+
+  const fs::path out = scratch("stalled.h5");
+  const fs::path log = scratch("stalled.log");
+  fs::remove(out);
+  const auto start = Clock::now();
+  const pid_t mpirun = start_mpirun(plan, out, log, "");
+  ASSERT_GT(mpirun, 0);
+  std::optional<pid_t> victim;
+  int raw = 0;
+  bool ended = false;
+  // An eighth of the points saved: every worker has answered the plan and holds batches.
+  while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    if (!ended && points_saved(out) >= kPoints / 8 && (victim = rank_pid(mpirun, 2))) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_FALSE(ended) << "the job ended before the stop:\n" << read_text(log);
+  ASSERT_TRUE(victim) << "rank 2 not found";
+  ASSERT_EQ(kill(*victim, SIGSTOP), 0);
+  const auto stopped = Clock::now();
+  constexpr double kBoundSeconds = 60;
+  while (!ended && std::chrono::duration<double>(Clock::now() - stopped).count() < kBoundSeconds) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - stopped).count();
+  if (!ended) {  // the hang: let the rank go on, so that the job ends and leaves nothing behind
+    kill(*victim, SIGCONT);
+    waitpid(mpirun, &raw, 0);
+  }
+  if (alive(*victim)) {
+    kill(*victim, SIGCONT);
+    kill(*victim, SIGKILL);
+  }
+  const std::string text_log = read_text(log);
+  ASSERT_TRUE(ended) << "the job still ran " << kBoundSeconds << " s after rank 2 stopped:\n"
+                     << text_log;
+  std::printf("mpi_run_test: rank 2 stopped; the job ended %.1f s later\n", seconds);
+  // The file is complete: mpirun's status is rank 0's, the run's own.
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text_log;
+  EXPECT_NE(text_log.find("impactid run: rank 2 has not answered batch "), std::string::npos)
+      << text_log;
+  EXPECT_NE(text_log.find(", out at rank 2 for "), std::string::npos) << text_log;
+  EXPECT_NE(text_log.find(" s, handed again to rank "), std::string::npos) << text_log;
+  EXPECT_NE(text_log.find(std::to_string(kPoints) + " computed, 0 reused"), std::string::npos)
+      << text_log;
+  EXPECT_NE(text_log.find("impactid-mpi: rank(s) 2 stopped answering; the results are written"),
+            std::string::npos)
+      << text_log;
+  const auto same = compare(single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
 }
 
 // Shards (study/studies/shard.hpp) and MPI together: each shard on two ranks, then merged; the

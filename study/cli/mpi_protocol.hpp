@@ -35,6 +35,10 @@ enum Tag : int {
   /// of rows, the rows; followed by kTagSearchEnd
   kTagSearchRows = 9,
   kTagSearchEnd = 10,  ///< worker → 0: char[], that search's termination
+  /// worker → 0: nothing, the answer to kTagStop. Rank 0 waits for it, within a bound, so that
+  /// a rank that stopped answering is found before MPI_Finalize, which would wait for it forever
+  /// (study/cli/main_mpi.cpp).
+  kTagStopped = 11,
 };
 
 using Clock = std::chrono::steady_clock;
@@ -81,6 +85,15 @@ inline std::optional<MPI_Status> waiting_message() {
   return probed;
 }
 
+/// Receives a message and drops it: a late one from a rank given up on (study/cli/mpi_stall.hpp).
+inline void drop_message(const MPI_Status& probed) {
+  int count = 0;
+  MPI_Get_count(&probed, MPI_BYTE, &count);
+  std::vector<char> bytes(static_cast<std::size_t>(std::max(count, 0)));
+  MPI_Recv(bytes.data(), count, MPI_BYTE, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+}
+
 /// Receives a worker's kTagReady: its OpenMP threads, at least 1.
 inline int receive_ready(const MPI_Status& probed) {
   int threads = 1;
@@ -97,21 +110,37 @@ inline std::string receive_unexpected(const MPI_Status& probed) {
 
 /// Rank 0's threads while it hands out work. Thread 0 serves: `handle()` takes one waiting
 /// message (false when none waits), `finished()` says when the work is over, and `between()`
-/// runs after each round of messages (progress, checkpoints); it sleeps a little when a round
-/// found nothing. It is the only thread that calls MPI (MPI_THREAD_FUNNELED). With
-/// `computing` > 0 that many more threads run `compute()`, which returns when nothing is left.
+/// runs after each round of messages (progress, checkpoints, the watch for stalled workers); it
+/// sleeps when a round found nothing. It is the only thread that calls MPI
+/// (MPI_THREAD_FUNNELED). With `computing` > 0 that many more threads run `compute()`, which
+/// returns when nothing is left.
+///
+/// Why a poll (MPI_Iprobe) and a sleep rather than a blocking wait: rank 0 must also keep time
+/// (checkpoints, progress, a worker that stops answering) and see a stop request, and MPI has no
+/// receive with a timeout (MPI_Waitany and MPI_Probe wait forever). OpenMPI's blocking calls
+/// spin in its progress loop anyway, so blocking would burn a core as well. The sleep starts at
+/// 200 µs, so that an answer during a busy sweep waits little, and doubles while nothing comes,
+/// up to 5 ms, so that a long wait (expensive points, a stalled worker) costs rank 0 about 200
+/// wake-ups a second and little CPU.
 template <class Handle, class Between, class Finished, class Compute>
 void serve_and_compute(int computing, Handle handle, Between between, Finished finished,
                        Compute compute) {
 #pragma omp parallel num_threads(1 + std::max(0, computing))
   {
     if (omp_get_thread_num() == 0) {
+      constexpr std::chrono::microseconds kShortestSleep{200}, kLongestSleep{5000};
+      std::chrono::microseconds sleep = kShortestSleep;
       for (;;) {
         bool busy = false;
         while (handle()) busy = true;
         between();
         if (finished()) break;
-        if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(200));
+        if (busy) {
+          sleep = kShortestSleep;
+        } else {
+          std::this_thread::sleep_for(sleep);
+          sleep = std::min(2 * sleep, kLongestSleep);
+        }
       }
     } else {
       compute();
