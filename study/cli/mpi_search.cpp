@@ -324,6 +324,9 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
       const auto at = static_cast<std::size_t>(o.search);
       if (search_done[at] || search_taken[at]) continue;
       search_taken[at] = 1;
+      std::fprintf(stderr,
+                   "impactid run: search %ld, out at rank %d for %.1f s, taken again by rank 0\n",
+                   o.search, o.from, seconds_since(o.sent));
       return o.search;
     }
     return std::nullopt;

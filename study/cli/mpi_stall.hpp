@@ -137,7 +137,8 @@ class JobsOut {
   /// The worker's answer to its oldest job (a worker computes its jobs in the order received,
   /// and MPI keeps the order of messages between two ranks): takes that job out and measures
   /// its cost from when the worker could start it (sent, or its previous answer) to now. A
-  /// stalled worker that answers is a worker again. Nothing when it holds no job.
+  /// stalled worker that answers is a worker again, unmeasured: its time is the stall's, and
+  /// would raise every later bound. Nothing when it holds no job.
   std::optional<Job> answered(int worker) {
     const std::size_t w = at(worker);
     const auto now = Clock::now();
@@ -146,7 +147,7 @@ class JobsOut {
     out_[w].pop_front();
     const double seconds =
         std::chrono::duration<double>(now - std::max(job.sent, last_answer_[w])).count();
-    measured(seconds, job.units);
+    if (!stalled_[w]) measured(seconds, job.units);
     last_answer_[w] = now;
     stalled_[w] = false;
     return job;

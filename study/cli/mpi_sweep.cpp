@@ -297,6 +297,7 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
     long batch = 0;
     int from = 0;  // the stalled rank
     Clock::time_point sent;
+    bool taken_by_rank0 = false;  // some of its windows, and said so
   };
   std::deque<Orphan> orphans;
   // Per window: its rows are stored (the first answer wins), rank 0 took it from an orphan.
@@ -518,12 +519,20 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   // stalled rank's batch that nobody has stored or taken yet. Mutex held.
   const auto next_for_rank0 = [&]() -> std::optional<long> {
     if (next_window < window_count) return next_window++;
-    for (const Orphan& o : orphans) {
+    for (Orphan& o : orphans) {
       const Batch& b = batches[static_cast<std::size_t>(o.batch)];
       for (long v = b.first_window; v < b.end_window; ++v) {
         const auto at = static_cast<std::size_t>(v);
         if (window_done[at] || window_taken[at]) continue;
         window_taken[at] = 1;
+        if (!o.taken_by_rank0) {
+          o.taken_by_rank0 = true;
+          std::fprintf(stderr,
+                       "impactid run: batch %ld (%ld points), out at rank %d for %.1f s, taken "
+                       "again by rank 0's threads\n",
+                       o.batch, end_point(b.end_window) - first_point(b.first_window), o.from,
+                       seconds_since(o.sent));
+        }
         return v;
       }
     }
