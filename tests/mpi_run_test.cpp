@@ -240,22 +240,22 @@ bool alive(pid_t pid) {
   return static_cast<bool>(stat >> skip >> comm >> state) && state != "Z";
 }
 
-// SIGSTOP of a worker holding batches (study/cli/mpi_stall.hpp): its batches are handed to the
-// other ranks after the bound (the defaults: 10 times the expected time, at least 5 s), the run
-// ends without it, saying so, and its file is the single process's. Before the fix the master
-// waited for the stopped rank forever. The plan is kPlan on a 1000-element rod (about 2 s on one
-// core) so that the worker is stopped with most of the plan still to compute.
-TEST(MpiRun, AStoppedWorkersBatchesGoToTheOtherRanksAndTheRunEnds) {
-  std::string text = kPlan;
-  text.replace(text.find("elements = 500"), 14, "elements = 1000");
-  const fs::path plan = testing::write_file(scratch("stall.toml"), text);
-  const fs::path single = scratch("stall-single.h5");
+// Runs `plan_text` under mpirun -np 3 with the stall options' defaults (10 times the expected
+// time, at least 5 s: study/cli/mpi_stall.hpp) and stops rank 2 with SIGSTOP once the results file
+// holds `saved` points (every worker has answered the plan by then, and holds work). The job must
+// end within 60 s of the stop, with status 0, saying that rank 2's work went to other ranks
+// (`handed`) and that the job ended without it, and with the single process's file. Before the
+// fix rank 0 waited for the stopped rank forever. Whatever is left of rank 2 is killed.
+void stop_a_worker(const std::string& name, const std::string& plan_text, long saved,
+                   const std::vector<std::string>& handed) {
+  const fs::path plan = testing::write_file(scratch(name + ".toml"), plan_text);
+  const fs::path single = scratch(name + "-single.h5");
   const auto o =
       testing::run_impactid("run " + plan.string() + " --threads 2 --output " + single.string());
   ASSERT_EQ(o.status, 0) << o.text;
 
-  const fs::path out = scratch("stalled.h5");
-  const fs::path log = scratch("stalled.log");
+  const fs::path out = scratch(name + "-stalled.h5");
+  const fs::path log = scratch(name + "-stalled.log");
   fs::remove(out);
   const auto start = Clock::now();
   const pid_t mpirun = start_mpirun(plan, out, log, "");
@@ -263,10 +263,9 @@ TEST(MpiRun, AStoppedWorkersBatchesGoToTheOtherRanksAndTheRunEnds) {
   std::optional<pid_t> victim;
   int raw = 0;
   bool ended = false;
-  // An eighth of the points saved: every worker has answered the plan and holds batches.
   while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
     if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
-    if (!ended && points_saved(out) >= kPoints / 8 && (victim = rank_pid(mpirun, 2))) break;
+    if (!ended && points_saved(out) >= saved && (victim = rank_pid(mpirun, 2))) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   ASSERT_FALSE(ended) << "the job ended before the stop:\n" << read_text(log);
@@ -287,21 +286,69 @@ TEST(MpiRun, AStoppedWorkersBatchesGoToTheOtherRanksAndTheRunEnds) {
     kill(*victim, SIGCONT);
     kill(*victim, SIGKILL);
   }
-  const std::string text_log = read_text(log);
+  const std::string text = read_text(log);
   ASSERT_TRUE(ended) << "the job still ran " << kBoundSeconds << " s after rank 2 stopped:\n"
-                     << text_log;
-  std::printf("mpi_run_test: rank 2 stopped; the job ended %.1f s later\n", seconds);
+                     << text;
+  std::printf("mpi_run_test: %s: rank 2 stopped; the job ended %.1f s later\n", name.c_str(),
+              seconds);
   // The file is complete: mpirun's status is rank 0's, the run's own.
-  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text_log;
-  EXPECT_NE(text_log.find("impactid run: rank 2 has not answered batch "), std::string::npos)
-      << text_log;
-  EXPECT_NE(text_log.find(", out at rank 2 for "), std::string::npos) << text_log;
-  EXPECT_NE(text_log.find(" s, handed again to rank "), std::string::npos) << text_log;
-  EXPECT_NE(text_log.find(std::to_string(kPoints) + " computed, 0 reused"), std::string::npos)
-      << text_log;
-  EXPECT_NE(text_log.find("impactid-mpi: rank(s) 2 stopped answering; the results are written"),
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text;
+  for (const std::string& line : handed) EXPECT_NE(text.find(line), std::string::npos) << text;
+  EXPECT_NE(text.find("impactid-mpi: rank(s) 2 stopped answering; the results are written"),
             std::string::npos)
-      << text_log;
+      << text;
+  const auto same = compare(single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
+}
+
+// A sweep: kPlan on a 1000-element rod (about 2 s on one core), rank 2 stopped once an eighth of
+// the points are saved, with most of the plan still to compute.
+TEST(MpiRun, AStoppedWorkersBatchesGoToTheOtherRanksAndTheRunEnds) {
+  std::string text = kPlan;
+  text.replace(text.find("elements = 500"), 14, "elements = 1000");
+  stop_a_worker("stall", text, kPoints / 8,
+                {"impactid run: rank 2 has not answered batch ", ", out at rank 2 for ",
+                 std::to_string(kPoints) + " computed, 0 reused"});
+}
+
+// Cheap points (a 4-element rod, 50 625 of them, about 0.3 s on one core) grow the batches to
+// hundreds of windows, messages past MPI's eager limit. Rank 0 sends them without blocking
+// (mpi_protocol.hpp, Outbox): with 8b1d763's blocking MPI_Send, rank 0 and a worker each waited in
+// MPI_Send to the other, and the job hung (3 tries of 3 here).
+TEST(MpiRun, LargeBatchesOfCheapPointsDoNotDeadlock) {
+  const fs::path plan = testing::write_file(scratch("cheap.toml"), R"(
+[scene]
+elements = 4
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0.0, partitions = 224 }
+delta = { from = 0.0, to = 1.0, partitions = 224 }
+)");
+  const fs::path single = scratch("cheap-single.h5");
+  const auto o =
+      testing::run_impactid("run " + plan.string() + " --threads 2 --output " + single.string());
+  ASSERT_EQ(o.status, 0) << o.text;
+  const fs::path out = scratch("cheap.h5");
+  const fs::path log = scratch("cheap.log");
+  const pid_t mpirun = start_mpirun(plan, out, log, "");
+  ASSERT_GT(mpirun, 0);
+  const auto start = Clock::now();
+  int raw = 0;
+  bool ended = false;
+  while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 60) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!ended) {  // mpirun passes SIGTERM on and ends the ranks
+    kill(mpirun, SIGTERM);
+    waitpid(mpirun, &raw, 0);
+  }
+  const std::string text = read_text(log);
+  ASSERT_TRUE(ended) << "the job still ran after 60 s:\n" << text;
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text;
   const auto same = compare(single, out);
   EXPECT_EQ(same.status, 0) << same.text;
 }
@@ -475,6 +522,18 @@ TEST(MpiRun, AnErrorInASearchNamesItAndKeepsTheSearchesThatEnded) {
       << resumed.text;
   const auto same = compare(s.single, out);
   EXPECT_EQ(same.status, 0) << same.text;
+}
+
+// An optimisation: 12 searches on a 300-element rod (about 3 s on 3 ranks), rank 2 stopped once
+// a search is saved; the search it holds goes to another rank.
+TEST(MpiRun, AStoppedWorkersSearchesGoToTheOtherRanksAndTheRunEnds) {
+  std::string text = kSearchPlan;
+  text.replace(text.find("elements = 80"), 13, "elements = 300");
+  text.replace(text.find("starts = 6"), 10, "starts = 12");
+  text += "[output]\ncheckpoint_seconds = 0.05\n";
+  stop_a_worker("search-stall", text, 1,
+                {"impactid run: rank 2 has not answered its searches for ", ", out at rank 2 for ",
+                 "searches run per rank: "});
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
+#include <list>
 #include <optional>
 #include <string>
 #include <thread>
@@ -84,6 +86,48 @@ inline std::optional<MPI_Status> waiting_message() {
   if (!waiting) return std::nullopt;
   return probed;
 }
+
+/// Rank 0's messages to the workers, sent without blocking. A message larger than MPI's eager
+/// limit (OpenMPI: 4 KB between the ranks of a node) is delivered only once its receiver asks
+/// for it, and a worker that is itself sending rank 0 its rows, or that is stalled, does not:
+/// rank 0 would wait in MPI_Send forever and serve no one. Seen with 8b1d763 on 50 625 cheap
+/// points over 3 ranks (batches grown to hundreds of windows): rank 0 and a worker each blocked
+/// in MPI_Send to the other. Each message keeps its own copy of the data until MPI is done with
+/// it; the copies of messages to a rank given up on live as long as the program.
+class Outbox {
+ public:
+  Outbox() = default;
+  Outbox(const Outbox&) = delete;
+  Outbox& operator=(const Outbox&) = delete;
+
+  template <class T>
+  void send(const T* data, std::size_t count, MPI_Datatype type, int destination, int tag) {
+    Pending& p = pending_.emplace_back();
+    p.bytes.assign(reinterpret_cast<const char*>(data),
+                   reinterpret_cast<const char*>(data + count));
+    MPI_Isend(p.bytes.data(), static_cast<int>(count), type, destination, tag, MPI_COMM_WORLD,
+              &p.request);
+  }
+  void send_text(const std::string& text, int destination, int tag) {
+    send(text.data(), text.size(), MPI_CHAR, destination, tag);
+  }
+
+  /// Forgets the messages MPI is done with (and lets MPI progress the others). Thread 0.
+  void collect() {
+    for (auto p = pending_.begin(); p != pending_.end();) {
+      int sent = 0;
+      MPI_Test(&p->request, &sent, MPI_STATUS_IGNORE);
+      p = sent ? pending_.erase(p) : std::next(p);
+    }
+  }
+
+ private:
+  struct Pending {
+    MPI_Request request = MPI_REQUEST_NULL;
+    std::vector<char> bytes;
+  };
+  std::list<Pending> pending_;  // a list: a request's address stays put while MPI holds it
+};
 
 /// Receives a message and drops it: a late one from a rank given up on (study/cli/mpi_stall.hpp).
 inline void drop_message(const MPI_Status& probed) {

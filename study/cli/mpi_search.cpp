@@ -127,7 +127,7 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
   }
   const std::string plan_message = std::filesystem::absolute(plan.path).string() + '\0' + plan.text;
   for (int r = 1; r < ranks_; ++r) {
-    if (!lost_[static_cast<std::size_t>(r)]) send_text(plan_message, r, kTagPlan);
+    if (!lost_[static_cast<std::size_t>(r)]) outbox_.send_text(plan_message, r, kTagPlan);
   }
 
   // As in MpiMaster::run: thread 0 serves (the one thread that calls MPI), the others run
@@ -181,8 +181,7 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
       message.push_back(static_cast<double>(s));
       pack_rows(previous[static_cast<std::size_t>(s)], message);
     }
-    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_DOUBLE, worker, kTagSearches,
-             MPI_COMM_WORLD);
+    outbox_.send(message.data(), message.size(), MPI_DOUBLE, worker, kTagSearches);
     jobs.sent(worker, static_cast<long>(messages.size()), 1.0);  // one search per thread
     messages.push_back(std::move(given));
   };
@@ -280,6 +279,7 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
 
   // As in MpiMaster::run: a stalled worker's searches go to the others. Thread 0.
   const auto watch_stalls = [&] {
+    outbox_.collect();
     std::lock_guard lock(mutex);
     const std::vector<JobsOut::Stall> stalls = jobs.find_stalled();
     for (const JobsOut::Stall& s : stalls) {

@@ -224,8 +224,8 @@ void MpiMaster::give_up_on(const std::vector<int>& ranks, const char* what) {
   for (const int r : ranks) {
     lost_[static_cast<std::size_t>(r)] = 1;
     std::fprintf(stderr,
-                 "impactid run: rank %d still has not answered at the end of the %s; its work was "
-                 "done by other ranks, and it gets no more\n",
+                 "impactid run: rank %d still has not answered at the end of the %s; it gets no "
+                 "more work, and the job ends without it\n",
                  r, what);
   }
 }
@@ -242,6 +242,7 @@ std::vector<int> MpiMaster::release_workers() {
     return std::any_of(answered.begin() + 1, answered.end(), [](char a) { return !a; });
   };
   while (waiting() && seconds_since(start) < stall.min_seconds) {
+    outbox_.collect();
     if (const std::optional<MPI_Status> probed = waiting_message()) {
       // Anything else is a late answer of a rank given up on: dropped.
       if (probed->MPI_TAG == kTagStopped)
@@ -273,7 +274,7 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   // The path in full: a worker on another node may start in another folder.
   const std::string plan_message = std::filesystem::absolute(plan.path).string() + '\0' + plan.text;
   for (int r = 1; r < ranks_; ++r) {
-    if (!lost_[static_cast<std::size_t>(r)]) send_text(plan_message, r, kTagPlan);
+    if (!lost_[static_cast<std::size_t>(r)]) outbox_.send_text(plan_message, r, kTagPlan);
   }
 
   // Shared by rank 0's threads: thread 0 serves the workers (the only thread that calls MPI,
@@ -346,8 +347,8 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
       const Batch& b = batches[static_cast<std::size_t>(*id)];
       const long first = first_point(b.first_window);
       const long last = end_point(b.end_window);
-      MPI_Send(todo.data() + first, static_cast<int>(last - first), MPI_LONG, worker, kTagWork,
-               MPI_COMM_WORLD);
+      outbox_.send(todo.data() + first, static_cast<std::size_t>(last - first), MPI_LONG, worker,
+                   kTagWork);
       // Its length in rounds of one window per thread: what its expected time scales with.
       const long windows = b.end_window - b.first_window;
       jobs.sent(worker, *id, static_cast<double>((windows + threads_of[w] - 1) / threads_of[w]));
@@ -470,6 +471,7 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   const auto report = [&] {
     std::optional<StudyResults> snapshot;
     std::optional<SweepProgress> progress;
+    outbox_.collect();
     {
       std::lock_guard lock(mutex);
       watch_stalls();

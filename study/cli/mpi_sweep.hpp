@@ -80,7 +80,10 @@ class MpiMaster {
 
  private:
   int ranks_ = 1;
-  std::vector<char> lost_;  ///< per rank: given up on, sent nothing more, its messages dropped
+  /// Per rank: given up on; it is sent nothing more, and its messages are dropped.
+  std::vector<char> lost_;
+  /// Every message with data to a worker (sent without blocking: mpi_protocol.hpp).
+  mpi_protocol::Outbox outbox_;
   /// Gives up on the ranks that still owe an answer at the end of a sweep or search, and says so.
   void give_up_on(const std::vector<int>& ranks, const char* what);
 };
