@@ -17,9 +17,9 @@ namespace {
 void add_stall_options(CLI::App& run, impactid::mpi_protocol::StallOptions& stall) {
   run.add_option("--stall-factor", stall.factor,
                  "Hand a batch (or a search) out at a rank to another rank once it has been out "
-                 "longer than this many times its expected time (the slowest time per point "
-                 "measured so far, times its points), and at least --stall-min-seconds; the first "
-                 "answer is kept")
+                 "longer than this many times its expected time (its rounds of one window of 16 "
+                 "points, or one search, per thread, times the slowest such round measured so "
+                 "far), and at least --stall-min-seconds; the first answer is kept")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 1e9))
       ->type_name("F");
