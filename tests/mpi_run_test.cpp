@@ -3,8 +3,9 @@
 // other thread counts; after SIGKILL of a worker or of rank 0, --resume computes only what is
 // missing and ends with the same file; an error on a worker names the point and keeps what was
 // computed; shards run over MPI merge to the same file; SIGUSR1 to mpirun stops the job with
-// everything computed saved; an optimisation's searches, spread over the ranks, give the same file
-// too. Registered only when impactid-mpi is built (tests/CMakeLists.txt says so otherwise).
+// everything computed saved; a stopped (SIGSTOP) worker's batches go to the other ranks and the
+// run ends with the same file; an optimisation's searches, spread over the ranks, give the same
+// file too. Registered only when impactid-mpi is built (tests/CMakeLists.txt says so otherwise).
 #include <dirent.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -142,20 +143,26 @@ std::optional<pid_t> rank_pid(pid_t mpirun, int rank) {
   return std::nullopt;
 }
 
-// mpirun -np 3 in a child process (output to a log), its pid.
-pid_t start_mpirun(const fs::path& out, const fs::path& log, bool resume) {
+// mpirun -np 3 of `impactid-mpi run PLAN --output OUT ARGUMENTS` in a child process (output to
+// a log), its pid.
+pid_t start_mpirun(const fs::path& plan, const fs::path& out, const fs::path& log,
+                   const std::string& arguments) {
   const pid_t child = fork();
   if (child == 0) {
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(fd, 1);
     dup2(fd, 2);
     std::string command = "exec " + kMpirun + " -np 3 -x OMP_NUM_THREADS=1 " +
-                          IMPACTID_MPI_EXECUTABLE + " run " + study().plan.string() + " --output " +
-                          out.string() + (resume ? " --resume" : "");
+                          IMPACTID_MPI_EXECUTABLE + " run " + plan.string() + " --output " +
+                          out.string() + " " + arguments;
     execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   return child;
+}
+
+pid_t start_mpirun(const fs::path& out, const fs::path& log, bool resume) {
+  return start_mpirun(study().plan, out, log, resume ? "--resume" : "");
 }
 
 std::string read_text(const fs::path& path) {
@@ -224,6 +231,126 @@ TEST(MpiRun, SigkillOfAWorkerThenResumeEndsWithTheSameFile) {
 
 TEST(MpiRun, SigkillOfRankZeroThenResumeEndsWithTheSameFile) {
   kill_rank_then_resume(0);
+}
+
+// A process that exists and is not a zombie.
+bool alive(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string skip, comm, state;
+  return static_cast<bool>(stat >> skip >> comm >> state) && state != "Z";
+}
+
+// Runs `plan_text` under mpirun -np 3 with the stall options' defaults (10 times the expected
+// time, at least 5 s: study/cli/mpi_stall.hpp) and stops rank 2 with SIGSTOP once the results file
+// holds `saved` points (every worker has answered the plan by then, and holds work). The job must
+// end within 60 s of the stop, with status 0, saying that rank 2's work went to other ranks
+// (`handed`) and that the job ended without it, and with the single process's file. Before the
+// fix rank 0 waited for the stopped rank forever. Whatever is left of rank 2 is killed.
+void stop_a_worker(const std::string& name, const std::string& plan_text, long saved,
+                   const std::vector<std::string>& handed) {
+  const fs::path plan = testing::write_file(scratch(name + ".toml"), plan_text);
+  const fs::path single = scratch(name + "-single.h5");
+  const auto o =
+      testing::run_impactid("run " + plan.string() + " --threads 2 --output " + single.string());
+  ASSERT_EQ(o.status, 0) << o.text;
+
+  const fs::path out = scratch(name + "-stalled.h5");
+  const fs::path log = scratch(name + "-stalled.log");
+  fs::remove(out);
+  const auto start = Clock::now();
+  const pid_t mpirun = start_mpirun(plan, out, log, "");
+  ASSERT_GT(mpirun, 0);
+  std::optional<pid_t> victim;
+  int raw = 0;
+  bool ended = false;
+  while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    if (!ended && points_saved(out) >= saved && (victim = rank_pid(mpirun, 2))) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_FALSE(ended) << "the job ended before the stop:\n" << read_text(log);
+  ASSERT_TRUE(victim) << "rank 2 not found";
+  ASSERT_EQ(kill(*victim, SIGSTOP), 0);
+  const auto stopped = Clock::now();
+  constexpr double kBoundSeconds = 60;
+  while (!ended && std::chrono::duration<double>(Clock::now() - stopped).count() < kBoundSeconds) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - stopped).count();
+  if (!ended) {  // the hang: let the rank go on, so that the job ends and leaves nothing behind
+    kill(*victim, SIGCONT);
+    waitpid(mpirun, &raw, 0);
+  }
+  if (alive(*victim)) {
+    kill(*victim, SIGCONT);
+    kill(*victim, SIGKILL);
+  }
+  const std::string text = read_text(log);
+  ASSERT_TRUE(ended) << "the job still ran " << kBoundSeconds << " s after rank 2 stopped:\n"
+                     << text;
+  std::printf("mpi_run_test: %s: rank 2 stopped; the job ended %.1f s later\n", name.c_str(),
+              seconds);
+  // The file is complete: mpirun's status is rank 0's, the run's own.
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text;
+  for (const std::string& line : handed) EXPECT_NE(text.find(line), std::string::npos) << text;
+  EXPECT_NE(text.find("impactid-mpi: rank(s) 2 stopped answering; the results are written"),
+            std::string::npos)
+      << text;
+  const auto same = compare(single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
+}
+
+// A sweep: kPlan on a 1000-element rod (about 2 s on one core), rank 2 stopped once an eighth of
+// the points are saved, with most of the plan still to compute.
+TEST(MpiRun, AStoppedWorkersBatchesGoToTheOtherRanksAndTheRunEnds) {
+  std::string text = kPlan;
+  text.replace(text.find("elements = 500"), 14, "elements = 1000");
+  stop_a_worker("stall", text, kPoints / 8,
+                {"impactid run: rank 2 has not answered batch ", ", out at rank 2 for ",
+                 std::to_string(kPoints) + " computed, 0 reused"});
+}
+
+// Cheap points (a 4-element rod, 50 625 of them, about 0.3 s on one core) grow the batches to
+// hundreds of windows, messages past MPI's eager limit. Rank 0 sends them without blocking
+// (mpi_protocol.hpp, Outbox): with 8b1d763's blocking MPI_Send, rank 0 and a worker each waited in
+// MPI_Send to the other, and the job hung (3 tries of 3 here).
+TEST(MpiRun, LargeBatchesOfCheapPointsDoNotDeadlock) {
+  const fs::path plan = testing::write_file(scratch("cheap.toml"), R"(
+[scene]
+elements = 4
+[method]
+name = "hht"
+[study]
+kind = "grid"
+[study.axes]
+alpha = { from = -0.5, to = 0.0, partitions = 224 }
+delta = { from = 0.0, to = 1.0, partitions = 224 }
+)");
+  const fs::path single = scratch("cheap-single.h5");
+  const auto o =
+      testing::run_impactid("run " + plan.string() + " --threads 2 --output " + single.string());
+  ASSERT_EQ(o.status, 0) << o.text;
+  const fs::path out = scratch("cheap.h5");
+  const fs::path log = scratch("cheap.log");
+  const pid_t mpirun = start_mpirun(plan, out, log, "");
+  ASSERT_GT(mpirun, 0);
+  const auto start = Clock::now();
+  int raw = 0;
+  bool ended = false;
+  while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 60) {
+    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!ended) {  // mpirun passes SIGTERM on and ends the ranks
+    kill(mpirun, SIGTERM);
+    waitpid(mpirun, &raw, 0);
+  }
+  const std::string text = read_text(log);
+  ASSERT_TRUE(ended) << "the job still ran after 60 s:\n" << text;
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text;
+  const auto same = compare(single, out);
+  EXPECT_EQ(same.status, 0) << same.text;
 }
 
 // Shards (study/studies/shard.hpp) and MPI together: each shard on two ranks, then merged; the
@@ -395,6 +522,18 @@ TEST(MpiRun, AnErrorInASearchNamesItAndKeepsTheSearchesThatEnded) {
       << resumed.text;
   const auto same = compare(s.single, out);
   EXPECT_EQ(same.status, 0) << same.text;
+}
+
+// An optimisation: 12 searches on a 300-element rod (about 3 s on 3 ranks), rank 2 stopped once
+// a search is saved; the search it holds goes to another rank.
+TEST(MpiRun, AStoppedWorkersSearchesGoToTheOtherRanksAndTheRunEnds) {
+  std::string text = kSearchPlan;
+  text.replace(text.find("elements = 80"), 13, "elements = 300");
+  text.replace(text.find("starts = 6"), 10, "starts = 12");
+  text += "[output]\ncheckpoint_seconds = 0.05\n";
+  stop_a_worker("search-stall", text, 1,
+                {"impactid run: rank 2 has not answered its searches for ", ", out at rank 2 for ",
+                 "searches run per rank: "});
 }
 
 }  // namespace

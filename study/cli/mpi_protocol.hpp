@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
+#include <list>
 #include <optional>
 #include <string>
 #include <thread>
@@ -35,6 +37,10 @@ enum Tag : int {
   /// of rows, the rows; followed by kTagSearchEnd
   kTagSearchRows = 9,
   kTagSearchEnd = 10,  ///< worker → 0: char[], that search's termination
+  /// worker → 0: nothing, the answer to kTagStop. Rank 0 waits for it, within a bound, so that
+  /// a rank that stopped answering is found before MPI_Finalize, which would wait for it forever
+  /// (study/cli/main_mpi.cpp).
+  kTagStopped = 11,
 };
 
 using Clock = std::chrono::steady_clock;
@@ -81,6 +87,57 @@ inline std::optional<MPI_Status> waiting_message() {
   return probed;
 }
 
+/// Rank 0's messages to the workers, sent without blocking. A message larger than MPI's eager
+/// limit (OpenMPI: 4 KB between the ranks of a node) is delivered only once its receiver asks
+/// for it, and a worker that is itself sending rank 0 its rows, or that is stalled, does not:
+/// rank 0 would wait in MPI_Send forever and serve no one. Seen with 8b1d763 on 50 625 cheap
+/// points over 3 ranks (batches grown to hundreds of windows): rank 0 and a worker each blocked
+/// in MPI_Send to the other. Each message keeps its own copy of the data until MPI is done with
+/// it; the copies of messages to a rank given up on live as long as the program.
+class Outbox {
+ public:
+  Outbox() = default;
+  Outbox(const Outbox&) = delete;
+  Outbox& operator=(const Outbox&) = delete;
+
+  template <class T>
+  void send(const T* data, std::size_t count, MPI_Datatype type, int destination, int tag) {
+    Pending& p = pending_.emplace_back();
+    p.bytes.assign(reinterpret_cast<const char*>(data),
+                   reinterpret_cast<const char*>(data + count));
+    MPI_Isend(p.bytes.data(), static_cast<int>(count), type, destination, tag, MPI_COMM_WORLD,
+              &p.request);
+  }
+  void send_text(const std::string& text, int destination, int tag) {
+    send(text.data(), text.size(), MPI_CHAR, destination, tag);
+  }
+
+  /// Forgets the messages MPI is done with (and lets MPI progress the others). Thread 0.
+  void collect() {
+    for (auto p = pending_.begin(); p != pending_.end();) {
+      int sent = 0;
+      MPI_Test(&p->request, &sent, MPI_STATUS_IGNORE);
+      p = sent ? pending_.erase(p) : std::next(p);
+    }
+  }
+
+ private:
+  struct Pending {
+    MPI_Request request = MPI_REQUEST_NULL;
+    std::vector<char> bytes;
+  };
+  std::list<Pending> pending_;  // a list: a request's address stays put while MPI holds it
+};
+
+/// Receives a message and drops it: a late one from a rank given up on (study/cli/mpi_stall.hpp).
+inline void drop_message(const MPI_Status& probed) {
+  int count = 0;
+  MPI_Get_count(&probed, MPI_BYTE, &count);
+  std::vector<char> bytes(static_cast<std::size_t>(std::max(count, 0)));
+  MPI_Recv(bytes.data(), count, MPI_BYTE, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+}
+
 /// Receives a worker's kTagReady: its OpenMP threads, at least 1.
 inline int receive_ready(const MPI_Status& probed) {
   int threads = 1;
@@ -97,21 +154,37 @@ inline std::string receive_unexpected(const MPI_Status& probed) {
 
 /// Rank 0's threads while it hands out work. Thread 0 serves: `handle()` takes one waiting
 /// message (false when none waits), `finished()` says when the work is over, and `between()`
-/// runs after each round of messages (progress, checkpoints); it sleeps a little when a round
-/// found nothing. It is the only thread that calls MPI (MPI_THREAD_FUNNELED). With
-/// `computing` > 0 that many more threads run `compute()`, which returns when nothing is left.
+/// runs after each round of messages (progress, checkpoints, the watch for stalled workers); it
+/// sleeps when a round found nothing. It is the only thread that calls MPI
+/// (MPI_THREAD_FUNNELED). With `computing` > 0 that many more threads run `compute()`, which
+/// returns when nothing is left.
+///
+/// Why a poll (MPI_Iprobe) and a sleep rather than a blocking wait: rank 0 must also keep time
+/// (checkpoints, progress, a worker that stops answering) and see a stop request, and MPI has no
+/// receive with a timeout (MPI_Waitany and MPI_Probe wait forever). OpenMPI's blocking calls
+/// spin in its progress loop anyway, so blocking would burn a core as well. The sleep starts at
+/// 200 µs, so that an answer during a busy sweep waits little, and doubles while nothing comes,
+/// up to 5 ms, so that a long wait (expensive points, a stalled worker) costs rank 0 about 200
+/// wake-ups a second and little CPU.
 template <class Handle, class Between, class Finished, class Compute>
 void serve_and_compute(int computing, Handle handle, Between between, Finished finished,
                        Compute compute) {
 #pragma omp parallel num_threads(1 + std::max(0, computing))
   {
     if (omp_get_thread_num() == 0) {
+      constexpr std::chrono::microseconds kShortestSleep{200}, kLongestSleep{5000};
+      std::chrono::microseconds sleep = kShortestSleep;
       for (;;) {
         bool busy = false;
         while (handle()) busy = true;
         between();
         if (finished()) break;
-        if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(200));
+        if (busy) {
+          sleep = kShortestSleep;
+        } else {
+          std::this_thread::sleep_for(sleep);
+          sleep = std::min(2 * sleep, kLongestSleep);
+        }
       }
     } else {
       compute();

@@ -1,12 +1,13 @@
 // An optimisation's searches over MPI ranks (MpiMaster::run_searches, study/cli/mpi_sweep.hpp):
 // rank 0 hands whole searches out, the workers run them with run_search() and send back their
-// rows. A search's rows depend only on its index and the plan, so the table is the one a single
-// process writes.
+// rows; a stalled rank's searches are handed out again (study/cli/mpi_stall.hpp). A search's
+// rows depend only on its index and the plan, so the table is the one a single process writes.
 #include <mpi.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
@@ -125,36 +126,64 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
     return;
   }
   const std::string plan_message = std::filesystem::absolute(plan.path).string() + '\0' + plan.text;
-  for (int r = 1; r < ranks_; ++r) send_text(plan_message, r, kTagPlan);
+  for (int r = 1; r < ranks_; ++r) {
+    if (!lost_[static_cast<std::size_t>(r)]) outbox_.send_text(plan_message, r, kTagPlan);
+  }
 
   // As in MpiMaster::run: thread 0 serves (the one thread that calls MPI), the others run
-  // searches when rank 0 computes. The mutex guards everything below it; done() is called
-  // without it.
+  // searches when rank 0 computes, and wait on `wake` for a stalled rank's searches once the
+  // queue is empty. The mutex guards everything below it; done() is called without it.
   std::mutex mutex;
+  std::condition_variable wake;
   std::vector<int> threads_of(static_cast<std::size_t>(ranks_), 0);  // 0 until Ready
-  std::vector<long> out(static_cast<std::size_t>(ranks_), 0);        // searches out per worker
   std::vector<long> ran_by(static_cast<std::size_t>(ranks_), 0);     // searches per rank
+  JobsOut jobs(stall, lost_);
+  std::vector<std::vector<long>> messages;  // the searches of every message out, by job id
+  // Per worker: the answers still to come of the message it is answering (one per search,
+  // sent together once all its searches ended).
+  std::vector<long> answers_left(static_cast<std::size_t>(ranks_), 0);
+  std::vector<long> message_of(static_cast<std::size_t>(ranks_), -1);
+  struct Orphan {
+    long search = 0;
+    int from = 0;  // the stalled rank
+    Clock::time_point sent;
+  };
+  std::deque<Orphan> orphans;  // a stalled rank's searches, handed out before new ones
+  // Per search: its outcome is in (the first answer wins), rank 0 took it from an orphan.
+  std::vector<char> search_done(previous.size(), 0), search_taken(previous.size(), 0);
   std::size_t next = 0;
-  long out_total = 0;
-  int ready = 0;
+  std::size_t searches_done = 0;
+  bool over = false;
   std::optional<std::string> error;
   const auto stopping = [&] { return error || (stop && stop->load()); };
 
-  // Sends the worker as many searches as it has threads. Thread 0, mutex held.
+  // Sends the worker, when it holds none, a message of as many searches as it has threads: a
+  // stalled rank's first. Thread 0, mutex held.
   const auto give = [&](int worker) {
     const auto w = static_cast<std::size_t>(worker);
+    if (stopping() || threads_of[w] == 0 || jobs.stalled(worker) || jobs.out(worker) > 0) return;
+    std::vector<long> given;
+    while (given.size() < static_cast<std::size_t>(threads_of[w]) && !orphans.empty()) {
+      const Orphan o = orphans.front();
+      orphans.pop_front();
+      if (search_done[static_cast<std::size_t>(o.search)]) continue;
+      given.push_back(o.search);
+      std::fprintf(stderr,
+                   "impactid run: search %ld, out at rank %d for %.1f s, handed again to rank %d\n",
+                   o.search, o.from, seconds_since(o.sent), worker);
+    }
+    while (given.size() < static_cast<std::size_t>(threads_of[w]) && next < starts.size()) {
+      given.push_back(starts[next++]);
+    }
+    if (given.empty()) return;
     std::vector<double> message;
-    long given = 0;
-    for (; given < threads_of[w] && next < starts.size() && !stopping(); ++given, ++next) {
-      const long s = starts[next];
+    for (const long s : given) {
       message.push_back(static_cast<double>(s));
       pack_rows(previous[static_cast<std::size_t>(s)], message);
     }
-    if (given == 0) return;
-    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_DOUBLE, worker, kTagSearches,
-             MPI_COMM_WORLD);
-    out[w] += given;
-    out_total += given;
+    outbox_.send(message.data(), message.size(), MPI_DOUBLE, worker, kTagSearches);
+    jobs.sent(worker, static_cast<long>(messages.size()), 1.0);  // one search per thread
+    messages.push_back(std::move(given));
   };
 
   // Handles one message from a worker if one waits. Thread 0.
@@ -164,12 +193,16 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
     const MPI_Status& probed = *waiting;
     const int worker = probed.MPI_SOURCE;
     const auto w = static_cast<std::size_t>(worker);
+    if (lost_[w]) {  // given up on earlier: nothing it sends belongs here
+      drop_message(probed);
+      return true;
+    }
     switch (probed.MPI_TAG) {
       case kTagReady: {
         const int threads = receive_ready(probed);
         std::lock_guard lock(mutex);
+        jobs.answered_plan(worker);
         threads_of[w] = threads;
-        ++ready;
         give(worker);
         break;
       }
@@ -183,21 +216,42 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
         std::size_t at = 4;
         const bool whole = packed.size() >= 4 && unpack_rows(packed, at, outcome.rows);
         std::optional<long> search;
-        if (whole) {
-          search = static_cast<long>(packed[0]);
-          outcome.computed = static_cast<long>(packed[1]);
-          outcome.reused = static_cast<long>(packed[2]);
-          outcome.interrupted = packed[3] != 0.0;
-          outcome.termination = std::move(termination);
-        }
         {
           std::lock_guard lock(mutex);
-          if (!whole && !error) {
-            error = "rank " + std::to_string(worker) + " sent a search's rows cut short";
+          if (answers_left[w] == 0) {  // the first answer to its oldest message
+            const bool was_stalled = jobs.stalled(worker);
+            if (const std::optional<JobsOut::Job> job = jobs.answered(worker)) {
+              message_of[w] = job->id;
+              answers_left[w] =
+                  static_cast<long>(messages[static_cast<std::size_t>(job->id)].size());
+              if (was_stalled) {
+                std::fprintf(stderr, "impactid run: rank %d answers again (after %.1f s)\n", worker,
+                             seconds_since(job->sent));
+              }
+            }
           }
-          if (out[w] > 0) --out[w], --out_total;
-          if (whole) ++ran_by[w];
-          if (out[w] == 0) give(worker);
+          const std::vector<long>* asked =
+              answers_left[w] > 0 ? &messages[static_cast<std::size_t>(message_of[w])] : nullptr;
+          const long s = whole ? static_cast<long>(packed[0]) : -1;
+          if (!whole || !asked || std::find(asked->begin(), asked->end(), s) == asked->end()) {
+            if (!error) {
+              error = "rank " + std::to_string(worker) +
+                      (whole ? " sent a search it was not asked for"
+                             : " sent a search's rows cut short");
+            }
+          } else if (!search_done[static_cast<std::size_t>(s)]) {
+            // The first answer wins; a stalled rank's late one, or the copy handed again, is
+            // dropped (the same rows).
+            search_done[static_cast<std::size_t>(s)] = 1;
+            ++searches_done;
+            ++ran_by[w];
+            search = s;
+            outcome.computed = static_cast<long>(packed[1]);
+            outcome.reused = static_cast<long>(packed[2]);
+            outcome.interrupted = packed[3] != 0.0;
+            outcome.termination = std::move(termination);
+          }
+          if (answers_left[w] > 0 && --answers_left[w] == 0) give(worker);
         }
         if (search) done(*search, std::move(outcome));
         break;
@@ -207,10 +261,10 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
         std::lock_guard lock(mutex);
         if (!error) error = message;
         if (threads_of[w] == 0) {
-          ++ready;  // it failed on the plan, before Ready
+          jobs.answered_plan(worker);  // it failed on the plan, before Ready
         } else {
-          out_total -= out[w];  // its whole message of searches failed
-          out[w] = 0;
+          jobs.failed(worker);  // its whole message of searches failed
+          answers_left[w] = 0;
         }
         break;
       }
@@ -223,38 +277,107 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
     return true;
   };
 
+  // As in MpiMaster::run: a stalled worker's searches go to the others. Thread 0.
+  const auto watch_stalls = [&] {
+    outbox_.collect();
+    std::lock_guard lock(mutex);
+    const std::vector<JobsOut::Stall> stalls = jobs.find_stalled();
+    for (const JobsOut::Stall& s : stalls) {
+      std::fprintf(stderr,
+                   "impactid run: rank %d has not answered its searches for %.1f s (bound %.1f "
+                   "s); they go to other ranks\n",
+                   s.worker, s.seconds, s.bound);
+      for (const JobsOut::Job& job : s.jobs) {
+        for (const long search : messages[static_cast<std::size_t>(job.id)]) {
+          if (!search_done[static_cast<std::size_t>(search)]) {
+            orphans.push_back({search, s.worker, job.sent});
+          }
+        }
+      }
+    }
+    if (stalls.empty() || orphans.empty()) return;
+    for (int r = 1; r < ranks_; ++r) give(r);
+    wake.notify_all();
+  };
+
   const bool master_computes = ranks_ <= kMasterComputesUpToRanks;
   const auto finished = [&] {
     std::lock_guard lock(mutex);
-    const bool more = !stopping() && next < starts.size();
-    return ready == ranks_ - 1 && out_total == 0 && !more;
+    const bool more = !stopping() && searches_done < starts.size();
+    if (more || jobs.awaited() > 0) return false;
+    if (!jobs.plan_answered()) {
+      for (const auto& [worker, seconds] : jobs.give_up_on_plan()) {
+        std::fprintf(stderr, "impactid run: rank %d has not answered the plan in %.1f s\n", worker,
+                     seconds);
+      }
+      if (!jobs.plan_answered()) return false;
+    }
+    over = true;
+    wake.notify_all();
+    return true;
+  };
+  // The next search for one of rank 0's threads: from the queue, else a stalled rank's that
+  // nobody has finished or taken. Mutex held.
+  const auto next_for_rank0 = [&]() -> std::optional<long> {
+    if (next < starts.size()) return starts[next++];
+    for (const Orphan& o : orphans) {
+      const auto at = static_cast<std::size_t>(o.search);
+      if (search_done[at] || search_taken[at]) continue;
+      search_taken[at] = 1;
+      std::fprintf(stderr,
+                   "impactid run: search %ld, out at rank %d for %.1f s, taken again by rank 0\n",
+                   o.search, o.from, seconds_since(o.sent));
+      return o.search;
+    }
+    return std::nullopt;
   };
   // Progress and checkpoints come with done(), from the Optimization (optimizer.cpp).
-  serve_and_compute(
-      master_computes ? std::max(1, omp_get_max_threads()) : 0, handle, [] {}, finished, [&] {
-      for (;;) {
-        long s = 0;
-        {
-          std::lock_guard lock(mutex);
-          if (stopping() || next >= starts.size()) break;
-          s = starts[next++];
-        }
-        std::optional<SearchOutcome> outcome;
-        try {
-          outcome = run_search_checked(plan, s, previous[static_cast<std::size_t>(s)], stop);
-        } catch (const std::exception& e) {
-          std::lock_guard lock(mutex);
-          if (!error) error = "rank 0: search " + std::to_string(s) + ": " + e.what();
-          break;
-        }
-        {
-          std::lock_guard lock(mutex);
-          ++ran_by[0];
-        }
-        done(s, std::move(*outcome));
-      }
-      });
-  for (int r = 1; r < ranks_; ++r) MPI_Send(nullptr, 0, MPI_CHAR, r, kTagEndSweep, MPI_COMM_WORLD);
+  serve_and_compute(master_computes ? std::max(1, omp_get_max_threads()) : 0, handle, watch_stalls,
+                    finished, [&] {
+                      for (;;) {
+                        long s = 0;
+                        {
+                          std::unique_lock lock(mutex);
+                          std::optional<long> taken;
+                          // The timeout: a stop request comes from a signal handler, which notifies
+                          // nobody.
+                          while (!over && !stopping() && !(taken = next_for_rank0())) {
+                            wake.wait_for(lock, std::chrono::milliseconds(50));
+                          }
+                          if (!taken) break;
+                          s = *taken;
+                        }
+                        const auto computing_since = Clock::now();
+                        std::optional<SearchOutcome> outcome;
+                        try {
+                          outcome = run_search_checked(plan, s,
+                                                       previous[static_cast<std::size_t>(s)], stop);
+                        } catch (const std::exception& e) {
+                          std::lock_guard lock(mutex);
+                          if (!error)
+                            error = "rank 0: search " + std::to_string(s) + ": " + e.what();
+                          break;
+                        }
+                        bool first = false;
+                        {
+                          std::lock_guard lock(mutex);
+                          jobs.measured(seconds_since(computing_since), 1.0);
+                          first = !search_done[static_cast<std::size_t>(s)];
+                          if (first) {
+                            search_done[static_cast<std::size_t>(s)] = 1;
+                            ++searches_done;
+                            ++ran_by[0];
+                          }
+                        }
+                        if (first) done(s, std::move(*outcome));
+                      }
+                    });
+  give_up_on(jobs.unresponsive(), "searches");
+  for (int r = 1; r < ranks_; ++r) {
+    if (!lost_[static_cast<std::size_t>(r)]) {
+      MPI_Send(nullptr, 0, MPI_CHAR, r, kTagEndSweep, MPI_COMM_WORLD);
+    }
+  }
 
   std::string shares;
   for (int r = 0; r < ranks_; ++r) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "study/cli/command_line.hpp"
@@ -199,6 +201,7 @@ int serve_mpi_worker() {
         break;
       case kTagStop:
         MPI_Recv(nullptr, 0, MPI_CHAR, 0, kTagStop, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        MPI_Send(nullptr, 0, MPI_CHAR, 0, kTagStopped, MPI_COMM_WORLD);
         return 0;
       default: {
         receive_text(probed);  // not ours: drop it
@@ -214,10 +217,48 @@ int serve_mpi_worker() {
 
 MpiMaster::MpiMaster() {
   MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
+  lost_.assign(static_cast<std::size_t>(ranks_), 0);
 }
 
-void MpiMaster::release_workers() {
-  for (int r = 1; r < ranks_; ++r) MPI_Send(nullptr, 0, MPI_CHAR, r, kTagStop, MPI_COMM_WORLD);
+void MpiMaster::give_up_on(const std::vector<int>& ranks, const char* what) {
+  for (const int r : ranks) {
+    lost_[static_cast<std::size_t>(r)] = 1;
+    std::fprintf(stderr,
+                 "impactid run: rank %d still has not answered at the end of the %s; it gets no "
+                 "more work, and the job ends without it\n",
+                 r, what);
+  }
+}
+
+std::vector<int> MpiMaster::release_workers() {
+  std::vector<char> answered(lost_);  // a rank given up on is not waited for
+  for (int r = 1; r < ranks_; ++r) {
+    if (!lost_[static_cast<std::size_t>(r)]) {
+      MPI_Send(nullptr, 0, MPI_CHAR, r, kTagStop, MPI_COMM_WORLD);
+    }
+  }
+  const auto start = Clock::now();
+  const auto waiting = [&] {
+    return std::any_of(answered.begin() + 1, answered.end(), [](char a) { return !a; });
+  };
+  while (waiting() && seconds_since(start) < stall.min_seconds) {
+    outbox_.collect();
+    if (const std::optional<MPI_Status> probed = waiting_message()) {
+      // Anything else is a late answer of a rank given up on: dropped.
+      if (probed->MPI_TAG == kTagStopped)
+        answered[static_cast<std::size_t>(probed->MPI_SOURCE)] = 1;
+      drop_message(*probed);
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  std::vector<int> silent;
+  for (int r = 1; r < ranks_; ++r) {
+    if (lost_[static_cast<std::size_t>(r)] || !answered[static_cast<std::size_t>(r)]) {
+      silent.push_back(r);
+    }
+  }
+  return silent;
 }
 
 SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<const long> indices,
@@ -232,39 +273,86 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
 
   // The path in full: a worker on another node may start in another folder.
   const std::string plan_message = std::filesystem::absolute(plan.path).string() + '\0' + plan.text;
-  for (int r = 1; r < ranks_; ++r) send_text(plan_message, r, kTagPlan);
+  for (int r = 1; r < ranks_; ++r) {
+    if (!lost_[static_cast<std::size_t>(r)]) outbox_.send_text(plan_message, r, kTagPlan);
+  }
 
   // Shared by rank 0's threads: thread 0 serves the workers (the only thread that calls MPI,
   // as MPI_THREAD_FUNNELED asks), the others compute windows when rank 0 computes. The mutex
   // guards `results` and everything below it.
   std::mutex mutex;
+  // Rank 0's computing threads wait on it when the queue is empty: a stalled rank's batch may
+  // still come back to them (`orphans`).
+  std::condition_variable wake;
   std::vector<int> threads_of(static_cast<std::size_t>(ranks_), 0);      // 0 until Ready
   std::vector<long> batch_windows(static_cast<std::size_t>(ranks_), 0);  // its batch size now
-  std::vector<std::deque<Clock::time_point>> sent_at(static_cast<std::size_t>(ranks_));
-  std::vector<long> out(static_cast<std::size_t>(ranks_), 0);          // batches out per worker
-  std::vector<long> computed_by(static_cast<std::size_t>(ranks_), 0);  // points per rank
-  long next_window = 0, done = 0, unstable = 0, out_total = 0;
-  int ready = 0;  // workers that answered the plan (Ready or an error)
+  std::vector<long> computed_by(static_cast<std::size_t>(ranks_), 0);    // points per rank
+  JobsOut jobs(stall, lost_);
+  struct Batch {
+    long first_window = 0, end_window = 0;
+  };
+  std::vector<Batch> batches;  // every batch handed out, by id (JobsOut's job id)
+  // Batches of stalled ranks, to hand out again before new ones: held up, they hold up the
+  // checkpoints and the end of the run.
+  struct Orphan {
+    long batch = 0;
+    int from = 0;  // the stalled rank
+    Clock::time_point sent;
+    bool taken_by_rank0 = false;  // some of its windows, and said so
+  };
+  std::deque<Orphan> orphans;
+  // Per window: its rows are stored (the first answer wins), rank 0 took it from an orphan.
+  std::vector<char> window_done(static_cast<std::size_t>(window_count), 0);
+  std::vector<char> window_taken(static_cast<std::size_t>(window_count), 0);
+  long next_window = 0, done = 0, unstable = 0;
+  bool over = false;  // thread 0 is done serving: rank 0's computing threads end
   std::optional<std::string> error;
   const auto stopping = [&] { return error || (options.stop && options.stop->load()); };
+  const auto batch_done = [&](long id) {
+    const Batch& b = batches[static_cast<std::size_t>(id)];
+    return std::all_of(window_done.begin() + b.first_window, window_done.begin() + b.end_window,
+                       [](char d) { return d != 0; });
+  };
+  const auto first_point = [&](long window) { return window * kBatchLanes; };
+  const auto end_point = [&](long window) { return std::min(count, window * kBatchLanes); };
 
-  // Sends the worker its next batch, if any is left. Thread 0, mutex held. Near the end batches
-  // shrink (a share of what is left, but at least a window per thread), so that no worker gets
-  // a large last batch while the others wait.
+  // Sends the worker batches until it holds two: a stalled rank's first, then new ones. Thread
+  // 0, mutex held. Near the end new batches shrink (a share of what is left, but at least a
+  // window per thread), so that no worker gets a large last batch while the others wait.
   const auto give = [&](int worker) {
-    if (stopping() || next_window >= window_count) return;
     const auto w = static_cast<std::size_t>(worker);
-    const long left = window_count - next_window;
-    const long windows =
-        std::min({batch_windows[w], left, std::max<long>(threads_of[w], left / (2L * ranks_))});
-    const long first = next_window * kBatchLanes;
-    const long last = std::min(count, (next_window + windows) * kBatchLanes);
-    MPI_Send(todo.data() + first, static_cast<int>(last - first), MPI_LONG, worker, kTagWork,
-             MPI_COMM_WORLD);
-    ++out[w];
-    sent_at[w].push_back(Clock::now());
-    ++out_total;
-    next_window += windows;
+    while (!stopping() && threads_of[w] > 0 && !jobs.stalled(worker) && jobs.out(worker) < 2) {
+      std::optional<long> id;
+      while (!id && !orphans.empty()) {
+        const Orphan o = orphans.front();
+        orphans.pop_front();
+        if (batch_done(o.batch) || jobs.holds(worker, o.batch)) continue;
+        id = o.batch;
+        const Batch& b = batches[static_cast<std::size_t>(o.batch)];
+        std::fprintf(stderr,
+                     "impactid run: batch %ld (%ld points), out at rank %d for %.1f s, handed "
+                     "again to rank %d\n",
+                     o.batch, end_point(b.end_window) - first_point(b.first_window), o.from,
+                     seconds_since(o.sent), worker);
+      }
+      if (!id) {
+        if (next_window >= window_count) return;
+        const long left = window_count - next_window;
+        const long windows =
+            std::min({batch_windows[w], left, std::max<long>(threads_of[w], left / (2L * ranks_))});
+        id = static_cast<long>(batches.size());
+        batches.push_back({next_window, next_window + windows});
+        next_window += windows;
+      }
+      const Batch& b = batches[static_cast<std::size_t>(*id)];
+      const long first = first_point(b.first_window);
+      const long last = end_point(b.end_window);
+      outbox_.send(todo.data() + first, static_cast<std::size_t>(last - first), MPI_LONG, worker,
+                   kTagWork);
+      // Its length in rounds of one window per thread: what its expected time scales with.
+      const long windows = b.end_window - b.first_window;
+      jobs.sent(worker, *id, static_cast<double>((windows + threads_of[w] - 1) / threads_of[w]));
+    }
   };
 
   // Handles one message from a worker if one waits. Thread 0.
@@ -274,44 +362,67 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
     const MPI_Status& probed = *waiting;
     const int worker = probed.MPI_SOURCE;
     const auto w = static_cast<std::size_t>(worker);
+    if (lost_[w]) {  // given up on in an earlier sweep: nothing it sends belongs to this one
+      drop_message(probed);
+      return true;
+    }
     switch (probed.MPI_TAG) {
       case kTagReady: {
         const int threads = receive_ready(probed);
         std::lock_guard lock(mutex);
+        jobs.answered_plan(worker);
         threads_of[w] = threads;
         batch_windows[w] = threads_of[w];
-        ++ready;
-        give(worker);
-        give(worker);  // the second batch, computed while rank 0 answers the first
+        give(worker);  // two batches: it computes the second while rank 0 answers the first
         break;
       }
       case kTagResult: {
         const std::vector<double> packed = receive_array<double>(probed, MPI_DOUBLE);
         std::lock_guard lock(mutex);
-        if (packed.size() % width != 0) {
-          error = "rank " + std::to_string(worker) + " sent rows of another width (" +
-                  std::to_string(packed.size()) + " values for rows of " + std::to_string(width) +
-                  ")";
+        const bool was_stalled = jobs.stalled(worker);
+        const std::optional<JobsOut::Job> job = jobs.answered(worker);
+        if (!job) {
+          if (!error) error = "rank " + std::to_string(worker) + " sent rows it was not asked for";
+          break;
         }
-        for (std::size_t at = 0; !error && at < packed.size(); at += width) {
-          const auto i = static_cast<std::size_t>(packed[at]);
-          results.status[i] = static_cast<int>(packed[at + 1]);
-          std::size_t c = at + 2;
-          for (ResultColumn& column : results.parameters) column.values[i] = packed[c++];
-          for (ResultColumn& column : results.indicators) column.values[i] = packed[c++];
-          ++done;
-          ++computed_by[w];
-          if (results.status[i] != 0) ++unstable;
-        }
-        if (out[w] > 0) --out[w], --out_total;
-        if (!sent_at[w].empty()) {
-          // Cheap points: double the batch until a batch's round trip (its own time plus the
-          // wait behind the one before it) reaches kBatchRoundTripSeconds.
-          const double round_trip = seconds_since(sent_at[w].front());
-          sent_at[w].pop_front();
-          if (round_trip < kBatchRoundTripSeconds && batch_windows[w] < kMaxBatchWindows) {
-            batch_windows[w] *= 2;
+        const Batch& b = batches[static_cast<std::size_t>(job->id)];
+        const long first = first_point(b.first_window);
+        const long last = end_point(b.end_window);
+        if (packed.size() != static_cast<std::size_t>(last - first) * width ||
+            static_cast<long>(packed[0]) != todo[static_cast<std::size_t>(first)]) {
+          if (!error) {
+            error = "rank " + std::to_string(worker) + " sent rows of another batch or width (" +
+                    std::to_string(packed.size()) + " values for " + std::to_string(last - first) +
+                    " rows of " + std::to_string(width) + ")";
           }
+          break;
+        }
+        if (was_stalled) {
+          std::fprintf(stderr, "impactid run: rank %d answers again (batch %ld, after %.1f s)\n",
+                       worker, job->id, seconds_since(job->sent));
+        }
+        // The first answer wins; a window already stored (a stalled rank's late answer, or the
+        // copy handed again) is dropped. Both are the same numbers.
+        for (long v = b.first_window; v < b.end_window; ++v) {
+          if (window_done[static_cast<std::size_t>(v)]) continue;
+          window_done[static_cast<std::size_t>(v)] = 1;
+          for (long p = first_point(v); p < end_point(v + 1); ++p) {
+            const std::size_t at = static_cast<std::size_t>(p - first) * width;
+            const auto i = static_cast<std::size_t>(packed[at]);
+            results.status[i] = static_cast<int>(packed[at + 1]);
+            std::size_t c = at + 2;
+            for (ResultColumn& column : results.parameters) column.values[i] = packed[c++];
+            for (ResultColumn& column : results.indicators) column.values[i] = packed[c++];
+            ++done;
+            ++computed_by[w];
+            if (results.status[i] != 0) ++unstable;
+          }
+        }
+        // Cheap points: double the batch until a batch's round trip (its own time plus the
+        // wait behind the one before it) reaches kBatchRoundTripSeconds.
+        if (seconds_since(job->sent) < kBatchRoundTripSeconds &&
+            batch_windows[w] < kMaxBatchWindows) {
+          batch_windows[w] *= 2;
         }
         give(worker);
         break;
@@ -321,10 +432,9 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
         std::lock_guard lock(mutex);
         if (!error) error = message;
         if (threads_of[w] == 0) {
-          ++ready;  // it failed on the plan, before Ready
-        } else if (out[w] > 0) {
-          --out[w], --out_total;
-          if (!sent_at[w].empty()) sent_at[w].pop_front();
+          jobs.answered_plan(worker);  // it failed on the plan, before Ready
+        } else {
+          jobs.failed(worker);
         }
         break;
       }
@@ -337,14 +447,34 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
     return true;
   };
 
+  // A worker whose oldest batch is overdue (study/cli/mpi_stall.hpp): its batches go to the
+  // others, rank 0's computing threads included. Thread 0, mutex held.
+  const auto watch_stalls = [&] {
+    const std::vector<JobsOut::Stall> stalls = jobs.find_stalled();
+    for (const JobsOut::Stall& s : stalls) {
+      std::fprintf(stderr,
+                   "impactid run: rank %d has not answered batch %ld for %.1f s (bound %.1f s); "
+                   "its %zu batch(es) out go to other ranks\n",
+                   s.worker, s.jobs.front().id, s.seconds, s.bound, s.jobs.size());
+      for (const JobsOut::Job& job : s.jobs) {
+        if (!batch_done(job.id)) orphans.push_back({job.id, s.worker, job.sent});
+      }
+    }
+    if (stalls.empty() || orphans.empty()) return;
+    for (int r = 1; r < ranks_; ++r) give(r);
+    wake.notify_all();
+  };
+
   auto last_checkpoint = Clock::now(), last_progress = Clock::now();
   const bool log_lines = !isatty(2);  // mpirun's stderr is a pipe: whole lines, no \r
   // Progress and checkpoints on thread 0; the slow part (writing, printing) outside the lock.
   const auto report = [&] {
     std::optional<StudyResults> snapshot;
     std::optional<SweepProgress> progress;
+    outbox_.collect();
     {
       std::lock_guard lock(mutex);
+      watch_stalls();
       const double elapsed = seconds_since(start);
       if (options.progress && seconds_since(last_progress) >= options.progress_seconds) {
         progress = SweepProgress{done, count, unstable, elapsed};
@@ -370,42 +500,93 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
   };
 
   const bool master_computes = ranks_ <= kMasterComputesUpToRanks;
+  // Over when every point is stored (or, on a stop or an error, nothing more is handed out) and
+  // every worker that still answers has answered: a stalled one is not waited for.
   const auto finished = [&] {
     std::lock_guard lock(mutex);
-    const bool more = !stopping() && next_window < window_count;
-    return ready == ranks_ - 1 && out_total == 0 && !more;
+    const bool more = !stopping() && done < count;
+    if (more || jobs.awaited() > 0) return false;
+    if (!jobs.plan_answered()) {
+      for (const auto& [worker, seconds] : jobs.give_up_on_plan()) {
+        std::fprintf(stderr, "impactid run: rank %d has not answered the plan in %.1f s\n", worker,
+                     seconds);
+      }
+      if (!jobs.plan_answered()) return false;
+    }
+    over = true;
+    wake.notify_all();
+    return true;
+  };
+  // The next window for one of rank 0's computing threads: from the queue, else a window of a
+  // stalled rank's batch that nobody has stored or taken yet. Mutex held.
+  const auto next_for_rank0 = [&]() -> std::optional<long> {
+    if (next_window < window_count) return next_window++;
+    for (Orphan& o : orphans) {
+      const Batch& b = batches[static_cast<std::size_t>(o.batch)];
+      for (long v = b.first_window; v < b.end_window; ++v) {
+        const auto at = static_cast<std::size_t>(v);
+        if (window_done[at] || window_taken[at]) continue;
+        window_taken[at] = 1;
+        if (!o.taken_by_rank0) {
+          o.taken_by_rank0 = true;
+          std::fprintf(stderr,
+                       "impactid run: batch %ld (%ld points), out at rank %d for %.1f s, taken "
+                       "again by rank 0's threads\n",
+                       o.batch, end_point(b.end_window) - first_point(b.first_window), o.from,
+                       seconds_since(o.sent));
+        }
+        return v;
+      }
+    }
+    return std::nullopt;
   };
   // With rank 0 computing, `threads` more threads take windows from the queue.
-  serve_and_compute(
-      master_computes ? std::max(1, options.threads) : 0, handle, report, finished, [&] {
-      WindowWorkspace workspace;
-      for (;;) {
-        long window = 0;
-        {
-          std::lock_guard lock(mutex);
-          if (stopping() || next_window >= window_count) break;
-          window = next_window++;
-        }
-        const long first = window * kBatchLanes;
-        const auto size = static_cast<std::size_t>(std::min<long>(kBatchLanes, count - first));
-        const std::span points_of_window(todo.data() + first, size);
-        std::optional<std::string> failed =
-            evaluate_window_checked(points, points_of_window, workspace);
-        std::lock_guard lock(mutex);
-        if (failed) {
-          if (!error) error = "rank 0: " + *failed;
-          break;
-        }
-        for (std::size_t k = 0; k < size; ++k) {
-          store_point(results, points, points_of_window[k], workspace.simulations[k],
-                      workspace.evaluations[k]);
-          ++done;
-          ++computed_by[0];
-          if (workspace.evaluations[k].summary.status != RunStatus::ok) ++unstable;
-        }
-      }
-      });
-  for (int r = 1; r < ranks_; ++r) MPI_Send(nullptr, 0, MPI_CHAR, r, kTagEndSweep, MPI_COMM_WORLD);
+  serve_and_compute(master_computes ? std::max(1, options.threads) : 0, handle, report, finished,
+                    [&] {
+                      WindowWorkspace workspace;
+                      for (;;) {
+                        long window = 0;
+                        {
+                          std::unique_lock lock(mutex);
+                          std::optional<long> next;
+                          // The timeout: a stop request comes from a signal handler, which notifies
+                          // nobody.
+                          while (!over && !stopping() && !(next = next_for_rank0())) {
+                            wake.wait_for(lock, std::chrono::milliseconds(50));
+                          }
+                          if (!next) break;
+                          window = *next;
+                        }
+                        const auto computing_since = Clock::now();
+                        const long first = first_point(window);
+                        const auto size = static_cast<std::size_t>(end_point(window + 1) - first);
+                        const std::span points_of_window(todo.data() + first, size);
+                        std::optional<std::string> failed =
+                            evaluate_window_checked(points, points_of_window, workspace);
+                        std::lock_guard lock(mutex);
+                        if (failed) {
+                          if (!error) error = "rank 0: " + *failed;
+                          break;
+                        }
+                        jobs.measured(seconds_since(computing_since), 1.0);
+                        if (window_done[static_cast<std::size_t>(window)])
+                          continue;  // a worker's came first
+                        window_done[static_cast<std::size_t>(window)] = 1;
+                        for (std::size_t k = 0; k < size; ++k) {
+                          store_point(results, points, points_of_window[k],
+                                      workspace.simulations[k], workspace.evaluations[k]);
+                          ++done;
+                          ++computed_by[0];
+                          if (workspace.evaluations[k].summary.status != RunStatus::ok) ++unstable;
+                        }
+                      }
+                    });
+  give_up_on(jobs.unresponsive(), "sweep");
+  for (int r = 1; r < ranks_; ++r) {
+    if (!lost_[static_cast<std::size_t>(r)]) {
+      MPI_Send(nullptr, 0, MPI_CHAR, r, kTagEndSweep, MPI_COMM_WORLD);
+    }
+  }
 
   std::string shares;
   for (int r = 0; r < ranks_; ++r) {

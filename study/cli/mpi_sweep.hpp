@@ -27,12 +27,22 @@
 // value, ...): message". A killed rank ends the job (mpirun); --resume continues from the
 // last checkpoint. For tests, IMPACTID_MPI_FAIL_AT_POINT=I makes whichever rank computes
 // point I fail on it.
+//
+// Stalls: a rank that stops answering without dying (SIGSTOP, a hung node) is not seen by
+// mpirun. A batch out longer than a bound (a multiple of its expected time, with a floor:
+// study/cli/mpi_stall.hpp, --stall-factor and --stall-min-seconds) is handed to another rank,
+// rank 0's computing threads included; the first answer is kept, a late one is received and
+// dropped. The file is the same. A rank still owing an answer when the sweep is over is given
+// up on: it gets no more work, and at the end of the program rank 0 ends the job with
+// MPI_Abort (study/cli/main_mpi.cpp) once the results file is written.
 #pragma once
 
 #include <atomic>
 #include <functional>
 #include <span>
+#include <vector>
 
+#include "study/cli/mpi_stall.hpp"
 #include "study/io/results_file.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/point_set.hpp"
@@ -60,11 +70,22 @@ class MpiMaster {
   void run_searches(const Plan& plan, std::span<const long> starts,
                     std::span<const StudyResults> previous, const std::atomic<bool>* stop,
                     const std::function<void(long, SearchOutcome)>& done);
-  /// Tells every worker to end (serve_mpi_worker returns). Once, before MPI_Finalize.
-  void release_workers();
+  /// Tells every worker to end (serve_mpi_worker returns) and waits for each one's answer, at
+  /// most stall.min_seconds. Once, before MPI_Finalize. Returns the ranks given up on (in a
+  /// sweep, or silent here): MPI_Finalize would wait for them forever.
+  std::vector<int> release_workers();
+
+  /// When work out at a worker is handed to another rank; set before run().
+  mpi_protocol::StallOptions stall;
 
  private:
   int ranks_ = 1;
+  /// Per rank: given up on; it is sent nothing more, and its messages are dropped.
+  std::vector<char> lost_;
+  /// Every message with data to a worker (sent without blocking: mpi_protocol.hpp).
+  mpi_protocol::Outbox outbox_;
+  /// Gives up on the ranks that still owe an answer at the end of a sweep or search, and says so.
+  void give_up_on(const std::vector<int>& ranks, const char* what);
 };
 
 /// Ranks 1..N−1: serves the master until it releases the workers. Returns the exit status.

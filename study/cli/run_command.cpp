@@ -790,6 +790,7 @@ std::function<int()> add_run_command(CLI::App& app, Runners runners) {
   command->add_flag("--dry-run", args->dry_run,
                     "Print the points per axis and in total, and a time estimate from a pilot "
                     "run (a part of the plan, run and timed); write nothing");
+  if (runners.add_options) runners.add_options(*command);
   return [command, args, runners = std::move(runners)]() -> int {
     if (!command->parsed()) return -1;
     return run_plan(*args, runners);

@@ -41,6 +41,9 @@ struct Runners {
   /// How a user continues a stopped run, before the plan's name in the hint on stderr:
   /// impactid-mpi gives its own ("mpirun -np 4 impactid-mpi run").
   std::string resume_command = "impactid run";
+  /// Adds the runners' own options to the `run` command (impactid-mpi: when a stalled rank's
+  /// work is handed on).
+  std::function<void(CLI::App& run)> add_options;
 };
 
 /// Runs a plan as `impactid run` does: progress and the summary on stderr, every error on
