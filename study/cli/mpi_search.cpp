@@ -305,13 +305,7 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
     std::lock_guard lock(mutex);
     const bool more = !stopping() && searches_done < starts.size();
     if (more || jobs.awaited() > 0) return false;
-    if (!jobs.plan_answered()) {
-      for (const auto& [worker, seconds] : jobs.give_up_on_plan()) {
-        std::fprintf(stderr, "impactid run: rank %d has not answered the plan in %.1f s\n", worker,
-                     seconds);
-      }
-      if (!jobs.plan_answered()) return false;
-    }
+    if (!jobs.plan_answered_or_given_up()) return false;
     over = true;
     wake.notify_all();
     return true;

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdio>
 #include <deque>
 #include <limits>
 #include <optional>
@@ -96,6 +97,16 @@ class JobsOut {
       given_up.emplace_back(static_cast<int>(w), waited);
     }
     return given_up;
+  }
+  /// At the end of a sweep or search: whether every worker answered the plan, after giving up
+  /// on those past the bound (give_up_on_plan), each named on stderr.
+  bool plan_answered_or_given_up() {
+    if (plan_answered()) return true;
+    for (const auto& [worker, seconds] : give_up_on_plan()) {
+      std::fprintf(stderr, "impactid run: rank %d has not answered the plan in %.1f s\n", worker,
+                   seconds);
+    }
+    return plan_answered();
   }
   /// The workers still owing an answer at the end of a sweep: stalled, or silent on the plan.
   std::vector<int> unresponsive() const {

@@ -506,13 +506,7 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
     std::lock_guard lock(mutex);
     const bool more = !stopping() && done < count;
     if (more || jobs.awaited() > 0) return false;
-    if (!jobs.plan_answered()) {
-      for (const auto& [worker, seconds] : jobs.give_up_on_plan()) {
-        std::fprintf(stderr, "impactid run: rank %d has not answered the plan in %.1f s\n", worker,
-                     seconds);
-      }
-      if (!jobs.plan_answered()) return false;
-    }
+    if (!jobs.plan_answered_or_given_up()) return false;
     over = true;
     wake.notify_all();
     return true;
