@@ -43,7 +43,8 @@ std::string place_files(std::string_view input, const std::filesystem::path& fol
     }
     const std::size_t start = end + kSeparator.size();
     end = input.find(kSeparator, start);
-    const std::string_view text = input.substr(start, end == std::string_view::npos ? end : end - start);
+    const std::string_view text =
+        input.substr(start, end == std::string_view::npos ? end : end - start);
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
     if (!out) fuzz::finding("model_fuzzer", "cannot write " + file.string());

@@ -190,8 +190,7 @@ TEST(RegisteredMethod, SweepsAsNewmarkBitForBit) {
   ASSERT_EQ(a.indicators.size(), b.indicators.size());
   for (std::size_t c = 0; c < a.indicators.size(); ++c) {
     if (a.indicators[c].name == "wall_time_s") continue;
-    expect_same_bits(a.indicators[c].values, b.indicators[c].values,
-                     a.indicators[c].name.c_str());
+    expect_same_bits(a.indicators[c].values, b.indicators[c].values, a.indicators[c].name.c_str());
   }
 }
 

@@ -329,18 +329,10 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
   serve_and_compute(master_computes ? std::max(1, omp_get_max_threads()) : 0, handle, watch_stalls,
                     finished, [&] {
                       for (;;) {
-                        long s = 0;
-                        {
-                          std::unique_lock lock(mutex);
-                          std::optional<long> taken;
-                          // The timeout: a stop request comes from a signal handler, which notifies
-                          // nobody.
-                          while (!over && !stopping() && !(taken = next_for_rank0())) {
-                            wake.wait_for(lock, std::chrono::milliseconds(50));
-                          }
-                          if (!taken) break;
-                          s = *taken;
-                        }
+                        const std::optional<long> taken =
+                            wait_for_rank0_task(mutex, wake, over, stopping, next_for_rank0);
+                        if (!taken) break;
+                        const long s = *taken;
                         const auto computing_since = Clock::now();
                         std::optional<SearchOutcome> outcome;
                         try {

@@ -19,9 +19,12 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <deque>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -224,5 +227,19 @@ class JobsOut {
   double slowest_plan_answer_ = 0;
   double slowest_per_unit_ = 0;  ///< seconds per unit, the slowest measured
 };
+
+/// For rank 0's computing threads: the next task (`next()`, called with the mutex held), waiting
+/// for one while the run is neither over nor stopping; nothing when it is. The wait has a
+/// timeout because a stop request comes from a signal handler, which notifies nobody.
+template <class Stopping, class Next>
+std::optional<long> wait_for_rank0_task(std::mutex& mutex, std::condition_variable& wake,
+                                        const bool& over, Stopping&& stopping, Next&& next) {
+  std::unique_lock lock(mutex);
+  std::optional<long> taken;
+  while (!over && !stopping() && !(taken = next())) {
+    wake.wait_for(lock, std::chrono::milliseconds(50));
+  }
+  return taken;
+}
 
 }  // namespace impactid::mpi_protocol

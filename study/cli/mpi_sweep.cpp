@@ -539,18 +539,10 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
                     [&] {
                       WindowWorkspace workspace;
                       for (;;) {
-                        long window = 0;
-                        {
-                          std::unique_lock lock(mutex);
-                          std::optional<long> next;
-                          // The timeout: a stop request comes from a signal handler, which notifies
-                          // nobody.
-                          while (!over && !stopping() && !(next = next_for_rank0())) {
-                            wake.wait_for(lock, std::chrono::milliseconds(50));
-                          }
-                          if (!next) break;
-                          window = *next;
-                        }
+                        const std::optional<long> next =
+                            wait_for_rank0_task(mutex, wake, over, stopping, next_for_rank0);
+                        if (!next) break;
+                        const long window = *next;
                         const auto computing_since = Clock::now();
                         const long first = first_point(window);
                         const auto size = static_cast<std::size_t>(end_point(window + 1) - first);
