@@ -49,10 +49,18 @@ testing::CommandOutput shell(const std::string& command) {
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
 }
 
+// No job here takes a minute; this bound ends a hung one (with its ranks) so that the test fails
+// by name within ctest's own bound (tests/CMakeLists.txt).
+constexpr double kJobSeconds = 150;
+
 testing::CommandOutput mpi_run(int ranks, const std::string& arguments,
                                const std::string& environment = "") {
-  return shell(kMpirun + " -np " + std::to_string(ranks) + " " + environment + " " +
-               IMPACTID_MPI_EXECUTABLE + " " + arguments);
+  // timeout(1) runs mpirun in a process group of its own and signals the whole group: SIGTERM,
+  // then SIGKILL 5 s later, so that no rank outlives it and keeps the output pipe open. In a
+  // background group mpirun must not read the terminal: stdin is /dev/null.
+  return shell("timeout -k 5 " + std::to_string(static_cast<int>(kJobSeconds)) + " " + kMpirun +
+               " -np " + std::to_string(ranks) + " " + environment + " " + IMPACTID_MPI_EXECUTABLE +
+               " " + arguments + " </dev/null");
 }
 
 testing::CommandOutput compare(const fs::path& expected, const fs::path& actual) {
@@ -123,45 +131,111 @@ TEST(MpiRun, TheFileIsTheSingleProcessOnesOnOneTwoOrThreeRanks) {
   }
 }
 
-// The pid of rank `rank` among mpirun's children (OMPI_COMM_WORLD_RANK in its environment).
-std::optional<pid_t> rank_pid(pid_t mpirun, int rank) {
-  const std::string wanted = "OMPI_COMM_WORLD_RANK=" + std::to_string(rank);
+// The pids of mpirun's children: its ranks.
+std::vector<pid_t> children(pid_t mpirun) {
+  std::vector<pid_t> found;
   for (const auto& entry : fs::directory_iterator("/proc")) {
     const std::string name = entry.path().filename().string();
     if (name.find_first_not_of("0123456789") != std::string::npos) continue;
     std::ifstream stat(entry.path() / "stat");
     std::string pid, comm, state;
     long parent = 0;
-    if (!(stat >> pid >> comm >> state >> parent) || parent != mpirun) continue;
-    std::ifstream environ(entry.path() / "environ", std::ios::binary);
+    if (stat >> pid >> comm >> state >> parent && parent == mpirun) {
+      found.push_back(static_cast<pid_t>(std::stol(name)));
+    }
+  }
+  return found;
+}
+
+// The pid of rank `rank` among mpirun's children (OMPI_COMM_WORLD_RANK in its environment).
+std::optional<pid_t> rank_pid(pid_t mpirun, int rank) {
+  const std::string wanted = "OMPI_COMM_WORLD_RANK=" + std::to_string(rank);
+  for (const pid_t child : children(mpirun)) {
+    std::ifstream environ("/proc/" + std::to_string(child) + "/environ", std::ios::binary);
     const std::string env{std::istreambuf_iterator<char>(environ), {}};
     std::size_t at = 0;
     for (std::size_t end; (end = env.find('\0', at)) != std::string::npos; at = end + 1) {
-      if (env.compare(at, end - at, wanted) == 0) return static_cast<pid_t>(std::stol(name));
+      if (env.compare(at, end - at, wanted) == 0) return child;
     }
   }
   return std::nullopt;
 }
 
-// mpirun -np 3 of `impactid-mpi run PLAN --output OUT ARGUMENTS` in a child process (output to
-// a log), its pid.
-pid_t start_mpirun(const fs::path& plan, const fs::path& out, const fs::path& log,
-                   const std::string& arguments) {
+// An mpirun job started by start_mpirun, in a process group of its own. Every wait is bounded,
+// and what still runs when the Job goes is killed, mpirun and its ranks (each rank is in a
+// process group of its own, so they are found as mpirun's children; SIGKILL ends stopped ones
+// too): a hang or a failed assertion fails the test by name and leaves nothing running.
+class Job {
+ public:
+  explicit Job(pid_t pid) : pid_(pid) {}
+  Job(const Job&) = delete;
+  Job& operator=(const Job&) = delete;
+  ~Job() { kill_all(); }
+
+  pid_t pid() const { return pid_; }
+  // mpirun's wait status, once ended() or wait() said it ended.
+  int status() const { return raw_; }
+
+  // Whether mpirun has ended, without waiting.
+  bool ended() {
+    if (!ended_ && pid_ > 0 && waitpid(pid_, &raw_, WNOHANG) == pid_) ended_ = true;
+    return ended_;
+  }
+
+  // Waits up to `seconds` for mpirun to end; past that kills the group and says false.
+  bool wait(double seconds = kJobSeconds) {
+    const auto start = Clock::now();
+    while (!ended()) {
+      if (std::chrono::duration<double>(Clock::now() - start).count() >= seconds) {
+        kill_all();
+        return false;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+  }
+
+ private:
+  void kill_all() {
+    if (pid_ <= 0 || ended_) return;
+    for (const pid_t rank : children(pid_)) kill(rank, SIGKILL);
+    kill(-pid_, SIGKILL);
+    waitpid(pid_, &raw_, 0);
+    ended_ = true;
+  }
+
+  pid_t pid_;
+  int raw_ = 0;
+  bool ended_ = false;
+};
+
+// mpirun -np 3 MPIRUN_OPTIONS of `impactid-mpi run PLAN --output OUT ARGUMENTS` in a child
+// process of its own process group (output to a log).
+std::unique_ptr<Job> start_mpirun(const fs::path& plan, const fs::path& out, const fs::path& log,
+                                  const std::string& arguments,
+                                  const std::string& mpirun_options = "") {
   const pid_t child = fork();
   if (child == 0) {
+    setpgid(0, 0);
+    // A process group of its own is a background one: mpirun must not read the terminal (it
+    // would be stopped by SIGTTIN), so stdin is /dev/null.
+    const int null = open("/dev/null", O_RDONLY);
+    dup2(null, 0);
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(fd, 1);
     dup2(fd, 2);
-    std::string command = "exec " + kMpirun + " -np 3 -x OMP_NUM_THREADS=1 " +
-                          IMPACTID_MPI_EXECUTABLE + " run " + plan.string() + " --output " +
+    std::string command = "exec " + kMpirun + " -np 3 -x OMP_NUM_THREADS=1 " + mpirun_options +
+                          " " + IMPACTID_MPI_EXECUTABLE + " run " + plan.string() + " --output " +
                           out.string() + " " + arguments;
     execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  return child;
+  // Also here, so that the group exists before any kill(-pid) (the child may not have run yet).
+  if (child > 0) setpgid(child, child);
+  return std::make_unique<Job>(child);
 }
 
-pid_t start_mpirun(const fs::path& out, const fs::path& log, bool resume) {
+std::unique_ptr<Job> start_mpirun(const fs::path& out, const fs::path& log, bool resume) {
   return start_mpirun(study().plan, out, log, resume ? "--resume" : "");
 }
 
@@ -189,20 +263,21 @@ void kill_rank_then_resume(int rank) {
   const fs::path out = scratch("killed" + std::to_string(rank) + ".h5");
   const fs::path log = scratch("killed" + std::to_string(rank) + ".log");
   const auto start = Clock::now();
-  const pid_t mpirun = start_mpirun(out, log, false);
-  ASSERT_GT(mpirun, 0);
+  const auto job = start_mpirun(out, log, false);
+  ASSERT_GT(job->pid(), 0);
   std::optional<pid_t> victim;
-  int raw = 0;
   bool ended = false;
   while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
-    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
-    if (!ended && points_saved(out) > 0 && (victim = rank_pid(mpirun, rank))) break;
+    ended = job->ended();
+    if (!ended && points_saved(out) > 0 && (victim = rank_pid(job->pid(), rank))) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   ASSERT_FALSE(ended) << "the job ended before a kill:\n" << read_text(log);
   ASSERT_TRUE(victim) << "rank " << rank << " not found";
   ASSERT_EQ(kill(*victim, SIGKILL), 0);
-  ASSERT_EQ(waitpid(mpirun, &raw, 0), mpirun);
+  ASSERT_TRUE(job->wait()) << "the job still ran " << kJobSeconds << " s after the kill:\n"
+                           << read_text(log);
+  const int raw = job->status();
   EXPECT_FALSE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0)
       << "the job went on without rank " << rank << ":\n"
       << read_text(log);
@@ -213,10 +288,11 @@ void kill_rank_then_resume(int rank) {
   EXPECT_GT(saved, 0);
   std::printf("mpi_run_test: rank %d killed; %ld of %ld points saved\n", rank, saved, kPoints);
 
-  const pid_t resumed = start_mpirun(out, log, true);
-  ASSERT_EQ(waitpid(resumed, &raw, 0), resumed);
+  const auto resumed = start_mpirun(out, log, true);
+  ASSERT_TRUE(resumed->wait()) << "the resumed job still ran after " << kJobSeconds << " s:\n"
+                               << read_text(log);
   const std::string text = read_text(log);
-  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text;
+  ASSERT_TRUE(WIFEXITED(resumed->status()) && WEXITSTATUS(resumed->status()) == 0) << text;
   EXPECT_NE(text.find(std::to_string(kPoints - saved) + " computed, " + std::to_string(saved) +
                       " reused"),
             std::string::npos)
@@ -233,11 +309,17 @@ TEST(MpiRun, SigkillOfRankZeroThenResumeEndsWithTheSameFile) {
   kill_rank_then_resume(0);
 }
 
-// A process that exists and is not a zombie.
-bool alive(pid_t pid) {
+// A process's state letter in /proc (R, S, T for stopped, Z for a zombie…); empty if it is gone.
+std::string process_state(pid_t pid) {
   std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
   std::string skip, comm, state;
-  return static_cast<bool>(stat >> skip >> comm >> state) && state != "Z";
+  return stat >> skip >> comm >> state ? state : std::string();
+}
+
+// A process that exists and is not a zombie.
+bool alive(pid_t pid) {
+  const std::string state = process_state(pid);
+  return !state.empty() && state != "Z";
 }
 
 // Runs `plan_text` under mpirun -np 3 with the stall options' defaults (10 times the expected
@@ -246,9 +328,10 @@ bool alive(pid_t pid) {
 // end within 60 s of the stop (plus 10 times the plan's single-process time, below), with status
 // 0, saying that rank 2's work went to other ranks (`handed`) and that the job ended without it,
 // and with the single process's file. Before the fix rank 0 waited for the stopped rank forever.
-// Whatever is left of rank 2 is killed.
+// Whatever is left of rank 2 is killed. With `self_stop` (mpirun's -x of a test hook), rank 2
+// stops itself at the moment the hook names, and the test waits for that instead.
 void stop_a_worker(const std::string& name, const std::string& plan_text, long saved,
-                   const std::vector<std::string>& handed) {
+                   const std::vector<std::string>& handed, const std::string& self_stop = "") {
   const fs::path plan = testing::write_file(scratch(name + ".toml"), plan_text);
   const fs::path single = scratch(name + "-single.h5");
   const auto single_start = Clock::now();
@@ -264,34 +347,43 @@ void stop_a_worker(const std::string& name, const std::string& plan_text, long s
   const fs::path log = scratch(name + "-stalled.log");
   fs::remove(out);
   const auto start = Clock::now();
-  const pid_t mpirun = start_mpirun(plan, out, log, "");
-  ASSERT_GT(mpirun, 0);
+  const auto job = start_mpirun(plan, out, log, "", self_stop);
+  ASSERT_GT(job->pid(), 0);
   std::optional<pid_t> victim;
-  int raw = 0;
   bool ended = false;
   while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
-    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
-    if (!ended && points_saved(out) >= saved && (victim = rank_pid(mpirun, 2))) break;
+    ended = job->ended();
+    if (ended) break;
+    if (self_stop.empty()) {
+      if (points_saved(out) >= saved && (victim = rank_pid(job->pid(), 2))) break;
+    } else if ((victim = rank_pid(job->pid(), 2)) && process_state(*victim) == "T") {
+      break;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   ASSERT_FALSE(ended) << "the job ended before the stop:\n" << read_text(log);
   ASSERT_TRUE(victim) << "rank 2 not found";
-  ASSERT_EQ(kill(*victim, SIGSTOP), 0);
+  if (self_stop.empty()) {
+    ASSERT_EQ(kill(*victim, SIGSTOP), 0);
+  } else {
+    ASSERT_EQ(process_state(*victim), "T") << "rank 2 did not stop itself:\n" << read_text(log);
+  }
   const auto stopped = Clock::now();
   const double kBoundSeconds = 60 + 10 * single_seconds;
   while (!ended && std::chrono::duration<double>(Clock::now() - stopped).count() < kBoundSeconds) {
-    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    ended = job->ended();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - stopped).count();
   if (!ended) {  // the hang: let the rank go on, so that the job ends and leaves nothing behind
     kill(*victim, SIGCONT);
-    waitpid(mpirun, &raw, 0);
+    job->wait(30);
   }
   if (alive(*victim)) {
     kill(*victim, SIGCONT);
     kill(*victim, SIGKILL);
   }
+  const int raw = job->status();
   const std::string text = read_text(log);
   ASSERT_TRUE(ended) << "the job still ran " << kBoundSeconds << " s after rank 2 stopped:\n"
                      << text;
@@ -339,19 +431,10 @@ delta = { from = 0.0, to = 1.0, partitions = 224 }
   ASSERT_EQ(o.status, 0) << o.text;
   const fs::path out = scratch("cheap.h5");
   const fs::path log = scratch("cheap.log");
-  const pid_t mpirun = start_mpirun(plan, out, log, "");
-  ASSERT_GT(mpirun, 0);
-  const auto start = Clock::now();
-  int raw = 0;
-  bool ended = false;
-  while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 60) {
-    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (!ended) {  // mpirun passes SIGTERM on and ends the ranks
-    kill(mpirun, SIGTERM);
-    waitpid(mpirun, &raw, 0);
-  }
+  const auto job = start_mpirun(plan, out, log, "");
+  ASSERT_GT(job->pid(), 0);
+  const bool ended = job->wait(60);  // past 60 s the job (the deadlock) is killed
+  const int raw = job->status();
   const std::string text = read_text(log);
   ASSERT_TRUE(ended) << "the job still ran after 60 s:\n" << text;
   ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << text;
@@ -389,19 +472,20 @@ TEST(MpiRun, SigusrOneToMpirunStopsTheJobWithEverythingComputedSaved) {
   const fs::path out = scratch("usr1.h5");
   const fs::path log = scratch("usr1.log");
   const auto start = Clock::now();
-  const pid_t mpirun = start_mpirun(out, log, false);
-  ASSERT_GT(mpirun, 0);
-  int raw = 0;
+  const auto job = start_mpirun(out, log, false);
+  ASSERT_GT(job->pid(), 0);
   bool ended = false;
   long before = 0;
   while (!ended && std::chrono::duration<double>(Clock::now() - start).count() < 120) {
-    if (waitpid(mpirun, &raw, WNOHANG) == mpirun) ended = true;
+    ended = job->ended();
     if (!ended && (before = points_saved(out)) > 0) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   ASSERT_FALSE(ended) << "the job ended before the signal:\n" << read_text(log);
-  ASSERT_EQ(kill(mpirun, SIGUSR1), 0);
-  ASSERT_EQ(waitpid(mpirun, &raw, 0), mpirun);
+  ASSERT_EQ(kill(job->pid(), SIGUSR1), 0);
+  ASSERT_TRUE(job->wait()) << "the job still ran " << kJobSeconds << " s after SIGUSR1:\n"
+                           << read_text(log);
+  const int raw = job->status();
   const std::string text = read_text(log);
   // Rank 0's status is mpirun's, unless the run ended on its own before the signal reached it.
   ASSERT_TRUE(WIFEXITED(raw)) << text;
@@ -418,9 +502,11 @@ TEST(MpiRun, SigusrOneToMpirunStopsTheJobWithEverythingComputedSaved) {
   EXPECT_GE(saved, before);
   EXPECT_LT(saved, kPoints);
 
-  const pid_t resumed = start_mpirun(out, log, true);
-  ASSERT_EQ(waitpid(resumed, &raw, 0), resumed);
-  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << read_text(log);
+  const auto resumed = start_mpirun(out, log, true);
+  ASSERT_TRUE(resumed->wait()) << "the resumed job still ran after " << kJobSeconds << " s:\n"
+                               << read_text(log);
+  ASSERT_TRUE(WIFEXITED(resumed->status()) && WEXITSTATUS(resumed->status()) == 0)
+      << read_text(log);
   const auto same = compare(s.single, out);
   EXPECT_EQ(same.status, 0) << same.text;
 }
@@ -540,6 +626,21 @@ TEST(MpiRun, AStoppedWorkersSearchesGoToTheOtherRanksAndTheRunEnds) {
   stop_a_worker("search-stall", text, 1,
                 {"impactid run: rank 2 has not answered its searches for ", ", out at rank 2 for ",
                  "searches run per rank: "});
+}
+
+// A search's answer is two messages, its rows then its end. Rank 2 stops itself between the two
+// (the test hook IMPACTID_MPI_STOP_AFTER_ROWS): rank 0 must not wait for the second, and hands
+// rank 2's searches on as above. Before the fix it waited in a blocking probe for that end, so
+// the watch for stalled ranks never ran and the job hung (1 run in 2 of the test above, when the
+// SIGSTOP fell between the messages).
+TEST(MpiRun, AWorkerStoppedBetweenASearchsRowsAndItsEndDoesNotHoldRankZero) {
+  std::string text = kSearchPlan;
+  text.replace(text.find("elements = 80"), 13, "elements = 300");
+  text.replace(text.find("starts = 6"), 10, "starts = 12");
+  stop_a_worker(
+      "search-halfway", text, 0,
+      {"impactid run: rank 2 has not answered its searches for ", "searches run per rank: "},
+      "-x IMPACTID_MPI_STOP_AFTER_ROWS=2");
 }
 
 }  // namespace

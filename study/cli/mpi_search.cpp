@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
@@ -16,6 +17,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "study/cli/mpi_protocol.hpp"
@@ -60,6 +62,13 @@ bool unpack_rows(const std::vector<double>& in, std::size_t& at, StudyResults& r
 long injected_failure_search() {
   const char* text = std::getenv("IMPACTID_MPI_FAIL_AT_SEARCH");
   return text ? std::atol(text) : -1;
+}
+
+// The test hook (tests/mpi_run_test.cpp) of a worker stopped between a search's two messages:
+// the rank that sends itself SIGSTOP right after its first search's rows, or −1.
+int injected_stop_after_rows() {
+  const char* text = std::getenv("IMPACTID_MPI_STOP_AFTER_ROWS");
+  return text ? std::atoi(text) : -1;
 }
 
 SearchOutcome run_search_checked(const Plan& plan, long start, const StudyResults& previous,
@@ -111,6 +120,11 @@ void mpi_protocol::serve_searches(const Plan& plan, int threads,
     pack_rows(o.rows, packed);
     MPI_Send(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, 0, kTagSearchRows,
              MPI_COMM_WORLD);
+    static bool stopped_once = false;
+    if (!stopped_once && injected_stop_after_rows() == world_rank()) {
+      stopped_once = true;
+      std::raise(SIGSTOP);
+    }
     send_text(o.termination, 0, kTagSearchEnd);
   }
 }
@@ -143,6 +157,9 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
   // sent together once all its searches ended).
   std::vector<long> answers_left(static_cast<std::size_t>(ranks_), 0);
   std::vector<long> message_of(static_cast<std::size_t>(ranks_), -1);
+  // Per worker: the rows of its latest search, received, whose kTagSearchEnd is still to come.
+  // Thread 0 only.
+  std::vector<std::vector<double>> rows_in(static_cast<std::size_t>(ranks_));
   struct Orphan {
     long search = 0;
     int from = 0;  // the stalled rank
@@ -206,11 +223,14 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
         give(worker);
         break;
       }
-      case kTagSearchRows: {
-        const std::vector<double> packed = receive_array<double>(probed, MPI_DOUBLE);
-        MPI_Status end;
-        MPI_Probe(worker, kTagSearchEnd, MPI_COMM_WORLD, &end);
-        std::string termination = receive_text(end);
+      case kTagSearchRows:  // kept until its kTagSearchEnd, which MPI delivers next from it
+        rows_in[w] = receive_array<double>(probed, MPI_DOUBLE);
+        break;
+      case kTagSearchEnd: {
+        // Not a blocking probe for it after the rows: a worker stopped between its two
+        // messages would hold thread 0 there, and with it the watch for stalled ranks.
+        std::string termination = receive_text(probed);
+        const std::vector<double> packed = std::exchange(rows_in[w], {});
         SearchOutcome outcome;
         outcome.rows = empty_search_rows(plan);
         std::size_t at = 4;

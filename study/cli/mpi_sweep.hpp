@@ -66,7 +66,9 @@ class MpiMaster {
   /// at a time as it has threads, and rank 0 runs them too under kMasterComputesUpToRanks. A
   /// stop hands out no more searches and waits for those running (each ends within its
   /// max_evaluations). A worker's error is thrown, as the sweep's. For tests,
-  /// IMPACTID_MPI_FAIL_AT_SEARCH=S makes whichever rank runs search S fail on it.
+  /// IMPACTID_MPI_FAIL_AT_SEARCH=S makes whichever rank runs search S fail on it, and
+  /// IMPACTID_MPI_STOP_AFTER_ROWS=R stops rank R (SIGSTOP) between its first search's rows and
+  /// that search's end (rank 0 must not wait for the end).
   void run_searches(const Plan& plan, std::span<const long> starts,
                     std::span<const StudyResults> previous, const std::atomic<bool>* stop,
                     const std::function<void(long, SearchOutcome)>& done);
