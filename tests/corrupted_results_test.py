@@ -2,8 +2,9 @@
 """A flipped bit in a results file is refused by every reader, naming the file and the object
 (issue 38, item 5: one flip doubled eps_p[5], and export, run --resume, merge and plot took it):
 a byte of a dataset's stored values (found with h5py's chunk info), of the plan's text (an
-attribute, in the file's global heap), and of a shard's values given to merge. A file without
-checksums (written before them) is read with a note.
+attribute, in the file's global heap), and of a shard's values given to merge; a global heap
+damaged where HDF5 itself would crash on it. A file without checksums (written before them) is
+read with a note.
 
 Usage: corrupted_results_test.py IMPACTID SOURCE_DIR
 """
@@ -37,6 +38,18 @@ def flip(path, offset, mask=0x10):
         byte = f.read(1)[0]
         f.seek(offset)
         f.write(bytes([byte ^ mask]))
+
+
+def damage_global_heap(path, length=1 << 40):
+    """Sets the length of the first object of the file's first global heap collection ("GCOL":
+    signature, version, 3 reserved, collection size; then per object its index, reference
+    count, 4 reserved and its length, at +24) to `length`."""
+    image = bytearray(open(path, "rb").read())
+    at = image.find(b"GCOL")
+    assert at >= 0, f"{path}: no global heap"
+    image[at + 24:at + 32] = length.to_bytes(8, "little")
+    with open(path, "wb") as f:
+        f.write(image)
 
 
 def main():
@@ -98,6 +111,26 @@ def main():
             refused("merge", merged, shards[1], "eps_p", "data corrupted")
             if os.path.exists(os.path.join(tmp, "m.h5")):
                 failures.append("merge wrote a file from a corrupted shard")
+
+        # A damaged global heap, where HDF5 1.10.8 trusts the lengths it finds: the first
+        # variable-length string's length made 2^40 bytes makes HDF5 copy past its buffer
+        # (SIGSEGV) before any checksum can be compared. Every reader refuses the file, and
+        # survives: HDF5 first reads it in a separate process (study/formats/hdf5_file.hpp).
+        heap = os.path.join(tmp, "heap.h5")
+        shutil.copy(good, heap)
+        damage_global_heap(heap)
+        before = open(heap, "rb").read()
+        words = (heap, "damaged: reading it crashes HDF5")
+        refused("export of a damaged heap",
+                run(impactid, "export", heap, "--csv", os.path.join(tmp, "csv4")), *words)
+        refused("run --resume of a damaged heap",
+                run(impactid, "run", plan, "--output", heap, "--resume"), *words)
+        if open(heap, "rb").read() != before:
+            failures.append("run --resume changed the file with a damaged heap")
+        refused("merge of a damaged heap",
+                run(impactid, "merge", heap, "--output", os.path.join(tmp, "m2.h5")), *words)
+        refused("plot of a damaged heap",
+                run(impactid, "plot", heap, "--out", os.path.join(tmp, "figures2")), *words)
 
         # A file without checksums (as earlier versions wrote them): read, with a note.
         old = os.path.join(tmp, "old.h5")

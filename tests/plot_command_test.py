@@ -109,7 +109,7 @@ def main():
         (tmp / "notes.h5").write_text("not HDF5\n")
         subprocess.run(["/usr/bin/python3", "-c", "import h5py; h5py.File('foreign.h5', 'w').attrs['format'] = 'x'"],
                        cwd=tmp, check=True)
-        for name, words in (("missing.h5", "missing.h5: no such file"), ("notes.h5", "notes.h5: not an HDF5 file"),
+        for name, words in (("missing.h5", "missing.h5: no such file"), ("notes.h5", "notes.h5: not a readable HDF5 file"),
                             ("foreign.h5", "format = 'x': not a file impactid writes")):
             p = run([impactid, "plot", name], tmp)
             expect(p.returncode == 2 and words in p.stderr, f"plot {name}: exit {p.returncode}, {p.stderr!r}, expected {words!r}")

@@ -57,6 +57,17 @@ def test_a_good_file_loads_its_values(results):
     assert "impactid_checksum" not in ds.attrs  # storage, not the study: left out
 
 
+def test_a_global_heap_that_crashes_hdf5_is_refused_and_python_lives_on(copy):
+    # The first variable-length string's length made 2^40 bytes: HDF5 1.10.8 copies that much
+    # (SIGSEGV) before any checksum is compared. The reader meets it in a child process first.
+    data = bytearray(copy.read_bytes())
+    at = data.find(b"GCOL")  # the collection's header is 16 bytes; the length is at +8 in the object's
+    data[at + 24:at + 32] = (1 << 40).to_bytes(8, "little")
+    copy.write_bytes(bytes(data))
+    with pytest.raises(ValueError, match=f"{copy}: damaged: reading it crashes HDF5"):
+        impactid.open_results(copy)
+
+
 def test_a_flipped_value_is_refused_naming_file_and_dataset(copy):
     flip(copy, stored_offset(copy, "eps_p", 5) + 7, 0x01)  # the exponent: eps_p[5] doubles
     with pytest.raises(ValueError, match="data corrupted") as raised:

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "study/cli/command_line.hpp"
+#include "study/formats/hdf5_file.hpp"
 
 #ifndef IMPACTID_FIGURES_SOURCE_DIR
 #define IMPACTID_FIGURES_SOURCE_DIR ""
@@ -37,6 +38,15 @@ int plot(const PlotArguments& args) {
   if (!fs::is_regular_file(args.file, ec)) {
     std::cerr << "impactid plot: " << args.file
               << (fs::exists(args.file, ec) ? ": is not a regular file\n" : ": no such file\n");
+    return kExitBadInput;
+  }
+  // h5py, which reads the file for the figures, runs HDF5 inside Python: a damaged file that
+  // crashes HDF5 would end the figures by a signal, unexplained. impactid's reader reads it
+  // first, in a child process (study/formats/hdf5_file.hpp), and refuses it by name.
+  try {
+    const Hdf5Reader first_read(args.file, UncheckedFile::quiet);
+  } catch (const Hdf5Error& e) {
+    std::cerr << "impactid plot: " << e.what() << '\n';
     return kExitBadInput;
   }
   std::string tried;

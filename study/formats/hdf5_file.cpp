@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -14,6 +15,8 @@
 #include <iostream>
 #include <numeric>
 #include <system_error>
+
+#include "study/formats/child_process.hpp"
 
 namespace impactid {
 namespace {
@@ -633,6 +636,84 @@ void Hdf5Writer::commit() {
 
 Hdf5Reader::Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked) : path_(path) {
   if (!std::filesystem::exists(path)) throw Hdf5Error(path.string() + ": no such file");
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  const double seconds = kFirstReadSeconds + (ec ? 0.0 : static_cast<double>(bytes) / 1e7);
+  const ChildOutcome first = run_in_child(
+      [&] { Hdf5Reader(path, UncheckedFile::quiet, InChild{}).read_everything(); }, seconds);
+  const std::string advice =
+      "; it was read first in a separate process, so nothing else is "
+      "lost (the file is damaged; use a backup or run it again)";
+  switch (first.kind) {
+    case ChildOutcome::Kind::crashed:
+      throw Hdf5Error(path.string() + ": damaged: reading it crashes HDF5 (" +
+                      (first.signal ? std::string(strsignal(first.signal))
+                                    : "exit status " + std::to_string(first.exit_status)) +
+                      ")" + advice);
+    case ChildOutcome::Kind::timed_out:
+      throw Hdf5Error(path.string() + ": damaged: reading it did not end within " +
+                      std::to_string(static_cast<int>(std::ceil(seconds))) + " s" + advice);
+    case ChildOutcome::Kind::ended:
+    case ChildOutcome::Kind::not_run:  // no process to spare: read it here, as before
+      break;
+  }
+  open(unchecked);
+}
+
+Hdf5Reader::Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked, InChild)
+    : path_(path) {
+  open(unchecked);
+}
+
+void Hdf5Reader::read_everything() const {
+  const auto attempt = [](auto&& read) {
+    try {
+      read();
+    } catch (const std::exception&) {  // the parent meets it again, and reports it
+    }
+  };
+  std::function<void(const std::string&)> visit = [&](const std::string& path) {
+    attempt([&] {
+      for (const std::string& name : attribute_names(path)) {
+        attempt([&] {
+          if (attribute_is_text(path, name)) {
+            attribute_string(path, name);
+          } else {
+            attribute_doubles(path, name);
+            attribute_ints(path, name);
+          }
+        });
+      }
+    });
+    const bool group = path == "/" || guarded(path_, path, [&] {
+                         return file_.childObjType(path) == H5O_TYPE_GROUP;
+                       });
+    if (group) {
+      for (const std::string& member : members(path)) {
+        attempt([&] { visit(path == "/" ? "/" + member : path + "/" + member); });
+      }
+      return;
+    }
+    const Hdf5Dims dims = shape(path);
+    const H5T_class_t type =
+        guarded(path_, path, [&] { return file_.openDataSet(path).getTypeClass(); });
+    attempt([&] {
+      if (type == H5T_STRING) {
+        strings(path);
+      } else if (type == H5T_INTEGER) {
+        longs(path);
+      } else {
+        doubles(path);
+      }
+    });
+    attempt([&] { is_dimension_scale(path); });
+    for (unsigned i = 0; i < dims.size(); ++i) attempt([&] { attached_scales(path, i); });
+  };
+  attempt([&] { visit("/"); });
+}
+
+void Hdf5Reader::open(UncheckedFile unchecked) {
+  const std::filesystem::path& path = path_;
   try {
     file_.openFile(path.string(), H5F_ACC_RDONLY);
   } catch (const H5::Exception& e) {

@@ -30,6 +30,16 @@
 // unverified, with a note on stderr. A checksum that does not match is an Hdf5Error "FILE:
 // OBJECT: data corrupted: …".
 //
+// Checksums are checked after HDF5 has parsed the structures holding them, and HDF5 1.10.8
+// trusts some of those blindly: a damaged global-heap collection (where variable-length strings
+// live, the plan's text among them) makes it copy ~10^18 bytes (SIGSEGV) or loop forever
+// (scripts/fuzz's results fuzzer found both in about a hundred byte flips). So a Hdf5Reader
+// reads its file first in a child process (study/formats/child_process.hpp): everything in it,
+// every object, attribute, dataset and dimension scale. A child that crashes or does not end
+// within kFirstReadSeconds (+ 1 s per 10 MB) makes the Hdf5Error "FILE: damaged: reading it
+// crashes HDF5 (…)"; a child that ends (the walk raised errors or not) lets this process read
+// the same bytes, which take the same paths, so whatever error it meets is the one reported.
+//
 // Files track the creation order of their root group's links and attributes (as netCDF-4
 // does), so members() and attribute_names() list them in the order they were written.
 //
@@ -57,6 +67,10 @@ using Hdf5Dims = std::vector<hsize_t>;
 /// The root attribute holding the CRC-32 of a file's attributes and text datasets (see above).
 /// Hdf5Reader::attribute_names leaves it out: it describes the storage, not the content.
 inline constexpr const char* kChecksumAttribute = "impactid_checksum";
+
+/// The bound on a Hdf5Reader's first read, in a child process, of a file under 10 MB (1 s more
+/// per 10 MB): reading a results file takes milliseconds; a damaged one can loop forever.
+inline constexpr double kFirstReadSeconds = 10;
 
 /// What a Hdf5Reader does with a file without checksums: say so on stderr, or nothing (a probe
 /// that only asks which kind of file it is; the reader that loads it says it).
@@ -108,9 +122,9 @@ class Hdf5Writer {
 };
 
 /// Read access to a results file. Throws Hdf5Error naming the file for a missing, truncated or
-/// corrupt file and for a missing object. Opening checks the checksum of the attributes and
-/// text; each dataset read checks its Fletcher32 (HDF5 does); a mismatch throws "FILE: OBJECT:
-/// data corrupted: …".
+/// corrupt file and for a missing object. Opening reads the whole file once in a child process
+/// (above), then checks the checksum of the attributes and text; each dataset read checks its
+/// Fletcher32 (HDF5 does); a mismatch throws "FILE: OBJECT: data corrupted: …".
 class Hdf5Reader {
  public:
   explicit Hdf5Reader(const std::filesystem::path& path,
@@ -145,6 +159,13 @@ class Hdf5Reader {
   std::vector<std::string> attached_scales(const std::string& dataset, unsigned index) const;
 
  private:
+  struct InChild {};
+  /// The open itself, with no first read in a child: the child's own reader.
+  Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked, InChild);
+  void open(UncheckedFile unchecked);
+  /// Reads everything in the file, going on past errors: the child's walk.
+  void read_everything() const;
+
   std::filesystem::path path_;
   mutable H5::H5File file_;  // HDF5 opens objects through non-const handles
   bool checksummed_ = false;
