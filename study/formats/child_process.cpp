@@ -10,6 +10,10 @@
 #include <csignal>
 #include <exception>
 
+// The sanitizers' runtime, when linked in: its death callback is the parent's (libFuzzer saves
+// the input as a finding from it), not the child's, whose crash is an answer.
+extern "C" void __sanitizer_set_death_callback(void (*callback)()) __attribute__((weak));
+
 namespace impactid {
 
 ChildOutcome run_in_child(const std::function<void()>& work, double seconds) {
@@ -22,6 +26,7 @@ ChildOutcome run_in_child(const std::function<void()>& work, double seconds) {
     sigset_t all;
     sigemptyset(&all);
     sigprocmask(SIG_SETMASK, &all, nullptr);
+    if (__sanitizer_set_death_callback) __sanitizer_set_death_callback(nullptr);
     const int null = open("/dev/null", O_WRONLY);
     if (null >= 0) dup2(null, STDERR_FILENO);
     alarm(static_cast<unsigned>(std::ceil(std::max(1.0, seconds))));

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -16,7 +15,7 @@
 #include <numeric>
 #include <system_error>
 
-#include "study/formats/child_process.hpp"
+#include "study/formats/first_read.hpp"
 
 namespace impactid {
 namespace {
@@ -617,6 +616,7 @@ void Hdf5Writer::commit() {
   });
   guarded(path_, "/", [&] { file_->close(); });
   file_.reset();
+  remember_readable(image);
   std::error_code ec;
   const auto fail = [&](const std::string& message) {
     std::filesystem::remove(temporary_, ec);
@@ -636,27 +636,8 @@ void Hdf5Writer::commit() {
 
 Hdf5Reader::Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked) : path_(path) {
   if (!std::filesystem::exists(path)) throw Hdf5Error(path.string() + ": no such file");
-  std::error_code ec;
-  const auto bytes = std::filesystem::file_size(path, ec);
-  const double seconds = kFirstReadSeconds + (ec ? 0.0 : static_cast<double>(bytes) / 1e7);
-  const ChildOutcome first = run_in_child(
-      [&] { Hdf5Reader(path, UncheckedFile::quiet, InChild{}).read_everything(); }, seconds);
-  const std::string advice =
-      "; it was read first in a separate process, so nothing else is "
-      "lost (the file is damaged; use a backup or run it again)";
-  switch (first.kind) {
-    case ChildOutcome::Kind::crashed:
-      throw Hdf5Error(path.string() + ": damaged: reading it crashes HDF5 (" +
-                      (first.signal ? std::string(strsignal(first.signal))
-                                    : "exit status " + std::to_string(first.exit_status)) +
-                      ")" + advice);
-    case ChildOutcome::Kind::timed_out:
-      throw Hdf5Error(path.string() + ": damaged: reading it did not end within " +
-                      std::to_string(static_cast<int>(std::ceil(seconds))) + " s" + advice);
-    case ChildOutcome::Kind::ended:
-    case ChildOutcome::Kind::not_run:  // no process to spare: read it here, as before
-      break;
-  }
+  check_first_read(path,
+                   [&] { Hdf5Reader(path, UncheckedFile::quiet, InChild{}).read_everything(); });
   open(unchecked);
 }
 

@@ -34,11 +34,12 @@
 // trusts some of those blindly: a damaged global-heap collection (where variable-length strings
 // live, the plan's text among them) makes it copy ~10^18 bytes (SIGSEGV) or loop forever
 // (scripts/fuzz's results fuzzer found both in about a hundred byte flips). So a Hdf5Reader
-// reads its file first in a child process (study/formats/child_process.hpp): everything in it,
+// reads its file first in a child process (study/formats/first_read.hpp): everything in it,
 // every object, attribute, dataset and dimension scale. A child that crashes or does not end
 // within kFirstReadSeconds (+ 1 s per 10 MB) makes the Hdf5Error "FILE: damaged: reading it
 // crashes HDF5 (…)"; a child that ends (the walk raised errors or not) lets this process read
 // the same bytes, which take the same paths, so whatever error it meets is the one reported.
+// Bytes read once, or written by this process, are not read in a child again.
 //
 // Files track the creation order of their root group's links and attributes (as netCDF-4
 // does), so members() and attribute_names() list them in the order they were written.
@@ -67,10 +68,6 @@ using Hdf5Dims = std::vector<hsize_t>;
 /// The root attribute holding the CRC-32 of a file's attributes and text datasets (see above).
 /// Hdf5Reader::attribute_names leaves it out: it describes the storage, not the content.
 inline constexpr const char* kChecksumAttribute = "impactid_checksum";
-
-/// The bound on a Hdf5Reader's first read, in a child process, of a file under 10 MB (1 s more
-/// per 10 MB): reading a results file takes milliseconds; a damaged one can loop forever.
-inline constexpr double kFirstReadSeconds = 10;
 
 /// What a Hdf5Reader does with a file without checksums: say so on stderr, or nothing (a probe
 /// that only asks which kind of file it is; the reader that loads it says it).
