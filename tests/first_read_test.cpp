@@ -10,7 +10,7 @@
 #include <iterator>
 #include <string>
 
-#include "study/formats/hdf5_file.hpp"
+#include "study/formats/hdf5_error.hpp"
 #include "test_files.hpp"
 
 namespace impactid {

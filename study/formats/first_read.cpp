@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "study/formats/child_process.hpp"
-#include "study/formats/hdf5_file.hpp"
+#include "study/formats/hdf5_error.hpp"
 
 namespace impactid {
 namespace {

@@ -50,6 +50,8 @@
 
 #include <H5Cpp.h>
 
+#include "study/formats/hdf5_error.hpp"
+
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -58,10 +60,6 @@
 #include <vector>
 
 namespace impactid {
-
-struct Hdf5Error : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 using Hdf5Dims = std::vector<hsize_t>;
 
