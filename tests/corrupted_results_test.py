@@ -114,13 +114,13 @@ def main():
 
         # A damaged global heap, where HDF5 1.10.8 trusts the lengths it finds: the first
         # variable-length string's length made 2^40 bytes makes HDF5 copy past its buffer
-        # (SIGSEGV) before any checksum can be compared. Every reader refuses the file, and
-        # survives: HDF5 first reads it in a separate process (study/formats/hdf5_file.hpp).
+        # (SIGSEGV) before any checksum can be compared. Every reader refuses the file before
+        # HDF5 reads it (study/formats/first_read.cpp walks the heap's collections first).
         heap = os.path.join(tmp, "heap.h5")
         shutil.copy(good, heap)
         damage_global_heap(heap)
         before = open(heap, "rb").read()
-        words = (heap, "damaged: reading it crashes HDF5")
+        words = (heap, "damaged: its global heap collection at byte", "past its end")
         refused("export of a damaged heap",
                 run(impactid, "export", heap, "--csv", os.path.join(tmp, "csv4")), *words)
         refused("run --resume of a damaged heap",

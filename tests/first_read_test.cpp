@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -71,6 +72,56 @@ TEST(FirstRead, BytesThisProcessWroteNeedNoChild) {
   const MarkingRead read = marking("written");
   check_first_read(file, read);
   EXPECT_EQ(read.children(), 0);
+}
+
+// A global heap collection as HDF5 writes one (its header, then objects of a 16-byte header
+// and data padded to 8 bytes, then the free space), 64 bytes in all, after some other bytes.
+std::string collection(std::uint64_t first_length, std::uint64_t free_length) {
+  const auto put = [](std::string& s, std::uint64_t v, int bytes) {
+    for (int k = 0; k < bytes; ++k) s += static_cast<char>((v >> (8 * k)) & 0xff);
+  };
+  std::string s = "other bytes before it";
+  s += std::string("GCOL\x01\x00\x00\x00", 8);
+  put(s, 64, 8);  // the collection's size
+  put(s, 1, 2), put(s, 1, 2), put(s, 0, 4), put(s, first_length, 8);
+  s += std::string("text\0\0\0\0", 8);  // 5 bytes of data, padded to 8
+  put(s, 0, 2), put(s, 0, 2), put(s, 0, 4), put(s, free_length, 8);
+  s += std::string(8, '\0');  // the free space's own bytes: 16 + 8 = 24 in all
+  return s;
+}
+
+TEST(FirstRead, AConsistentGlobalHeapIsRead) {
+  const fs::path file = testing::write_file(scratch("heap.bin"), collection(5, 24));
+  const MarkingRead read = marking("heap");
+  check_first_read(file, read);
+  EXPECT_EQ(read.children(), 1);
+}
+
+// What HDF5 1.10.8 does not check, found before any child reads the file.
+TEST(FirstRead, AGlobalHeapObjectPastItsCollectionIsRefusedUnread) {
+  struct Case {
+    std::string bytes, words;
+  };
+  for (const Case& c :
+       {Case{collection(1ull << 40, 24), "holds an object (index 1) of 1099511627776 bytes"},
+        Case{collection(5, 0), "holds an object (index 0) of 0 bytes"},
+        Case{collection(5, 25), "holds an object (index 0) of 25 bytes"},
+        Case{collection(5, 24).substr(0, 60), "claims 64 bytes, past the file's end"}}) {
+    SCOPED_TRACE(c.words);
+    const fs::path file = testing::write_file(scratch("bad-heap.bin"), c.bytes);
+    const MarkingRead read = marking("bad-heap");
+    try {
+      check_first_read(file, read);
+      FAIL() << "not refused";
+    } catch (const Hdf5Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(file.string() + ": damaged: its global heap collection at byte 21 "),
+                std::string::npos)
+          << what;
+      EXPECT_NE(what.find(c.words), std::string::npos) << what;
+    }
+    EXPECT_EQ(read.children(), 0);
+  }
 }
 
 TEST(FirstRead, ALoopIsRefusedAtTheBound) {

@@ -1,17 +1,21 @@
 #include "study/formats/first_read.hpp"
 
+#include <fcntl.h>
 #include <openssl/evp.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <unordered_map>
-#include <vector>
 
 #include "study/formats/child_process.hpp"
 #include "study/formats/hdf5_error.hpp"
@@ -40,17 +44,85 @@ class Sha256 {
   std::unique_ptr<EVP_MD_CTX, void (*)(EVP_MD_CTX*)> context_;
 };
 
-// Empty when the file cannot be read: the child (and then the reader) says why.
-Digest digest_of_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
-  Sha256 sha;
-  std::vector<char> buffer(1 << 20);
-  while (in) {
-    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    sha.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
+// A file's bytes, mapped read-only; empty when it cannot be read or is empty (the child, and
+// then the reader, say why).
+class MappedFile {
+ public:
+  explicit MappedFile(const std::filesystem::path& path) {
+    const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    struct stat st {};
+    if (fstat(fd, &st) == 0 && st.st_size > 0) {
+      void* at = mmap(nullptr, static_cast<std::size_t>(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
+      if (at != MAP_FAILED) {
+        data_ = static_cast<const unsigned char*>(at);
+        size_ = static_cast<std::size_t>(st.st_size);
+      }
+    }
+    close(fd);
   }
-  return in.bad() ? Digest() : sha.digest();
+  ~MappedFile() {
+    if (data_) munmap(const_cast<unsigned char*>(data_), size_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::span<const unsigned char> bytes() const { return {data_, size_}; }
+
+ private:
+  const unsigned char* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+std::uint64_t little_endian(const unsigned char* p, int bytes) {
+  std::uint64_t v = 0;
+  for (int k = bytes - 1; k >= 0; --k) v = (v << 8) | p[k];
+  return v;
+}
+
+// HDF5 1.10.8 decodes a global heap collection (where variable-length strings live: every text
+// attribute and text dataset) without checking its objects' lengths against the collection
+// (H5HG__cache_heap_deserialize), then copies an object of the length it decoded (H5HG_read:
+// past the collection, a crash or not, depending on what lies there) or loops for ever on a
+// free-space object of length 0. Whether it crashes depends on the memory around the copy, so
+// a child that survived it says nothing of this process: the collections are walked here, as
+// HDF5 walks them, with the checks it lacks. A collection is found by its header, "GCOL",
+// version 1, three zero bytes (8 bytes no number or text of a results file holds), then its
+// size; lengths are 8 bytes (HDF5's default, which impactid's files use). Returns what is
+// wrong with the first inconsistent collection, or nothing.
+std::optional<std::string> inconsistent_global_heap(std::span<const unsigned char> file) {
+  static constexpr unsigned char kHeader[] = {'G', 'C', 'O', 'L', 1, 0, 0, 0};
+  constexpr std::size_t kCollectionHeader = 16, kObjectHeader = 16;
+  const auto* const begin = file.data();
+  const auto* const end = begin + file.size();
+  for (const unsigned char* c = begin;
+       (c = std::search(c, end, std::begin(kHeader), std::end(kHeader))) != end; ++c) {
+    const std::size_t offset = static_cast<std::size_t>(c - begin);
+    const auto where = [&](const std::string& what) {
+      return "its global heap collection at byte " + std::to_string(offset) + " " + what;
+    };
+    if (file.size() - offset < kCollectionHeader) return where("is cut short");
+    const std::uint64_t size = little_endian(c + 8, 8);
+    if (size < kCollectionHeader || size > file.size() - offset) {
+      return where("claims " + std::to_string(size) + " bytes, past the file's end");
+    }
+    const unsigned char* const stop = c + size;
+    for (const unsigned char* p = c + kCollectionHeader; p < stop;) {
+      const auto left = static_cast<std::uint64_t>(stop - p);
+      if (left < kObjectHeader) break;  // too small for an object: free space, as HDF5 takes it
+      const auto index = little_endian(p, 2);
+      const std::uint64_t length = little_endian(p + 8, 8);
+      // An object takes its header and its data padded to 8 bytes; the free-space object
+      // (index 0) gives its whole extent, header included.
+      const std::uint64_t need =
+          index > 0 ? (length > left ? left + 1 : kObjectHeader + (length + 7) / 8 * 8) : length;
+      if (need == 0 || need > left) {
+        return where("holds an object (index " + std::to_string(index) + ") of " +
+                     std::to_string(length) + " bytes, past its end");
+      }
+      p += need;
+    }
+  }
+  return std::nullopt;
 }
 
 // What this process learnt, by digest. Bounded: past kMaxKept entries it starts again (a
@@ -84,10 +156,23 @@ FirstReads& first_reads() {
 
 void check_first_read(const std::filesystem::path& path,
                       const std::function<void()>& read_everything) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  const double seconds = kFirstReadSeconds + (ec ? 0.0 : static_cast<double>(size) / 1e7);
-  const Digest digest = digest_of_file(path);
+  const MappedFile mapped(path);
+  const std::span<const unsigned char> bytes = mapped.bytes();
+  const double seconds = kFirstReadSeconds + static_cast<double>(bytes.size()) / 1e7;
+  const std::string advice =
+      "; it was read first in a separate process, so nothing else is lost (the file is damaged; "
+      "use a backup or run it again)";
+  if (const std::optional<std::string> wrong = inconsistent_global_heap(bytes)) {
+    throw Hdf5Error(path.string() + ": damaged: " + *wrong +
+                    " (HDF5 1.10 would read past it); nothing of it was read (the file is "
+                    "damaged; use a backup or run it again)");
+  }
+  Digest digest;
+  if (!bytes.empty()) {
+    Sha256 sha;
+    sha.add(bytes.data(), bytes.size());
+    digest = sha.digest();
+  }
   std::optional<ChildOutcome> outcome = digest.empty() ? std::nullopt : first_reads().find(digest);
   if (!outcome) {
     outcome = run_in_child(read_everything, seconds);
@@ -95,9 +180,6 @@ void check_first_read(const std::filesystem::path& path,
       first_reads().keep(digest, *outcome);
     }
   }
-  const std::string advice =
-      "; it was read first in a separate process, so nothing else is lost (the file is damaged; "
-      "use a backup or run it again)";
   switch (outcome->kind) {
     case ChildOutcome::Kind::crashed:
       throw Hdf5Error(path.string() + ": damaged: reading it crashes HDF5 (" +

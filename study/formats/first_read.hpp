@@ -20,10 +20,11 @@ namespace impactid {
 /// file takes milliseconds, under the sanitizers tens of them; a damaged one can loop forever.
 inline constexpr double kFirstReadSeconds = 5;
 
-/// Runs `read_everything` (a walk of the whole file at `path`) in a child process unless these
-/// bytes were read before. Throws Hdf5Error "PATH: damaged: …" when the child crashed or did
-/// not end within the bound; returns otherwise (fork failed: nothing learnt, the caller reads
-/// as before).
+/// Checks the file's global heap collections (first_read.cpp says why), then runs
+/// `read_everything` (a walk of the whole file at `path`) in a child process unless these
+/// bytes were read before. Throws Hdf5Error "PATH: damaged: …" for an inconsistent collection,
+/// or when the child crashed or did not end within the bound; returns otherwise (fork failed:
+/// nothing learnt, the caller reads as before).
 void check_first_read(const std::filesystem::path& path,
                       const std::function<void()>& read_everything);
 

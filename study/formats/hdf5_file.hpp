@@ -34,7 +34,9 @@
 // trusts some of those blindly: a damaged global-heap collection (where variable-length strings
 // live, the plan's text among them) makes it copy ~10^18 bytes (SIGSEGV) or loop forever
 // (scripts/fuzz's results fuzzer found both in about a hundred byte flips). So a Hdf5Reader
-// reads its file first in a child process (study/formats/first_read.hpp): everything in it,
+// first walks the file's global heap collections with the checks HDF5 lacks (a copy past a
+// collection crashes or not depending on the memory around it: no trial read can rule it
+// out), then reads the file in a child process (study/formats/first_read.hpp): everything in it,
 // every object, attribute, dataset and dimension scale. A child that crashes or does not end
 // within kFirstReadSeconds (+ 1 s per 10 MB) makes the Hdf5Error "FILE: damaged: reading it
 // crashes HDF5 (…)"; a child that ends (the walk raised errors or not) lets this process read
