@@ -131,6 +131,10 @@ T checked(T result, const char* function) {
 
 constexpr unsigned kCreationOrder = H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED;
 
+// A text dataset of at most this many strings keeps their heap places (16 bytes each) in its
+// object header: HDF5's compact storage, under its 64 KiB limit with room to spare.
+constexpr hsize_t kCompactTextElements = 3000;
+
 // Every dataset tracks its attributes' creation order, as netCDF-4 does.
 H5::DSetCreatPropList dataset_properties() {
   H5::DSetCreatPropList properties;
@@ -572,7 +576,15 @@ void Hdf5Writer::dataset(const std::string& path, const std::vector<std::string>
     for (const auto& s : data) pointers.push_back(s.c_str());
     const hsize_t n = data.size();
     const H5::StrType type = utf8_string_type();
-    H5::DataSet d = file_->createDataSet(path, type, H5::DataSpace(1, &n), dataset_properties());
+    // The stored elements are the strings' places in the global heap (collection and index);
+    // HDF5 1.10.8 follows an index without checking it against the collection, so a damaged
+    // one would be a read anywhere. HDF5 allows no filter (Fletcher32) on variable-length
+    // data, so the places are kept in the dataset's object header, which carries a checksum
+    // (compact storage, up to kCompactTextElements strings of 16-byte places; the strings
+    // themselves are covered by kChecksumAttribute).
+    H5::DSetCreatPropList properties = dataset_properties();
+    if (n > 0 && n <= kCompactTextElements) properties.setLayout(H5D_COMPACT);
+    H5::DataSet d = file_->createDataSet(path, type, H5::DataSpace(1, &n), properties);
     if (n > 0) d.write(pointers.data(), type);
   });
 }

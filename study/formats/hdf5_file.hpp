@@ -17,11 +17,13 @@
 //     netCDF-C), and deflate, where on, runs before it on write;
 //   - HDF5's own metadata (object headers, chunk indexes) carries checksums in the 1.10 file
 //     format, which the writer asks for (so reading needs HDF5 1.10 or later);
+//   - text datasets store the strings' places in the global heap; up to 3000 strings they are
+//     kept in the dataset's object header (compact storage), which HDF5's checksum covers
+//     (HDF5 allows no Fletcher32 on variable-length data);
 //   - what neither covers, the attributes (the plan's text lives in the file's global heap,
-//     which has no checksum) and text datasets (Fletcher32 on variable-length strings would
-//     check only their heap addresses), is covered by one CRC-32 over all of them, written at
-//     commit() as the root attribute kChecksumAttribute and checked when a Hdf5Reader opens the
-//     file. HDF5 does not know it: other readers do not check it (Python's open_results does,
+//     which has no checksum) and the text datasets' strings, is covered by one CRC-32 over all
+//     of them, written at commit() as the root attribute kChecksumAttribute and checked when a
+//     Hdf5Reader opens the file. HDF5 does not know it: other readers do not check it (Python's open_results does,
 //     through this code). H5DS's dimension-scale bookkeeping is left out: its object
 //     references are file addresses (h5repack changes them, not the study); CLASS, NAME and
 //     REFERENCE_LIST sit in checksummed object headers, and DIMENSION_LIST, in the global heap,
