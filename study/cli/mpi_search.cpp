@@ -120,8 +120,9 @@ void mpi_protocol::serve_searches(const Plan& plan, int threads,
     pack_rows(o.rows, packed);
     MPI_Send(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, 0, kTagSearchRows,
              MPI_COMM_WORLD);
+    static const int stop_rank = injected_stop_after_rows();
     static bool stopped_once = false;
-    if (!stopped_once && injected_stop_after_rows() == world_rank()) {
+    if (!stopped_once && stop_rank == world_rank()) {
       stopped_once = true;
       std::raise(SIGSTOP);
     }

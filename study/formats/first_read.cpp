@@ -159,14 +159,13 @@ void check_first_read(const std::filesystem::path& path,
   const MappedFile mapped(path);
   const std::span<const unsigned char> bytes = mapped.bytes();
   const double seconds = kFirstReadSeconds + static_cast<double>(bytes.size()) / 1e7;
-  const std::string advice =
-      "; it was read first in a separate process, so nothing else is lost (the file is damaged; "
-      "use a backup or run it again)";
+  const std::string what_to_do = " (the file is damaged; use a backup or run it again)";
   if (const std::optional<std::string> wrong = inconsistent_global_heap(bytes)) {
     throw Hdf5Error(path.string() + ": damaged: " + *wrong +
-                    " (HDF5 1.10 would read past it); nothing of it was read (the file is "
-                    "damaged; use a backup or run it again)");
+                    " (HDF5 1.10 would read past it); nothing of it was read" + what_to_do);
   }
+  const std::string advice =
+      "; it was read first in a separate process, so nothing else is lost" + what_to_do;
   Digest digest;
   if (!bytes.empty()) {
     Sha256 sha;

@@ -687,10 +687,11 @@ void Hdf5Reader::read_everything() const {
       }
       return;
     }
-    const Hdf5Dims dims = shape(path);
-    const H5T_class_t type =
-        guarded(path_, path, [&] { return file_.openDataSet(path).getTypeClass(); });
+    // Each read on its own, as the parent's readers call them: one that fails does not keep
+    // the walk from the others (a dataset's scales are read even if its values are damaged).
     attempt([&] {
+      const H5T_class_t type =
+          guarded(path_, path, [&] { return file_.openDataSet(path).getTypeClass(); });
       if (type == H5T_STRING) {
         strings(path);
       } else if (type == H5T_INTEGER) {
@@ -700,7 +701,10 @@ void Hdf5Reader::read_everything() const {
       }
     });
     attempt([&] { is_dimension_scale(path); });
-    for (unsigned i = 0; i < dims.size(); ++i) attempt([&] { attached_scales(path, i); });
+    attempt([&] {
+      const auto rank = static_cast<unsigned>(shape(path).size());
+      for (unsigned i = 0; i < rank; ++i) attempt([&] { attached_scales(path, i); });
+    });
   };
   attempt([&] { visit("/"); });
 }

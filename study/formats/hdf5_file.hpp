@@ -23,11 +23,11 @@
 //   - what neither covers, the attributes (the plan's text lives in the file's global heap,
 //     which has no checksum) and the text datasets' strings, is covered by one CRC-32 over all
 //     of them, written at commit() as the root attribute kChecksumAttribute and checked when a
-//     Hdf5Reader opens the file. HDF5 does not know it: other readers do not check it (Python's open_results does,
-//     through this code). H5DS's dimension-scale bookkeeping is left out: its object
-//     references are file addresses (h5repack changes them, not the study); CLASS, NAME and
-//     REFERENCE_LIST sit in checksummed object headers, and DIMENSION_LIST, in the global heap,
-//     is checked by its use: read_results requires one scale per axis, of matching length.
+//     Hdf5Reader opens the file. HDF5 does not know it: other readers do not check it
+//     (Python's open_results does, through this code). H5DS's dimension-scale bookkeeping is left
+//     out: its object references are file addresses (h5repack changes them, not the study); CLASS,
+//     NAME and REFERENCE_LIST sit in checksummed object headers, and DIMENSION_LIST, in the global
+//     heap, is checked by its use: read_results requires one scale per axis, of matching length.
 // A file without kChecksumAttribute (written before checksums, or by another program) is read
 // unverified, with a note on stderr. A checksum that does not match is an Hdf5Error "FILE:
 // OBJECT: data corrupted: …".
@@ -54,14 +54,13 @@
 
 #include <H5Cpp.h>
 
-#include "study/formats/hdf5_error.hpp"
-
 #include <filesystem>
 #include <optional>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "study/formats/hdf5_error.hpp"
 
 namespace impactid {
 
