@@ -3,11 +3,12 @@
 #pragma once
 
 #include <mpi.h>
-
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
+#include <deque>
 #include <iterator>
 #include <list>
 #include <optional>
@@ -41,6 +42,11 @@ enum Tag : int {
   /// a rank that stopped answering is found before MPI_Finalize, which would wait for it forever
   /// (study/cli/main_mpi.cpp).
   kTagStopped = 11,
+  /// 0 → worker: nothing; every worker answered kTagStop, so MPI_Finalize (a collective over
+  /// every rank) will end. A worker waits for it before MPI_Finalize, so that when a rank is
+  /// silent and rank 0 calls MPI_Abort instead, no rank is inside MPI_Finalize's collective as
+  /// mpirun kills them (docs/scale.md: Debian 12's mpirun teardown after an abort).
+  kTagFinalize = 12,
 };
 
 using Clock = std::chrono::steady_clock;
@@ -76,15 +82,6 @@ std::vector<T> receive_array(const MPI_Status& probed, MPI_Datatype type) {
   MPI_Recv(values.data(), count, type, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
            MPI_STATUS_IGNORE);
   return values;
-}
-
-/// The message waiting from any worker, if one does (not received yet).
-inline std::optional<MPI_Status> waiting_message() {
-  int waiting = 0;
-  MPI_Status probed;
-  MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &probed);
-  if (!waiting) return std::nullopt;
-  return probed;
 }
 
 /// Rank 0's messages to the workers, sent without blocking. A message larger than MPI's eager
@@ -129,28 +126,90 @@ class Outbox {
   std::list<Pending> pending_;  // a list: a request's address stays put while MPI holds it
 };
 
-/// Receives a message and drops it: a late one from a rank given up on (study/cli/mpi_stall.hpp).
-inline void drop_message(const MPI_Status& probed) {
-  int count = 0;
-  MPI_Get_count(&probed, MPI_BYTE, &count);
-  std::vector<char> bytes(static_cast<std::size_t>(std::max(count, 0)));
-  MPI_Recv(bytes.data(), count, MPI_BYTE, probed.MPI_SOURCE, probed.MPI_TAG, MPI_COMM_WORLD,
-           MPI_STATUS_IGNORE);
-}
+/// A worker's message to rank 0, received whole (Inbox).
+struct Received {
+  int source = 0;
+  int tag = 0;
+  std::vector<char> bytes;
 
-/// Receives a worker's kTagReady: its OpenMP threads, at least 1.
-inline int receive_ready(const MPI_Status& probed) {
-  int threads = 1;
-  MPI_Recv(&threads, 1, MPI_INT, probed.MPI_SOURCE, kTagReady, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-  return std::max(1, threads);
-}
+  template <class T>
+  std::vector<T> values() const {
+    std::vector<T> v(bytes.size() / sizeof(T));
+    if (!v.empty()) std::memcpy(v.data(), bytes.data(), v.size() * sizeof(T));
+    return v;
+  }
+  std::string text() const { return {bytes.begin(), bytes.end()}; }
+  /// A kTagReady's OpenMP threads, at least 1.
+  int ready_threads() const {
+    const std::vector<int> v = values<int>();
+    return v.empty() ? 1 : std::max(1, v.front());
+  }
+  /// The error a message of a tag rank 0 does not expect makes.
+  std::string unexpected() const {
+    return "rank " + std::to_string(source) + " sent an unexpected message (tag " +
+           std::to_string(tag) + ")";
+  }
+};
 
-/// Receives a message of a tag rank 0 does not expect here; the error it makes.
-inline std::string receive_unexpected(const MPI_Status& probed) {
-  receive_text(probed);
-  return "rank " + std::to_string(probed.MPI_SOURCE) + " sent an unexpected message (tag " +
-         std::to_string(probed.MPI_TAG) + ")";
-}
+/// Rank 0's receiving side: every message of the workers is received without blocking. A
+/// message larger than MPI's eager limit is matched by a probe as soon as its first part is in,
+/// but its rest comes only while its sender runs (OpenMPI's shared-memory transport without
+/// single-copy support, as in a container without ptrace rights; TCP between nodes): a blocking
+/// receive of the rows of a worker stopped in mid-send held thread 0, and with it the watch for
+/// stalled ranks, forever (a CI run of 721771e, reproduced with IMPACTID_MPI_STOP_IN_ROWS). So
+/// a matched message is received with MPI_Imrecv and handed out once whole, each worker's in
+/// the order it sent them; one that never completes holds up only its sender's later messages.
+/// Thread 0 only (MPI_THREAD_FUNNELED).
+class Inbox {
+ public:
+  /// The next message received whole, if any: workers in turn, each one's messages in order.
+  std::optional<Received> next() {
+    start_arrived();
+    const std::size_t n = from_.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t source = (turn_ + k) % n;
+      std::deque<Pending>& queue = from_[source];
+      if (queue.empty()) continue;
+      int whole = 0;
+      MPI_Test(&queue.front().request, &whole, MPI_STATUS_IGNORE);
+      if (!whole) continue;
+      Received r{static_cast<int>(source), queue.front().tag, std::move(queue.front().bytes)};
+      queue.pop_front();
+      turn_ = (source + 1) % n;
+      return r;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  struct Pending {
+    int tag = 0;
+    MPI_Request request = MPI_REQUEST_NULL;
+    std::vector<char> bytes;  // MPI writes here: its heap block stays put when Pending moves
+  };
+
+  // Starts the receive of every message that has arrived (its first part at least).
+  void start_arrived() {
+    for (;;) {
+      int arrived = 0;
+      MPI_Message message = MPI_MESSAGE_NULL;
+      MPI_Status status;
+      MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &message, &status);
+      if (!arrived) return;
+      int count = 0;
+      MPI_Get_count(&status, MPI_BYTE, &count);
+      const auto source = static_cast<std::size_t>(status.MPI_SOURCE);
+      if (source >= from_.size()) from_.resize(source + 1);
+      Pending& p = from_[source].emplace_back();
+      p.tag = status.MPI_TAG;
+      p.bytes.resize(static_cast<std::size_t>(std::max(count, 0)));
+      MPI_Imrecv(p.bytes.data(), count, MPI_BYTE, &message, &p.request);
+    }
+  }
+
+  std::vector<std::deque<Pending>> from_;  // by source rank
+  std::size_t turn_ = 0;                   // the source looked at first next time
+};
 
 /// Rank 0's threads while it hands out work. Thread 0 serves: `handle()` takes one waiting
 /// message (false when none waits), `finished()` says when the work is over, and `between()`
@@ -159,7 +218,7 @@ inline std::string receive_unexpected(const MPI_Status& probed) {
 /// (MPI_THREAD_FUNNELED). With `computing` > 0 that many more threads run `compute()`, which
 /// returns when nothing is left.
 ///
-/// Why a poll (MPI_Iprobe) and a sleep rather than a blocking wait: rank 0 must also keep time
+/// Why a poll (Inbox::next) and a sleep rather than a blocking wait: rank 0 must also keep time
 /// (checkpoints, progress, a worker that stops answering) and see a stop request, and MPI has no
 /// receive with a timeout (MPI_Waitany and MPI_Probe wait forever). OpenMPI's blocking calls
 /// spin in its progress loop anyway, so blocking would burn a core as well. The sleep starts at
@@ -191,6 +250,11 @@ void serve_and_compute(int computing, Handle handle, Between between, Finished f
     }
   }
 }
+
+/// A worker's rows (kTagResult, kTagSearchRows) to rank 0. For tests,
+/// IMPACTID_MPI_STOP_IN_ROWS=R makes rank R stop itself (SIGSTOP), once, with its first rows
+/// message under way: sent, not yet delivered (study/cli/mpi_sweep.cpp).
+void send_rows(const std::vector<double>& packed, int tag);
 
 /// A worker's answer to kTagSearches: runs the searches on its threads, then sends each one's
 /// kTagSearchRows and kTagSearchEnd, or kTagError (study/cli/mpi_search.cpp).

@@ -118,8 +118,7 @@ void mpi_protocol::serve_searches(const Plan& plan, int threads,
     std::vector<double> packed{static_cast<double>(starts[i]), static_cast<double>(o.computed),
                                static_cast<double>(o.reused), o.interrupted ? 1.0 : 0.0};
     pack_rows(o.rows, packed);
-    MPI_Send(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, 0, kTagSearchRows,
-             MPI_COMM_WORLD);
+    send_rows(packed, kTagSearchRows);
     static const int stop_rank = injected_stop_after_rows();
     static bool stopped_once = false;
     if (!stopped_once && stop_rank == world_rank()) {
@@ -206,18 +205,14 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
 
   // Handles one message from a worker if one waits. Thread 0.
   const auto handle = [&]() -> bool {
-    const std::optional<MPI_Status> waiting = waiting_message();
-    if (!waiting) return false;
-    const MPI_Status& probed = *waiting;
-    const int worker = probed.MPI_SOURCE;
+    std::optional<Received> message = inbox_.next();
+    if (!message) return false;
+    const int worker = message->source;
     const auto w = static_cast<std::size_t>(worker);
-    if (lost_[w]) {  // given up on earlier: nothing it sends belongs here
-      drop_message(probed);
-      return true;
-    }
-    switch (probed.MPI_TAG) {
+    if (lost_[w]) return true;  // given up on earlier: nothing it sends belongs here
+    switch (message->tag) {
       case kTagReady: {
-        const int threads = receive_ready(probed);
+        const int threads = message->ready_threads();
         std::lock_guard lock(mutex);
         jobs.answered_plan(worker);
         threads_of[w] = threads;
@@ -225,12 +220,12 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
         break;
       }
       case kTagSearchRows:  // kept until its kTagSearchEnd, which MPI delivers next from it
-        rows_in[w] = receive_array<double>(probed, MPI_DOUBLE);
+        rows_in[w] = message->values<double>();
         break;
       case kTagSearchEnd: {
         // Not a blocking probe for it after the rows: a worker stopped between its two
         // messages would hold thread 0 there, and with it the watch for stalled ranks.
-        std::string termination = receive_text(probed);
+        std::string termination = message->text();
         const std::vector<double> packed = std::exchange(rows_in[w], {});
         SearchOutcome outcome;
         outcome.rows = empty_search_rows(plan);
@@ -278,9 +273,8 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
         break;
       }
       case kTagError: {
-        const std::string message = receive_text(probed);
         std::lock_guard lock(mutex);
-        if (!error) error = message;
+        if (!error) error = message->text();
         if (threads_of[w] == 0) {
           jobs.answered_plan(worker);  // it failed on the plan, before Ready
         } else {
@@ -290,9 +284,8 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
         break;
       }
       default: {
-        std::string unexpected = receive_unexpected(probed);
         std::lock_guard lock(mutex);
-        if (!error) error = std::move(unexpected);
+        if (!error) error = message->unexpected();
       }
     }
     return true;

@@ -92,6 +92,29 @@ std::optional<std::string> evaluate_window_checked(const PointSet& points,
          ": the window of points failed together, but each alone did not";
 }
 
+// The test hook of mpi_protocol::send_rows: the rank that stops in its first rows message, or −1.
+int injected_stop_in_rows() {
+  const char* text = std::getenv("IMPACTID_MPI_STOP_IN_ROWS");
+  return text ? std::atoi(text) : -1;
+}
+
+}  // namespace
+
+void mpi_protocol::send_rows(const std::vector<double>& packed, int tag) {
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPI_Isend(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, 0, tag, MPI_COMM_WORLD,
+            &request);
+  static const int stop_rank = injected_stop_in_rows();
+  static bool stopped_once = false;
+  if (!stopped_once && stop_rank == world_rank()) {
+    stopped_once = true;
+    std::raise(SIGSTOP);
+  }
+  MPI_Wait(&request, MPI_STATUS_IGNORE);
+}
+
+namespace {
+
 // --- the worker ------------------------------------------------------------------------------
 
 // A plan being served: its points, a row buffer for one batch, one workspace per thread.
@@ -128,7 +151,7 @@ std::optional<std::string> compute_batch(WorkerPlan& w, const std::vector<long>&
   return failure->second;
 }
 
-void send_rows(const WorkerPlan& w, const std::vector<long>& indices) {
+void send_batch_rows(const WorkerPlan& w, const std::vector<long>& indices) {
   const StudyResults& r = w.rows;
   std::vector<double> packed;
   packed.reserve(indices.size() * row_width(r));
@@ -138,8 +161,7 @@ void send_rows(const WorkerPlan& w, const std::vector<long>& indices) {
     for (const ResultColumn& c : r.parameters) packed.push_back(c.values[k]);
     for (const ResultColumn& c : r.indicators) packed.push_back(c.values[k]);
   }
-  MPI_Send(packed.data(), static_cast<int>(packed.size()), MPI_DOUBLE, 0, kTagResult,
-           MPI_COMM_WORLD);
+  send_rows(packed, kTagResult);
 }
 
 }  // namespace
@@ -185,7 +207,7 @@ int serve_mpi_worker() {
         if (const auto error = compute_batch(*served, indices)) {
           send_text(rank + ": " + *error, 0, kTagError);
         } else {
-          send_rows(*served, indices);
+          send_batch_rows(*served, indices);
         }
         break;
       }
@@ -202,6 +224,7 @@ int serve_mpi_worker() {
       case kTagStop:
         MPI_Recv(nullptr, 0, MPI_CHAR, 0, kTagStop, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         MPI_Send(nullptr, 0, MPI_CHAR, 0, kTagStopped, MPI_COMM_WORLD);
+        MPI_Recv(nullptr, 0, MPI_CHAR, 0, kTagFinalize, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         return 0;
       default: {
         receive_text(probed);  // not ours: drop it
@@ -243,11 +266,9 @@ std::vector<int> MpiMaster::release_workers() {
   };
   while (waiting() && seconds_since(start) < stall.min_seconds) {
     outbox_.collect();
-    if (const std::optional<MPI_Status> probed = waiting_message()) {
+    if (const std::optional<Received> message = inbox_.next()) {
       // Anything else is a late answer of a rank given up on: dropped.
-      if (probed->MPI_TAG == kTagStopped)
-        answered[static_cast<std::size_t>(probed->MPI_SOURCE)] = 1;
-      drop_message(*probed);
+      if (message->tag == kTagStopped) answered[static_cast<std::size_t>(message->source)] = 1;
     } else {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
@@ -257,6 +278,10 @@ std::vector<int> MpiMaster::release_workers() {
     if (lost_[static_cast<std::size_t>(r)] || !answered[static_cast<std::size_t>(r)]) {
       silent.push_back(r);
     }
+  }
+  if (silent.empty()) {
+    for (int r = 1; r < ranks_; ++r)
+      MPI_Send(nullptr, 0, MPI_CHAR, r, kTagFinalize, MPI_COMM_WORLD);
   }
   return silent;
 }
@@ -357,18 +382,15 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
 
   // Handles one message from a worker if one waits. Thread 0.
   const auto handle = [&]() -> bool {
-    const std::optional<MPI_Status> waiting = waiting_message();
-    if (!waiting) return false;
-    const MPI_Status& probed = *waiting;
-    const int worker = probed.MPI_SOURCE;
+    const std::optional<Received> message = inbox_.next();
+    if (!message) return false;
+    const int worker = message->source;
     const auto w = static_cast<std::size_t>(worker);
-    if (lost_[w]) {  // given up on in an earlier sweep: nothing it sends belongs to this one
-      drop_message(probed);
-      return true;
-    }
-    switch (probed.MPI_TAG) {
+    // Given up on in an earlier sweep: nothing it sends belongs to this one.
+    if (lost_[w]) return true;
+    switch (message->tag) {
       case kTagReady: {
-        const int threads = receive_ready(probed);
+        const int threads = message->ready_threads();
         std::lock_guard lock(mutex);
         jobs.answered_plan(worker);
         threads_of[w] = threads;
@@ -377,7 +399,7 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
         break;
       }
       case kTagResult: {
-        const std::vector<double> packed = receive_array<double>(probed, MPI_DOUBLE);
+        const std::vector<double> packed = message->values<double>();
         std::lock_guard lock(mutex);
         const bool was_stalled = jobs.stalled(worker);
         const std::optional<JobsOut::Job> job = jobs.answered(worker);
@@ -428,9 +450,8 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
         break;
       }
       case kTagError: {
-        const std::string message = receive_text(probed);
         std::lock_guard lock(mutex);
-        if (!error) error = message;
+        if (!error) error = message->text();
         if (threads_of[w] == 0) {
           jobs.answered_plan(worker);  // it failed on the plan, before Ready
         } else {
@@ -439,9 +460,8 @@ SweepOutcome MpiMaster::run(const Plan& plan, const PointSet& points, std::span<
         break;
       }
       default: {
-        std::string unexpected = receive_unexpected(probed);
         std::lock_guard lock(mutex);
-        if (!error) error = std::move(unexpected);
+        if (!error) error = message->unexpected();
       }
     }
     return true;

@@ -68,13 +68,15 @@ class MpiMaster {
   /// max_evaluations). A worker's error is thrown, as the sweep's. For tests,
   /// IMPACTID_MPI_FAIL_AT_SEARCH=S makes whichever rank runs search S fail on it, and
   /// IMPACTID_MPI_STOP_AFTER_ROWS=R stops rank R (SIGSTOP) between its first search's rows and
-  /// that search's end (rank 0 must not wait for the end).
+  /// that search's end (rank 0 must not wait for the end); IMPACTID_MPI_STOP_IN_ROWS=R, in the
+  /// middle of its first rows message, of a batch or a search (mpi_protocol::send_rows).
   void run_searches(const Plan& plan, std::span<const long> starts,
                     std::span<const StudyResults> previous, const std::atomic<bool>* stop,
                     const std::function<void(long, SearchOutcome)>& done);
-  /// Tells every worker to end (serve_mpi_worker returns) and waits for each one's answer, at
-  /// most stall.min_seconds. Once, before MPI_Finalize. Returns the ranks given up on (in a
-  /// sweep, or silent here): MPI_Finalize would wait for them forever.
+  /// Tells every worker to end and waits for each one's answer, at most stall.min_seconds.
+  /// Once, before MPI_Finalize. Returns the ranks given up on (in a sweep, or silent here):
+  /// MPI_Finalize would wait for them forever. When there are none, lets the workers go on to
+  /// MPI_Finalize (serve_mpi_worker returns); otherwise they wait for the MPI_Abort.
   std::vector<int> release_workers();
 
   /// When work out at a worker is handed to another rank; set before run().
@@ -86,6 +88,9 @@ class MpiMaster {
   std::vector<char> lost_;
   /// Every message with data to a worker (sent without blocking: mpi_protocol.hpp).
   mpi_protocol::Outbox outbox_;
+  /// Every message from a worker (received without blocking: mpi_protocol.hpp); one for the
+  /// program, as a stalled rank's message may come whole in a later sweep.
+  mpi_protocol::Inbox inbox_;
   /// Gives up on the ranks that still owe an answer at the end of a sweep or search, and says so.
   void give_up_on(const std::vector<int>& ranks, const char* what);
 };
