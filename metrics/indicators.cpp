@@ -16,9 +16,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// What one pass over a run's samples gathers with the exact solution beside them: eq. 18's
-// sums, p_max, the contact episodes and the peaks. (Three passes, the sums and one per peak
-// count, cost about a tenth of a sweep point's run: docs/performance.md.)
+// What one pass over a run's samples gathers with the exact solution beside them: eq. 18's sums,
+// p_max, the contact episodes and the peaks. (Three passes, the sums and one per peak count, cost a
+// visible share of a sweep point's run: docs/performance.md.)
 struct SamplePass {
   SamplePass(double pressure_prominence, double velocity_prominence)
       : pressure_peaks(pressure_prominence), velocity_peaks(velocity_prominence) {}

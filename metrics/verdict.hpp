@@ -1,8 +1,8 @@
-// A run's verdict: what an engineer choosing a method should read from it (issue 34, item 3).
-// A run's RunStatus says only whether it finished (`ok`), not whether its answer is usable: the
-// paper's Bathe at Courant 0.5 finishes `ok` with a 90 % pressure error and 115 spurious peaks.
-// The verdict adds the indicators, judged against stated thresholds, and whether the reference
-// they were measured against can be trusted:
+// A run's verdict: what an engineer choosing a method should read from it (issue 34, item 3). A
+// run's RunStatus says only whether it finished (`ok`), not whether its answer is usable: a run can
+// finish `ok` with a large pressure error and many spurious peaks (the paper's Bathe at Courant 0.5
+// does). The verdict adds the indicators, judged against stated thresholds, and whether the
+// reference they were measured against can be trusted:
 //
 //   failed       the run is `failed` (the method could not start, or nothing to measure against)
 //   unstable     the run is `unstable` (non-finite values, or the energy grew past its bound)
@@ -15,9 +15,9 @@
 //   accurate     every threshold met
 //
 // The default thresholds are the shipped practical-range thresholds ε_p <= 0.03 and NoP_p <= 15
-// (plans/README.md, "Practical ranges": they reproduce the paper's Newmark stage δ ∈ [0.3, 1]),
-// and velocity counterparts chosen the same way, ε_v <= 0.06 and NoP_v <= 15: the velocity's error
-// is about twice the pressure's over that stage, so ε_v <= 0.03 would reject nearly all of it
+// (plans/README.md, "Practical ranges": they reproduce the paper's Newmark stage δ ∈ [0.3, 1]), and
+// velocity counterparts chosen the same way, ε_v <= 0.06 and NoP_v <= 15: the velocity's error runs
+// well above the pressure's over that stage, so ε_v <= 0.03 would reject most of it
 // (docs/conventions.md, "Verdicts", has the measurements).
 // The enumerators are in order of severity, the order `impactid compare` sorts by.
 //
@@ -56,7 +56,7 @@ struct VerdictThresholds {
 /// The first threshold that is negative, NaN or infinite, as {"verdict_eps_p", value, why}.
 std::optional<ParameterError> validate(const VerdictThresholds& thresholds);
 
-/// "eps_p <= 0.03, nop_p <= 15, eps_v <= 0.03, nop_v <= 15" (values in their shortest form).
+/// "eps_p <= 0.03, nop_p <= 15, eps_v <= 0.06, nop_v <= 15" (values in their shortest form).
 std::string thresholds_text(const VerdictThresholds& thresholds);
 
 /// The verdict of a run: its status, its indicators (a scene of bodies' or a model's: its primary

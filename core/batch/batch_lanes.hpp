@@ -203,9 +203,9 @@ template <class Stepper>
       }
     }
     event = next_lane_event(lanes, i + 1);
-    // No lane steps or starts any more (all ended, unstable or failed): the rest would step
-    // zeros. A batch of unstable points then ends at its last lane's instability, which nearly
-    // halves their time (docs/performance.md).
+    // No lane steps or starts any more (all ended, unstable or failed): the rest would step zeros.
+    // A batch of unstable points then ends at its last lane's instability rather than at its end
+    // time (docs/performance.md).
     if (event == std::numeric_limits<long>::max()) break;
   }
 }

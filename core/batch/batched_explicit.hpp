@@ -12,21 +12,20 @@
 // advances every lane by the same operation.
 //
 // Bit-identical to simulate(): every lane does CentralDifference::step's operations on its own
-// numbers in the same order, with the same fused multiply-adds (Tridiagonal::multiply's d·x
-// fused onto the lower neighbour's product, the sweeps' as TridiagonalFactorization does them;
-// the project builds with -ffp-contract=off, so nothing else is fused), and with the same
-// factorisation of M/Δt² and A⁻¹·e_c, formed by CentralDifference::initialize's expressions.
-// Each lane starts as simulate() does: initialize's Taylor start u₋ = u₀ − Δt·v₀ + ½Δt²·a₀,
-// then one step that gives the state at the start (not a sample) and u one step ahead (the
-// kernel's step, every lane from its own start at once, before the loop); the lane steps on
-// from there when its free flight ends. The products with zero
-// off-diagonals of a lumped mass are done as the scalar step does them, not skipped: a zero
-// times an overflowed value is NaN, not zero, and an unstable lane must stop as the scalar run
-// stops. The energy of the `unstable` test is the scalar's: central_difference_energy within the
-// explicit limit certified by core/contact/stable_step.hpp (the same for every lane: one rod, one
-// step), ½vᵀMv + ½uᵀKu of the reported velocity above it. So each lane's RunSummary and trace equal
-// simulate()'s bit for bit (tests/batched_explicit_test.cpp), whatever the other lanes do: a
-// lane above its stable step stops as unstable, and is zeroed, while the others go on.
+// numbers in the same order, with the same fused multiply-adds (Tridiagonal::multiply's d·x fused
+// onto the lower neighbour's product, the sweeps' as TridiagonalFactorization does them; the
+// project builds with -ffp-contract=off, so nothing else is fused), and with the same factorisation
+// of M/Δt² and A⁻¹·e_c, formed by CentralDifference::initialize's expressions. Each lane starts as
+// simulate() does: initialize's Taylor start u₋ = u₀ − Δt·v₀ + ½Δt²·a₀, then one step that gives
+// the state at the start (not a sample) and u one step ahead (the kernel's step, every lane from
+// its own start at once, before the loop); the lane steps on from there when its free flight ends.
+// The products with zero off-diagonals of a lumped mass are done as the scalar step does them, not
+// skipped: a zero times an overflowed value is NaN, not zero, and an unstable lane must stop as the
+// scalar run stops. The energy of the `unstable` test is the scalar's: central_difference_energy
+// within the explicit limit certified by core/contact/stable_step.hpp (the same for every lane: one
+// rod, one step), ½vᵀMv + ½uᵀKu of the reported velocity above it. So each lane's RunSummary and
+// trace equal simulate()'s bit for bit (tests/batched_explicit_test.cpp), whatever the other lanes
+// do: a lane above its stable step stops as unstable, and is zeroed, while the others go on.
 //
 // Noh–Bathe likewise: NohBatheExplicit::step's operations lane by lane (each lane its own p, so
 // its own sub-step coefficients), with M's factorisation and M⁻¹·e_c; each sub-step's contact

@@ -9,17 +9,16 @@
 // above its arithmetic. Lanes are independent runs, so a vector instruction advances every lane
 // of a batch by the same operation, and the recurrence's latency is paid once per batch.
 //
-// Bit-identical to simulate(): every lane performs the scalar path's operations on its own
-// numbers, in the same order, with the same intermediate products (Δt²·b0, b1·Δt², …) and
-// the same fused multiply-adds (the scalar path's std::fma; the project builds with
-// -ffp-contract=off, so the compiler fuses nothing else), and the per-lane branches of the
-// scalar step
-// (contact active or not, α_m = 0 or not) become blends. The fused loops (predictor, K·u and
-// the forward sweep in one pass; contact correction and back substitution in another)
-// reorder work across unknowns, never the operations on one number. So a lane's RunSummary and
-// trace equal simulate()'s bit for bit (tests/batched_simulation_test.cpp), whatever the other
-// lanes do: a lane that goes unstable stops and is zeroed while the others continue, lanes may
-// start stepping at different samples (different free flights) and end at different ones.
+// Bit-identical to simulate(): every lane performs the scalar path's operations on its own numbers,
+// in the same order, with the same intermediate products (Δt²·b0, b1·Δt², …) and the same fused
+// multiply-adds (the scalar path's std::fma; the project builds with -ffp-contract=off, so the
+// compiler fuses nothing else), and the per-lane branches of the scalar step (contact active or
+// not, α_m = 0 or not) become blends. The fused loops (predictor, K·u and the forward sweep in one
+// pass; contact correction and back substitution in another) reorder work across unknowns, never
+// the operations on one number. So a lane's RunSummary and trace equal simulate()'s bit for bit
+// (tests/batched_simulation_test.cpp), whatever the other lanes do: a lane that goes unstable stops
+// and is zeroed while the others continue, lanes may start stepping at different samples (different
+// free flights) and end at different ones.
 //
 // Between steps the arrays hold, in every row but the last, the predictors u*, v* and the new
 // a: the update u = u* + b1·Δt²·a, v = v* + g1·Δt·a is deferred to the next forward sweep (the

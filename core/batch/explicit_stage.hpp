@@ -136,11 +136,11 @@ template <class Scheme>
                 [&](int l) __attribute__((always_inline)) { set_lane(l, nullptr); }));
 }
 
-// simulate_explicit_batch for an explicit stage scheme (Scheme: NohBatheLanes, KimLanes), with
-// the workspace's storage, start states and traces. M's factorisation and M⁻¹·e_c
+// simulate_explicit_batch for an explicit stage scheme (Scheme: NohBatheLanes, KimLanes), with the
+// workspace's storage, start states and traces. M's factorisation and M⁻¹·e_c
 // (ExplicitStageContact::initialize's) are every lane's: one rod. Each lane is started as
-// simulate() starts it (run_noh_bathe, run_kim_explicit in core/run/simulation.cpp): the scheme's
-// initialize with the lane's p and gap, the stable step and its warning.
+// simulate() starts it (run_two_stage_explicit in core/run/simulation.cpp): the scheme's initialize
+// with the lane's p and gap, the stable step and its warning.
 template <class Scheme>
 void simulate_stage_batch(std::span<const RodScene> scenes, std::span<const MethodParams> methods,
                           const RunOptions& options, std::vector<LaneBlock>& storage,

@@ -132,8 +132,8 @@ template <class Visit>
 
 // The rows of the right-hand side r = 0 + (−α_f)·K·u, then + (−(1 − α_f))·K·u₁
 // (Tridiagonal::multiply_add's rows: (l·x₋ + d·x) + u·x₊, each off-diagonal product shared by two
-// rows), asked for upwards, row 0 first: 6 mul 6 add. (K·u is the last step's K·u₁, formed
-// again: keeping it in an array saves no time, commit 008d4ee.) Never −0: r starts as +0 + x.
+// rows), asked for upwards, row 0 first: 6 mul 6 add. (K·u is the last step's K·u₁, formed again:
+// keeping it in an array was no faster.) Never −0: r starts as +0 + x.
 class RightHandSide {
  public:
   [[gnu::always_inline]] explicit RightHandSide(const KrRows& b)

@@ -154,8 +154,8 @@ template <bool kDamping, bool kMassTerm, StepKind kKind>
 }
 
 // One function per step kind: in one function holding every kind's loops, GCC optimised the
-// composite and α_m loops worse once Wilson-θ's kind was added beside them (the figures are in
-// the log of commit 827a7c7).
+// composite and α_m loops worse once Wilson-θ's kind was added beside them (the figures are in the
+// git log).
 void run_composite_batch(Batch& b) {  // both sub-steps have α_m = 0
   if (b.arrays.damping != nullptr) {
     run_batch<true, false, StepKind::composite>(b);

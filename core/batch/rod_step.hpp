@@ -29,11 +29,10 @@ struct LaneCoefficients {
   // Lanes that start stepping at this sample: set_lane wrote their state as it is (u, v, a),
   // not in the deferred form of the other lanes (see step_lanes).
   LaneMask plain_state;
-  // The effective matrix's off-diagonals, the same in every row of the uniform rod: with them
-  // the factorisation is one array (the inverse pivots): TridiagonalFactorization::factor's
-  // ratios of row i are lower·(1/pivot_i) and upper·(1/pivot_i), products the sweeps form again
-  // with the same bits. Three arrays a batch would otherwise stream
-  // through the cache at every step.
+  // The effective matrix's off-diagonals, the same in every row of the uniform rod: with them the
+  // factorisation is one array (the inverse pivots): TridiagonalFactorization::factor's ratios of
+  // row i are lower·(1/pivot_i) and upper·(1/pivot_i), products the sweeps form again with the same
+  // bits. Three arrays a batch would otherwise stream through the cache at every step.
   Lanes lower, upper;
   // The inverse pivots of rows [tail_begin, n − 1): one value per lane. The pivots of a
   // uniform rod converge geometrically to a fixed point (each lane's own), which double

@@ -3,17 +3,16 @@
 //
 // Two kinds of hot code need more than baseline x86-64:
 // - The scalar implicit step (core/methods/implicit_integrator.cpp, core/algebra/tridiagonal.cpp)
-// writes a
-//   multiply whose product is only added as std::fma: one rounding instead of two, and a
-//   recurrence of one instruction (4 cycles) instead of a multiply and an add (6). The batched
+//   writes a multiply whose product is only added as std::fma: one rounding instead of two, and
+//   a recurrence of one instruction (4 cycles) instead of a multiply and an add (6). The batched
 //   kernels fuse exactly the same operations, so that their lanes equal the scalar path bit for
 //   bit. std::fma is correctly rounded, so the bits are the same on every machine; only its speed
 //   differs: one instruction where the processor has FMA3 (x86-64-v3), a C library routine on
 //   baseline x86-64, which made the scalar run several times slower (docs/performance.md).
 //   with_fma_versions() below compiles such a body twice and runs the one the level allows.
-// - The batched kernels (core/batched_*.cpp) are compiled once per level into their own object
-//   files, each in its own namespace with its own register width (core/batch/simd_lanes.hpp,
-//   core/batch/batch_kernels.hpp).
+// - The batched kernels (core/batch/*_kernel.cpp) are compiled once per level into their own
+//   object files, each in its own namespace with its own register width
+//   (core/batch/simd_lanes.hpp, core/batch/batch_kernels.hpp).
 //
 // IMPACTID_SINGLE_VERSION compiles one version, for the flags of the build (scripts/sanitize,
 // with -march=native: it checks the code, not the dispatch, and clang has no GCC target pragmas).

@@ -12,8 +12,7 @@
 //     μ_j = k_j·max(0, g_j) of the violation at the displacement the equilibrium is taken at; no
 //     solve.
 // - **augmented-lagrangian**: Uzawa's iterations (core/contact/contact_treatment.hpp) on the
-// penalised
-//   problem (D + C)·μ = p + C·μ_i, C = diag(compliance), counted here.
+//   penalised problem (D + C)·μ = p + C·μ_i, C = diag(compliance), counted here.
 // compliance_j = 1/(w·k_j): the spring k_j acting through the weight w the method gives its
 // forces (ImplicitCoefficients::contact_weight; 1 for the explicit methods).
 //

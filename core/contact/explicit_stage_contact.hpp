@@ -10,19 +10,17 @@
 // contact force f in the stage's equilibrium (M·a = … − Gᵀ·f) then moves a by −M⁻¹·Gᵀ·f and the
 // next displacement by −s·M⁻¹·Gᵀ·f. The laws:
 // - **lagrange**: the forward increment (Carpenter, Taylor & Katona 1991,
-// doi:10.1002/nme.1620320107):
-//   the complementarity problem g_next − s·G·M⁻¹·Gᵀ·λ <= 0, λ >= 0, complementary (one wall: one
-//   division; two walls: core/algebra/two_wall_contact.hpp; a list: core/algebra/contact_lcp.hpp);
-//   the walls' dofs are snapped onto them where they push.
+//   doi:10.1002/nme.1620320107): the complementarity problem g_next − s·G·M⁻¹·Gᵀ·λ <= 0, λ >= 0,
+//   complementary (one wall: one division; two walls: core/algebra/two_wall_contact.hpp; a list:
+//   core/algebra/contact_lcp.hpp); the walls' dofs are snapped onto them where they push.
 // - **penalty**: the explicit spring force λ = k·max(0, g(u_stage)) at the displacement u_stage
 //   the stage's equilibrium is taken at, as central difference's at t
 //   (core/methods/central_difference.hpp): no solve, no snap. The springs raise ω_max, so the
 //   stable step shrinks with k: core/contact/stable_step.hpp's bound with the springs,
 //   Ω_crit/ω_bound.
 // - **augmented-lagrangian**: Uzawa's iterations (core/contact/contact_treatment.hpp) on the
-// penalised
-//   forward-increment problem, (s·G·M⁻¹·Gᵀ + diag(1/k))·λ = g_next + diag(1/k)·λ_j, to the
-//   tolerance or the cap; counted. No snap.
+//   penalised forward-increment problem, (s·G·M⁻¹·Gᵀ + diag(1/k))·λ = g_next + diag(1/k)·λ_j,
+//   to the tolerance or the cap; counted. No snap.
 //
 // Per stage: O(n) vector work for the single wall and two walls, the constraints' columns for a
 // list (their non-zero rows only); no allocation once initialize() and problem() have sized all.

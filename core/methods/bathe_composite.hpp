@@ -10,14 +10,12 @@
 // the multipliers are >= 0) at t + γ·Δt and at t + Δt, each multiplier the force at the end of its
 // sub-step. The sample at t + Δt reports the second's. Why at both: a sub-step that ended in
 // penetration would start the second from a state the contact law forbids, and its predictors
-// (which weigh v_γ and a_γ) carry the penetration's momentum into the step's end. Measured on the
-// paper's scene (`impactid simulate --method …`): with the first sub-step left
-// unconstrained every run tried went unstable (energy 1.6–3.1 times the initial by t = 4e-5 s:
-// bathe, rho-bathe with ρ∞ = 0, 0.3, 0.6, 1); constrained at both, ρ∞-Bathe with ρ∞ = 0 is ok
-// (ε_p = 2.3 %, 4 contact episodes) and the original Bathe ok but chattering (68 episodes).
-// The first sub-step is the trapezoidal rule, whose Lagrange contact chatters on its own
-// (core/methods/method.hpp, NewmarkParams): ρ∞ = 1 (the trapezoidal rule twice) and ρ∞ = 0.3, 0.6
-// end unstable there as Newmark with δ = 0 does.
+// (which weigh v_γ and a_γ) carry the penetration's momentum into the step's end: on the paper's
+// scene every run with the first sub-step unconstrained went unstable (the figures are in the git
+// log). tests/bathe_composite_test.cpp, SignoriniConditionsHoldAtEverySubStepAndSample, checks
+// both ends. The first sub-step is the trapezoidal rule, whose Lagrange contact chatters on its
+// own (core/methods/method.hpp, NewmarkParams), so some runs still end unstable there (ρ∞ = 1,
+// the trapezoidal rule twice, among them), as Newmark with δ = 0 does.
 //
 // Works with ImplicitIntegrator (tridiagonal systems: the rod, scenes of bodies) and
 // SparseImplicitIntegrator (a user's model) alike. Per step: two solves of each integrator's

@@ -61,12 +61,13 @@ class CentralDifference {
   /// Returns true if λ_t > 0 (the main wall's; a far wall's λ_0 at t is at_t.far_lambda).
   bool step(const SecondOrderSystem& system, State& at_t);
 
-  /// The energy the step loop's `unstable` test and the history's energy column use for the
-  /// state `at_t` the last step() filled in: within the explicit limit certified by
+  /// The energy the step loop's `unstable` test and the history's energy column use for the state
+  /// `at_t` the last step() filled in: within the explicit limit certified by
   /// core/contact/stable_step.hpp, the method's own energy at t + Δt/2 (central_difference_energy
   /// of u_t and u_{t+Δt}); otherwise the plain ½vᵀMv + ½uᵀKu of `at_t`, which reacts sooner to a
-  /// mode that grows geometrically (central_difference_energy's absolute value lags it by up to 11
-  /// check intervals at Courant 1.0001). O(n), no allocation.
+  /// mode that grows geometrically than central_difference_energy's absolute value does
+  /// (tests/central_difference_test.cpp, UnstableRunsStopNoLaterThanByThePlainEnergy). O(n), no
+  /// allocation.
   double energy(const SecondOrderSystem& system, const State& at_t);
   /// Whether Δt is within the explicit limit (core/contact/stable_step.hpp) on this system, with
   /// the penalty's springs.

@@ -27,15 +27,16 @@ namespace impactid {
 /// mᵀKm:
 ///   E = |½·wᵀ(M − Δt²/4·K)·w| + ½·mᵀK·m.
 /// Without the absolute value this is the energy the undamped, contact-free scheme conserves
-/// exactly (it equals ½·wᵀMw + ½·u_tᵀK·u_{t+Δt}); the plain ½vᵀMv + ½uᵀKu of the reported
-/// central velocity is not conserved, and misleads at the "magic" time step: with a lumped mass at
-/// Courant 1 the rod's highest mode has Ω = ωΔt = 2 exactly, its repeated eigenvalue −1 makes it
-/// grow linearly, u_k = (A + B·k)·(−1)^k, once contact release excites it, and the plain energy
-/// grows quadratically (13.9 times the initial by t = 2 ms on the paper's scene) while the nodal
-/// displacements stay d'Alembert's. That mode lies in the null space of M − Δt²/4·K and its
-/// midpoint m is constant, so E stays bounded. Above the limit (Ω > 2) M − Δt²/4·K is indefinite
-/// and the conserved form could stay constant while both parts grow geometrically with opposite
-/// signs: the absolute value makes each part count, so an unstable mode still raises E.
+/// exactly (it equals ½·wᵀMw + ½·u_tᵀK·u_{t+Δt}); the plain ½vᵀMv + ½uᵀKu of the reported central
+/// velocity is not conserved, and misleads at the "magic" time step: with a lumped mass at Courant
+/// 1 the rod's highest mode has Ω = ωΔt = 2 exactly, its repeated eigenvalue −1 makes it grow
+/// linearly, u_k = (A + B·k)·(−1)^k, once contact release excites it, and the plain energy grows
+/// quadratically while the nodal displacements stay d'Alembert's
+/// (tests/central_difference_test.cpp, MagicTimeStepIsOkByItsOwnEnergy). That mode lies in the null
+/// space of M − Δt²/4·K and its midpoint m is constant, so E stays bounded. Above the limit (Ω > 2)
+/// M − Δt²/4·K is indefinite and the conserved form could stay constant while both parts grow
+/// geometrically with opposite signs: the absolute value makes each part count, so an unstable mode
+/// still raises E.
 double central_difference_energy(double mass_w, double stiffness_w, double stiffness_m, double dt);
 
 struct CentralDifferenceRecurrence {

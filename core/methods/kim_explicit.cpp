@@ -123,12 +123,12 @@ bool KimScheme<StageContact, System>::step(const System& system, State& state) {
   }
   // … then the next step's force point u_p, by further multipliers >= 0 that push the sample
   // further off the walls (not for the penalty, whose force is that of ũ₁ alone). That holds
-  // constraint by constraint: with a lumped mass a force moves only its own contact's DOFs, but
-  // a consistent M⁻¹ has entries of both signs, so with several coupled contacts (a 2D model's
-  // edge) one contact's push can move a neighbouring sample node toward its wall by
-  // s_u·(M⁻¹·Gᵀ·μ) at p < ½: 3.2e-4 of the gap on examples/block with its consistent mass at
-  // p = ⅓, none at p = ½ (s_u = 0) or lumped (tests/sparse_explicit_test.cpp). The next force
-  // point holds exactly.
+  // constraint by constraint: with a lumped mass a force moves only its own contact's DOFs, but a
+  // consistent M⁻¹ has entries of both signs, so with several coupled contacts (a 2D model's edge)
+  // one contact's push can move a neighbouring sample node toward its wall by s_u·(M⁻¹·Gᵀ·μ) at
+  // p < ½, a small fraction of the gap; none at p = ½ (s_u = 0) or with a lumped mass
+  // (tests/sparse_explicit_test.cpp, SignoriniConditionsHoldAtEverySampleAndStageOfTheBlock). The
+  // next force point holds exactly.
   const double half_first2 = 0.5 * first * first;
   for (Eigen::Index i = 0; i < n; ++i) {
     u_next_[i] = state.u[i] + first * state.v[i] + half_first2 * state.a[i];

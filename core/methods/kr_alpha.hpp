@@ -57,19 +57,20 @@
 // W₀ = D⁻¹·Gᵀ, scale Δt²/2), which then belongs to the start's acceleration.
 //
 // Penalty (core/contact/contact_treatment.hpp): the spring λ = k·max(0, g) of the displacement the
-// equilibrium's force moves, u_{n+2}, solved with the forward increment: the problem above with
-// the springs' compliances, (s·G·W + diag(1/k))·λ = g_next, λ >= 0, complementary (one wall:
-// λ = p/(s·W_cc + 1/k)); the next displacement then penetrates by λ/k, the node is not snapped,
-// and λ → Lagrange's at first order in 1/k. Why not the explicit spring of u_{n+1}, the
-// displacement the equilibrium is taken at, as central difference's and the stage schemes' are: it
-// acts outside the model-based matrices α1, α3 that make the method unconditionally stable, so its
-// stable step is set by the springs through α's amplification, which core/contact/stable_step.hpp's
-// Gershgorin bound does not give, and a run above it could not be flagged; putting the springs into
-// α1, α3 does not mend it (held closed, they freeze the contact node's response while open, and
-// the energy grows; made to follow the contact state, the method goes unstable: docs/methods.md,
-// measured). Solved with the increment, the spring acts as the implicit methods' does with their
-// step: the method stays unconditionally stable for every k (tests/contact_treatment_test.cpp
-// runs k = 10⁴·K_cc at Courant 4).
+// equilibrium's force moves, u_{n+2}, solved with the forward increment: the problem above with the
+// springs' compliances, (s·G·W + diag(1/k))·λ = g_next, λ >= 0, complementary (one wall:
+// λ = p/(s·W_cc + 1/k)); the next displacement then penetrates by λ/k, the node is not snapped, and
+// λ → Lagrange's at first order in 1/k. Why not the explicit spring of u_{n+1}, the displacement
+// the equilibrium is taken at, as central difference's and the stage schemes' are: it acts outside
+// the model-based matrices α1, α3 that make the method unconditionally stable, so its stable step
+// is set by the springs through α's amplification, which core/contact/stable_step.hpp's Gershgorin
+// bound does not give, and a run above it could not be flagged; putting the springs into α1, α3
+// does not mend it (held closed, they freeze the contact node's response while open, and the energy
+// grows; made to follow the contact state, the method goes unstable: docs/methods.md, "Decisions
+// and findings"). Solved with the increment, the spring acts as the implicit methods' does with
+// their step: the method stays unconditionally stable for every k
+// (tests/contact_treatment_test.cpp, KrAlphaPenaltyIsTheSpringOfTheNextSampleAtAnyStep, runs
+// k = 10⁴·K_cc at Courant 4).
 //
 // Augmented Lagrangian (core/contact/contact_treatment.hpp): Uzawa's iterations on the same
 // problem, (s·G·W + diag(1/k))·λ = g_next + diag(1/k)·λ_j, from λ₀ = 0 (the penalty's solution) to
@@ -119,12 +120,13 @@ class KrAlphaExplicit {
   ///   ½·wᵀM·w + ½·mᵀK·m,  w = (u_next − u)/Δt,  m = (u + u_next)/2.
   /// Why not ½vᵀMv + ½uᵀKu: past Ω = ωΔt ≈ 2 the sample's u and v of a mode are far from the
   /// ellipse that energy measures (a stable mode's plain energy swings by (1 + Ω²/4)², 289 at
-  /// Ω = 8, in each period), so a stable run at a large Courant number was reported unstable.
-  /// The displacements' principal roots are generalized-α's, which at ρ∞ = 1 are the trapezoidal
-  /// rule's; for its displacement recurrence this half-step energy is the invariant, so at
-  /// ρ∞ = 1 it is conserved mode by mode, and for ρ∞ < 1 it decays with the method's
-  /// dissipation (after a transient from the spurious root of at most 1.45 times a mode's
-  /// start, at Ω ≈ 2, ρ∞ = 0). Any growth of the displacements shows in it as in the plain one.
+  /// Ω = 8, in each period), so a stable run at a large Courant number was reported unstable. The
+  /// displacements' principal roots are generalized-α's, which at ρ∞ = 1 are the trapezoidal
+  /// rule's; for its displacement recurrence this half-step energy is the invariant, so at ρ∞ = 1
+  /// it is conserved mode by mode (tests/kr_alpha_test.cpp,
+  /// HalfStepEnergyIsConservedWithoutDissipation), and for ρ∞ < 1 it decays with the method's
+  /// dissipation, after a bounded transient from the spurious root. Any growth of the displacements
+  /// shows in it as in the plain one.
   /// Uses the scratch vectors: call it between steps.
   double energy(const SecondOrderSystem& system, const State& state);
 

@@ -77,11 +77,10 @@ struct BetaGamma {
 /// Newmark, eqs 11–12, in the δ form of eq. 13 (β = (1+δ)²/4, γ = 1/2 + δ) unless explicit
 /// coefficients are given. δ = 0 is the trapezoidal rule (average acceleration); δ = 1 gives
 /// the same displacements and contact forces as backward Euler.
-/// Default δ = 0.3: the low end of the paper's practical range δ ∈ [0.3, 1] (sec. 4.1), where
-/// ε_p is smallest on the default scene. With Lagrange contact the trapezoidal rule (δ = 0)
-/// chatters on the wall: it spreads each impulse of λ over two steps, so every release injects
-/// energy (the default scene reaches 10× its initial energy), and up to δ ≈ 0.2 the chatter
-/// comes and goes with δ (docs/methods.md, "Decisions and findings").
+/// Default δ = 0.3: the low end of the paper's practical range δ ∈ [0.3, 1] (sec. 4.1), where ε_p
+/// is smallest on the default scene. With Lagrange contact the trapezoidal rule (δ = 0) chatters on
+/// the wall: it spreads each impulse of λ over two steps, so every release injects energy, and at
+/// small δ the chatter comes and goes with δ (docs/methods.md, "Decisions and findings").
 struct NewmarkParams {
   double delta = 0.3;                     ///< δ >= 0 (eq. 13)
   std::optional<BetaGamma> coefficients;  ///< when set, replaces eq. 13
@@ -153,11 +152,11 @@ inline constexpr double kWilsonThetaMinimum = 1.3660254037844386;
 /// acceleration:
 ///   a_{n+1} = a_n + (a_θ − a_n)/θ,  v_{n+1} = v_n + Δt(a_n + a_{n+1})/2,
 ///   u_{n+1} = u_n + Δt·v_n + Δt²(2a_n + a_{n+1})/6.
-/// Implicit, second order (period error (6θ² − 6θ + 1)/24·Ω², ξ̄ ≈ θ(θ−1)(2θ−1)/12·Ω³), stable
-/// for every Δt exactly when θ >= (1 + √3)/2 (kWilsonThetaMinimum; the tests scan θ up to 3, a
-/// scan to θ = 100 found no instability either). ρ∞ at the default θ = 1.4 is 0.7784 (a real root:
-/// the high frequencies alternate in sign), not monotone in θ (0.53 at 1.5, 0.63 at 2). Where the
-/// contact holds and which multiplier is reported: core/methods/wilson_theta.hpp.
+/// Implicit, second order (period error (6θ² − 6θ + 1)/24·Ω², ξ̄ ≈ θ(θ−1)(2θ−1)/12·Ω³), stable for
+/// every Δt exactly when θ >= (1 + √3)/2 (kWilsonThetaMinimum; tests/wilson_theta_test.cpp checks θ
+/// up to 3). ρ∞ at the default θ = 1.4 is 0.7784 (a real root: the high frequencies alternate in
+/// sign), not monotone in θ (0.53 at 1.5, 0.63 at 2). Where the contact holds and which multiplier
+/// is reported: core/methods/wilson_theta.hpp.
 struct WilsonThetaParams {
   double theta = 1.4;  ///< θ >= (1 + √3)/2 and finite; 1.4, the value in common use
 };
@@ -214,11 +213,11 @@ struct NohBatheParams {
 /// keep the sample admissible: those p are refused. The stability limit Ω_crit(p)
 /// (kim_explicit_critical_omega()) is √6 at both ends and 3.0815 at p = 0.4418.
 /// Default p = ½, not Kratos' ⅓: at p = ½ the correction leaves the displacement alone (u₁ = ũ₁),
-/// so the contact's forward increment acts on the sample directly. On the paper's rod every p
-/// below 0.4 chatters: the quadratic correction turns the first stage's contact impulse into an
-/// overshoot that the second stage must pull back, so that the contact opens and closes again and
-/// again, while p = ½ keeps one contact episode at every stable Courant number
-/// (REPRODUCTION.md). p = 5/12 has the least period error (no Ω⁴ term).
+/// so the contact's forward increment acts on the sample directly. On the paper's rod small p
+/// chatters: the quadratic correction turns the first stage's contact impulse into an overshoot
+/// that the second stage must pull back, so that the contact opens and closes again and again,
+/// while p = ½ does not (REPRODUCTION.md has the sweep). p = 5/12 has the least period error
+/// (no Ω⁴ term).
 struct KimExplicitParams {
   double p = 0.5;  ///< stage ratio p ∈ [⅓, ½]; ½ (see above; Kratos' default is ⅓)
 };
@@ -302,7 +301,7 @@ ImplicitCoefficients implicit_coefficients(const MethodParams& params);
 
 /// The composite schemes' two sub-steps, each a member of the ImplicitCoefficients family
 /// stepped by the same integrators (core/methods/bathe_composite.hpp):
-/// - `first`: the trapezoidal rule over γ·Δt (step `first_dt_ratio`·Δt);
+/// - `first`: the trapezoidal rule over γ·Δt (step `gamma`·Δt);
 /// - `second`: over Δt from the predictors u* = u₀ + Δt·(q0·v₀ + q1·v_γ) + q2·Δt·v*,
 ///   v* = v₀ + Δt·(q0·a₀ + q1·a_γ): b0 = g0 = 0, b1 = q2², g1 = q2.
 struct CompositeCoefficients {

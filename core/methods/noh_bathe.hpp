@@ -12,9 +12,8 @@
 //
 // Contact (Lagrange multipliers, the default): a forward increment at each sub-step, as central
 // difference's (Carpenter, Taylor & Katona 1991, core/methods/central_difference.hpp). The
-// acceleration a sub-step computes fixes the displacement at the next point of the time grid t, t +
-// pΔt, t + Δt, t
-// + Δt + pΔt, …, linearly:
+// acceleration a sub-step computes fixes the displacement at the next point of the time grid
+// t, t + pΔt, t + Δt, t + Δt + pΔt, …, linearly:
 //   sub-step 1 (equilibrium at t + pΔt):  u₁ = u_p + (1−p)Δt·(v₀ + pΔt/2·a₀) + c₁·a_p,
 //                                         c₁ = (1−p)Δt·pΔt/2 + ((1−p)Δt)²/2 = (1−p)Δt²/2;
 //   sub-step 2 (equilibrium at t + Δt):   u_{1+p} = u₁ + pΔt·v₁ + (pΔt)²/2·a₁

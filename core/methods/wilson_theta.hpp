@@ -29,16 +29,15 @@
 // would hold it only there: u_{n+1} = P + (gap − Q)/θ³ misses the wall, in front of it or beyond,
 // whenever the node moves during the step, and a sample would report λ > 0 off the wall.
 //
-// The price: with the contact at the samples Wilson-θ chatters on the wall and gains energy. From
-// t to t + Δt its update is the linear-acceleration step (β = 1/6, γ = ½), so the force that puts
-// a node on the wall at t + Δt changes its velocity by 3/Δt times the displacement it takes away
+// The price: with the contact at the samples Wilson-θ chatters on the wall and gains energy. From t
+// to t + Δt its update is the linear-acceleration step (β = 1/6, γ = ½), so the force that puts a
+// node on the wall at t + Δt changes its velocity by 3/Δt times the displacement it takes away
 // (γ/β = 3; the trapezoidal rule's 2 reflects a free mass at its own speed): a free mass arriving
-// at v with the wall δ ahead leaves at −2v + 3δ/Δt, whatever θ (tests/wilson_theta_test.cpp). On
-// the paper's scene (`impactid simulate --method wilson-theta [--theta T]
-// [--energy-growth-limit 1000]`) its runs go `unstable` under the default energy bound, at every θ
-// tried. With the constraint at t + θΔt instead the energy stays bounded and the contact closes a
-// few times, but the node stands beyond the wall at the samples, so the sample's Signorini
-// conditions fail: that variant is not offered.
+// at v with the wall δ ahead leaves at −2v + 3δ/Δt, whatever θ (tests/wilson_theta_test.cpp,
+// AFreeMassLeavesTheWallUpToTwiceAsFastAsItCame). On the paper's scene the runs tried grow past the
+// default energy bound and end `unstable`. With the constraint at t + θΔt instead the energy stays
+// bounded, but the node stands beyond the wall at the samples, so the sample's Signorini conditions
+// fail: that variant is not offered.
 //
 // Penalty and augmented Lagrangian, where the constraint is enforced: on the extended step's
 // shifted gap, by the integrator's own laws (core/contact/contact_treatment.hpp). The sample's

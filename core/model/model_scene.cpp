@@ -54,8 +54,8 @@ std::optional<ParameterError> validate(const ModelScene& s) {
   if (!(s.t_end >= s.dt && std::isfinite(s.t_end))) {
     return ParameterError{"t_end", format_value(s.t_end), "must be finite and at least dt"};
   }
-  // The rod's and the scenes' bounds on the grid (issue 38: a model at dt = 1e-12 s grew to
-  // 17.8 GB before anything said no).
+  // The rod's and the scenes' bounds on the grid (issue 38: a model with a tiny dt filled the
+  // memory before anything said no).
   if (auto e = validate_time_grid("dt", s.dt, s.dt, s.t_end, "",
                                   static_cast<int>(s.model->contacts.size()))) {
     return e;

@@ -30,9 +30,9 @@ std::optional<ParameterError> validate_time_grid(const std::string& step_field, 
                                                  const std::string& default_end_note,
                                                  int contacts) {
   const std::string value = format_value(step_value);
-  // Runs beyond 1e8 steps are mistakes in the inputs, not simulations to attempt: the trace
-  // holds 2 doubles per step per contact (4 with histories), and a default-scene run of 1e8
-  // steps takes ~20 min.
+  // Runs beyond 1e8 steps are mistakes in the inputs, not simulations to attempt: the trace holds 2
+  // doubles per step per contact (4 with histories), and such a run takes many minutes even on the
+  // default scene.
   if (!(end_time / time_step < 1e8)) {
     std::string why =
         "gives more than 1e8 time steps up to t_end = " + format_value(end_time) + " s";

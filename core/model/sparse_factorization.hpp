@@ -4,10 +4,9 @@
 //
 // Eigen's SimplicialLDLT with an approximate minimum degree ordering (AMD): the factorisation is
 // done once per run and a step costs its two triangular solves. Why not CHOLMOD (Debian's
-// SuiteSparse), the alternative: its supernodal solve is slower on every model measured (the
-// shipped block and 2D grids of 1e3 to 1e5 DOFs), and its factorisation too below 1e5 DOFs
-// (bench/model_bench.cpp; the figures in docs/performance.md, "User models"). A diagonal matrix (a
-// lumped mass with central difference) is inverted entry by entry instead.
+// SuiteSparse), the alternative: it was slower on the shipped models, in its solves and mostly in
+// its factorisation too (bench/model_bench.cpp times both; docs/performance.md, "User models"). A
+// diagonal matrix (a lumped mass with central difference) is inverted entry by entry instead.
 //
 // A pivot that is not positive is reported with the DOF it belongs to (the ordering maps the
 // elimination step back to the user's numbering): a mass matrix that is not positive definite,

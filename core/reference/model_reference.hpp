@@ -21,10 +21,11 @@
 // forward-increment multiplier stops the contact DOF at the wall (an inelastic impact of the
 // node, the persistent-contact solution), which converges as Δt → 0; the implicit family's
 // end-of-step constraint reverses the node's velocity at every re-contact, so its contact force
-// chatters at the refined step and the samples keep changing: the exported paper's rod and the
-// shipped block converge with central difference within a few halvings, and with HHT not after
-// ten. With a consistent mass (no central difference) the HHT reference may therefore end
-// unconverged, and says so.
+// chatters at the refined step and the samples keep changing: on the exported paper's rod and the
+// shipped block HHT's refinement does not converge where central difference's does (an HHT
+// reference ends unconverged or unverified in tests/model_reference_test.cpp,
+// AnHhtReferenceIsUnverifiedAndFailsTheCommand). With a consistent mass (no central difference) the
+// HHT reference may therefore end unconverged, and says so.
 //
 // The check (issue 34, item 4): a reference computed by one method favours that method, and the
 // semi-discrete model's limit depends on each method's impact law (above). So a converged
@@ -37,8 +38,8 @@
 // end-of-step constraint leaves the contact DOF at rest on the wall, the same persistent-contact
 // limit as central difference's forward-increment multiplier, reached from the implicit side;
 // HHT's reverses the DOF's velocity and converges to another limit, which the check exposes. Why
-// extrapolate: backward Euler is first order, and its runs alone come as close to the reference
-// only after about two more halvings, each twice the cost of all the halvings before it.
+// extrapolate: backward Euler is first order, and its runs alone would need further halvings, each
+// costing as much as all the halvings before it, to come as close to the reference.
 // The reference's estimated error, `error`, is the larger of its last change and that difference:
 // every ε measured against it is uncertain by about that much. An untrusted reference makes every
 // run measured against it `unverified` (metrics/verdict.hpp) and `impactid simulate` and `compare`

@@ -34,7 +34,8 @@ struct ReferenceOptions {
   /// enough that the refined runs do not chatter on the contacts).
   MethodParams method = HhtParams{.alpha = -0.3};
   /// Largest relative change of the primary contact's pressure or velocity at the last
-  /// refinement. > 0; default 1e-2 (what five halvings reach on a damped scene; see above).
+  /// refinement. > 0; default 1e-2 (reached within the default halvings on a damped scene; see
+  /// above).
   double tolerance = 1e-2;
   /// Most halvings of the mesh and the step. >= 1; default 5 (1024 times the run's cost).
   int max_refinements = 5;

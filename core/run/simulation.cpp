@@ -163,7 +163,7 @@ struct LoopStepper {
 template <class Advance, class Energy>
 LoopStepper(Advance, Energy) -> LoopStepper<Advance, Energy>;
 
-// The energy ½vᵀMv + ½uᵀKu of a state: every method's but central difference's.
+// The energy ½vᵀMv + ½uᵀKu of a state: every method's but central difference's and KR-α's.
 template <SemiDiscreteSystem System>
 auto plain_energy(const System& system) {
   return [&system](const State& s) { return system.energy(s.u, s.v); };

@@ -25,18 +25,20 @@ namespace impactid {
 
 struct RunOptions {
   /// A run is `unstable` as soon as its energy exceeds this multiple of the initial energy
-  /// ½vᵀMv + ½uᵀKu. The energy is ½vᵀMv + ½uᵀKu for every method but central difference, whose
-  /// own discrete energy (central_difference_energy, core/methods/central_difference_recurrence.hpp) stays
-  /// bounded at the magic time step, where the plain one grows with a mode that changes no nodal
-  /// value. Without external work the exact energy never grows, and the stable methods here stay
-  /// within a few percent of it (measured: central difference's central-velocity energy rises ~1%
-  /// at impact, the implicit methods dissipate), while an unstable mode grows geometrically, so the
-  /// bound separates the two long before any value overflows. > 1.
+  /// ½vᵀMv + ½uᵀKu. The energy is ½vᵀMv + ½uᵀKu for every method but central difference and KR-α,
+  /// whose own discrete energies (central_difference_energy,
+  /// core/methods/central_difference_recurrence.hpp; KrAlphaExplicit::energy,
+  /// core/methods/kr_alpha.hpp) stay bounded where the plain one grows or swings with no
+  /// instability (central difference at the magic time step, with a mode that changes no nodal
+  /// value; KR-α at large Courant numbers). Without external work the exact energy never grows, and
+  /// the stable methods here stay close to it (central difference's central-velocity energy rises a
+  /// little at impact, the implicit methods dissipate), while an unstable mode grows geometrically,
+  /// so the bound separates the two long before any value overflows. > 1.
   double energy_growth_limit = 1.5;
-  /// The energy bound is checked every this many steps and at the last step (1: every step).
-  /// The energy costs two O(n) products, about a sixth of a step (docs/performance.md); an
-  /// unstable mode grows geometrically, so it is caught at most this many steps late. Non-finite
-  /// values are caught at every step. >= 1.
+  /// The energy bound is checked every this many steps and at the last step (1: every step). The
+  /// energy costs two O(n) products, a sizeable part of a step (docs/performance.md); an unstable
+  /// mode grows geometrically, so it is caught at most this many steps late. Non-finite values are
+  /// caught at every step. >= 1.
   int energy_check_interval = 16;
   /// Record the contact-node displacement and the energy at every sample (time histories).
   /// Otherwise the trace holds pressure and velocity only: all the indicators need.
@@ -74,9 +76,9 @@ struct SimulationWorkspace {
   std::optional<SceneReference> reference;
   /// The same for a user's model (study/studies/evaluation.cpp): the last one used.
   std::optional<ModelReference> model_reference;
-  /// The ones used before it, most recent last (at most kEarlierModelReferences): a
-  /// work-precision study alternates between its Courant numbers' references, and a model's
-  /// reference with its check by a second method costs seconds.
+  /// The ones used before it, most recent last (at most kEarlierModelReferences): a work-precision
+  /// study alternates between its Courant numbers' references, and a model's reference with its
+  /// check by a second method takes many refined runs.
   std::vector<ModelReference> earlier_model_references;
   static constexpr std::size_t kEarlierModelReferences = 8;
 };

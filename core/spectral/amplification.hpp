@@ -49,8 +49,8 @@ namespace impactid {
 /// predicted ũ₁, not at u₁), 0 only at Ω → 0 and at p = ½.
 ///
 /// Implicit family (everything but central difference): 3×3, x_{n+1} = A·x_n with the scaled
-/// state x = (u, Δt·v, Δt²·a), from the ImplicitCoefficients equations of method.hpp without
-/// damping and contact:
+/// state x = (u, Δt·v, Δt²·a), from the ImplicitCoefficients equations of core/methods/method.hpp
+/// without damping and contact:
 ///   u₁ = u₀ + Δt·v₀ + Δt²·(b0·a₀ + b1·a₁),   v₁ = v₀ + Δt·(g0·a₀ + g1·a₁),
 ///   (1−α_m)·a₁ + α_m·a₀ + ω²·((1−α_f)·u₁ + α_f·u₀) = 0.
 /// This is the recurrence ImplicitIntegrator steps, mode by mode.
@@ -74,9 +74,8 @@ struct SpectralProperties {
 /// params or Ω. The eigenvalues are computed in long double from a balanced matrix similar to A
 /// (for Ω < 1 first scaled to the state (u, v/ω, a/ω²); for central difference the leapfrog
 /// state (u_n, (u_n − u_{n−1})/Ω); for Houbolt the backward differences (u_n, ∇u_n/σ, ∇²u_n/σ²),
-/// σ = min(Ω, 1)) that stays well conditioned as Ω → 0 and Ω → ∞. Measured
-/// on x86-64 against closed forms: relative error of Ω̄ <= 1e-16 for Ω in [1e-3, 1e3], 1e-14 at
-/// Ω = 1e-4.
+/// σ = min(Ω, 1)) that stays well conditioned as Ω → 0 and Ω → ∞ (tests/amplification_test.cpp
+/// holds the results to closed forms over a grid of Ω).
 SpectralProperties spectral_properties(const MethodParams& params, double omega_dt);
 
 /// ρ∞ = lim_{Ω→∞} ρ(Ω), evaluated analytically: dividing the equation of motion by Ω² and
@@ -96,12 +95,12 @@ double high_frequency_spectral_radius(const MethodParams& params);
 
 /// The coefficient c of (T̄ − T)/T = c·Ω² + O(Ω⁴) as Ω → 0 (the period error is even in Ω),
 /// by Richardson extrapolation of PE(Ω)/Ω² from Ω = 0.16, 0.08, 0.04, 0.02, 0.01, eliminating
-/// the Ω² … Ω⁸ terms of PE(Ω)/Ω². Accurate to about 1e-11 (measured <= 4e-12 against closed
-/// forms in tests/amplification_test.cpp: 1/12 for the trapezoidal rule, −1/24 for central
-/// difference, 1/3 for backward Euler, α²/8 + 3αδ/4 − α/4 + δ²/4 + 1/12 for HHT with (α, δ),
-/// (11ρ∞² − 14ρ∞ + 11)/(24(1+ρ∞)²) for generalized-α, 11/24 for Houbolt,
-/// (6θ² − 6θ + 1)/24 for Wilson-θ, −(3p − 2)²/24 for Noh–Bathe explicit, 0 for Kim's two-stage
-/// explicit scheme, whose period error is O(Ω⁴)).
+/// the Ω² … Ω⁸ terms of PE(Ω)/Ω². Accurate to about 1e-11 (tests/amplification_test.cpp,
+/// PeriodErrorCoefficientsMatchClosedForms). The closed forms the tests check: 1/12 for the
+/// trapezoidal rule, −1/24 for central difference, 1/3 for backward Euler,
+/// α²/8 + 3αδ/4 − α/4 + δ²/4 + 1/12 for HHT with (α, δ), (11ρ∞² − 14ρ∞ + 11)/(24(1+ρ∞)²) for
+/// generalized-α, 11/24 for Houbolt, (6θ² − 6θ + 1)/24 for Wilson-θ, −(3p − 2)²/24 for
+/// Noh–Bathe explicit, 0 for Kim's two-stage explicit scheme, whose period error is O(Ω⁴).
 /// NaN for invalid params or if the principal pair is not oscillatory at those Ω.
 double period_error_coefficient(const MethodParams& params);
 
@@ -122,10 +121,10 @@ double period_error_coefficient(const MethodParams& params);
 ///
 /// The Ω → 0 coefficient is the quadratic α²/8 + 3αδ/4 − α/4 + δ²/4 + 1/12 in δ, positive for
 /// every α ∈ [−0.5, 0]; its minimiser is exactly the paper's eq. 19, δ = −1.5·α, which lies on
-/// the stable side δ ≥ −α. At finite Ω the minimiser moves: for Ω <= 1 it stays within 0.05 of
-/// −1.5·α and on the stable side, and eq. 19 loses < 0.5 % of the minimal |PE| (the table is in
-/// tests/amplification_test.cpp); at Ω = 2 it can fall on the unstable side (α = −0.1 gives
-/// δ = 0.070 < −α), where the period error has no physical use anyway.
+/// the stable side δ ≥ −α. At finite Ω the minimiser moves: for Ω <= 1 it stays near −1.5·α and
+/// on the stable side, and eq. 19's |PE| stays close to the minimal one
+/// (tests/amplification_test.cpp, HhtDeltaMinimizingPeriodErrorAtFiniteOmega, holds both); at
+/// Ω = 2 it can fall on the unstable side, where the period error has no physical use anyway.
 double hht_delta_minimizing_period_error(double alpha, std::optional<double> omega_dt);
 
 /// max ρ(Ω) over `samples` log-spaced Ω from omega_min to omega_max, both included
@@ -160,10 +159,10 @@ struct StabilityMapPoint {
 };
 
 /// is_stable over the grid alphas × deltas, α-major (all δ of alphas[0] first).
-/// Finding (tests/amplification_test.cpp): with eq. 13, HHT is unconditionally stable exactly
-/// for δ >= −α on α ∈ [−0.5, 0]; below the line ξ̄ ≈ (α+δ)/2·Ω < 0, so ρ > 1 at every small Ω
-/// (no time step helps), though only by ~4e-10 over Ω <= 1e4 at δ = −α − 1e-5, which the
-/// default tolerance passes. At α = −0.5 the spurious root reaches −1 as Ω → ∞ (ρ∞ = 1).
+/// Finding (tests/amplification_test.cpp, HhtStableIffDeltaAtLeastMinusAlpha): with eq. 13, HHT is
+/// unconditionally stable exactly for δ >= −α on α ∈ [−0.5, 0]; below the line ξ̄ ≈ (α+δ)/2·Ω < 0,
+/// so ρ > 1 at every small Ω (no time step helps), though just below it by so little that the
+/// default tolerance passes it. At α = −0.5 the spurious root reaches −1 as Ω → ∞ (ρ∞ = 1).
 std::vector<StabilityMapPoint> hht_stability_map(const std::vector<double>& alphas,
                                                  const std::vector<double>& deltas,
                                                  double omega_max);

@@ -339,7 +339,7 @@ void MpiMaster::run_searches(const Plan& plan, std::span<const long> starts,
     }
     return std::nullopt;
   };
-  // Progress and checkpoints come with done(), from the Optimization (optimizer.cpp).
+  // Progress and checkpoints come with done(), from the Optimization (study/studies/optimizer.cpp).
   serve_and_compute(master_computes ? std::max(1, omp_get_max_threads()) : 0, handle, watch_stalls,
                     finished, [&] {
                       for (;;) {
