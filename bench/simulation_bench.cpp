@@ -4,6 +4,7 @@
 #include <immintrin.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -530,6 +531,37 @@ void BM_FmaPeak(benchmark::State& state) {
   measure_peak(state, true);
 }
 BENCHMARK(BM_FmaPeak)->Unit(benchmark::kMillisecond);
+
+// The memory bandwidth bound of a roofline beside BM_FmaPeak's flops bound: STREAM's triad
+// a = b + s·c (McCalpin) on arrays of range(0) doubles each, which for the default sizes are far
+// larger than the last-level cache. bytes/s counts STREAM's way, 3 × 8 bytes per element (the
+// write-allocate read of `a` the processor may add is not counted), so that the figure compares
+// with published STREAM results. One thread, as one point of a model sweep runs.
+void BM_StreamTriad(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+  const double scalar = 3.0;
+  for (auto _ : state) {
+    double* out = a.data();
+    const double* x = b.data();
+    const double* y = c.data();
+    for (std::size_t i = 0; i < n; ++i) out[i] = x[i] + scalar * y[i];
+    benchmark::DoNotOptimize(a.data());
+    benchmark::ClobberMemory();
+  }
+  // Every element written by every iteration: a wrong loop would not leave 7 everywhere.
+  if (std::any_of(a.begin(), a.end(), [](double v) { return v != 7.0; })) {
+    state.SkipWithError("the triad did not write b + 3·c");
+    return;
+  }
+  state.counters["bytes/s"] =
+      benchmark::Counter(24.0 * static_cast<double>(n) * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
+  state.SetLabel(std::to_string(24 * n / (1 << 20)) + " MiB streamed per iteration");
+}
+// 2^22 doubles (32 MiB) per array: 96 MiB in all, past any last-level cache of the machines
+// CI may get.
+BENCHMARK(BM_StreamTriad)->Arg(1 << 22)->Unit(benchmark::kMillisecond);
 
 // The general sparse reference (SparseLU every step), checked to give the same pressures.
 void BM_SparseReference(benchmark::State& state) {
