@@ -125,7 +125,7 @@ H5::Attribute replace_attribute(H5::H5Object& object, const std::string& name,
 // API's exception so guarded() names the file.
 template <class T>
 T checked(T result, const char* function) {
-  if (result < 0) throw H5::Exception(function, "failed");
+  if (result < 0) throw H5::Exception(function, std::string(function) + " failed");
   return result;
 }
 
@@ -217,13 +217,59 @@ unsigned creation_order_flags(hid_t object, bool attributes) {
   return flags;
 }
 
-// Reads a name with the C API's two-call protocol (size first, then the text).
-template <class Fn>
-std::string c_name(Fn&& get, const char* function) {
-  const auto size = checked(get(static_cast<char*>(nullptr), std::size_t{0}), function);
-  std::string name(static_cast<std::size_t>(size), '\0');
-  checked(get(name.data(), name.size() + 1), function);
-  return name;
+// The names of a group's links or an object's attributes, ordered as `index` orders them (by
+// name, or by creation order), read by iterating in HDF5's native order and sorted here. Not by
+// index (H5Lget_name_by_idx, H5Aget_name_by_idx): for each name HDF5 1.10 builds a table of
+// every link or attribute, and when one of a damaged group's fails to decode it frees the
+// table's entries it never set (H5G__link_release_table), a crash that depends on what the heap
+// held (a results_fuzzer finding: the first-read child survived the file, the parent did not).
+// Native iteration over dense storage reads them one at a time without that table.
+struct NamedEntry {
+  std::string name;
+  std::int64_t creation_order;
+};
+
+std::vector<std::string> names_in_index_order(std::vector<NamedEntry> entries, H5_index_t index) {
+  if (index == H5_INDEX_CRT_ORDER) {
+    std::stable_sort(entries.begin(), entries.end(), [](const NamedEntry& a, const NamedEntry& b) {
+      return a.creation_order < b.creation_order;
+    });
+  } else {
+    std::sort(entries.begin(), entries.end(),
+              [](const NamedEntry& a, const NamedEntry& b) { return a.name < b.name; });
+  }
+  std::vector<std::string> names;
+  names.reserve(entries.size());
+  for (NamedEntry& e : entries) names.push_back(std::move(e.name));
+  return names;
+}
+
+// An iteration callback's entry, kept from throwing into HDF5's C frames.
+herr_t add_entry(const char* name, std::int64_t creation_order, void* entries) {
+  try {
+    static_cast<std::vector<NamedEntry>*>(entries)->push_back({name, creation_order});
+    return 0;
+  } catch (...) {
+    return -1;
+  }
+}
+
+std::vector<std::string> link_names(hid_t group, H5_index_t index) {
+  std::vector<NamedEntry> entries;
+  const H5L_iterate_t add = [](hid_t, const char* name, const H5L_info_t* info, void* data) {
+    return add_entry(name, info->corder_valid ? info->corder : 0, data);
+  };
+  checked(H5Literate(group, index, H5_ITER_NATIVE, nullptr, add, &entries), "H5Literate");
+  return names_in_index_order(std::move(entries), index);
+}
+
+std::vector<std::string> attribute_names_of(hid_t object, H5_index_t index) {
+  std::vector<NamedEntry> entries;
+  const H5A_operator2_t add = [](hid_t, const char* name, const H5A_info_t* info, void* data) {
+    return add_entry(name, info->corder_valid ? info->corder : 0, data);
+  };
+  checked(H5Aiterate2(object, index, H5_ITER_NATIVE, nullptr, add, &entries), "H5Aiterate2");
+  return names_in_index_order(std::move(entries), index);
 }
 
 // Grows the in-memory file in steps of 1 MB (HDF5's suggestion for the core driver).
@@ -379,18 +425,7 @@ bool is_dimension_scale_attribute(const std::string& name) {
 }
 
 std::vector<std::string> sorted_attribute_names(H5::H5Object& object) {
-  std::vector<std::string> names;
-  const int count = object.getNumAttrs();
-  for (int i = 0; i < count; ++i) {
-    names.push_back(c_name(
-        [&](char* buffer, std::size_t size) {
-          return H5Aget_name_by_idx(object.getId(), ".", H5_INDEX_NAME, H5_ITER_INC,
-                                    static_cast<hsize_t>(i), buffer, size, H5P_DEFAULT);
-        },
-        "H5Aget_name_by_idx"));
-  }
-  std::sort(names.begin(), names.end());
-  return names;
+  return attribute_names_of(object.getId(), H5_INDEX_NAME);
 }
 
 // An attribute's value as the checksum reads it: text as its UTF-8 bytes, numbers as 8-byte
@@ -436,10 +471,9 @@ std::uint32_t metadata_checksum(H5::H5File& file) {
     if (path == "/" || file.childObjType(path) == H5O_TYPE_GROUP) {
       H5::Group g = file.openGroup(path);
       add_attributes(g);
-      std::vector<std::string> members;
-      for (hsize_t i = 0; i < g.getNumObjs(); ++i) members.push_back(g.getObjnameByIdx(i));
-      std::sort(members.begin(), members.end());
-      for (const std::string& m : members) visit(path == "/" ? "/" + m : path + "/" + m);
+      for (const std::string& m : link_names(g.getId(), H5_INDEX_NAME)) {
+        visit(path == "/" ? "/" + m : path + "/" + m);
+      }
       return;
     }
     H5::DataSet d = file.openDataSet(path);
@@ -755,16 +789,7 @@ std::vector<std::string> Hdf5Reader::members(const std::string& group) const {
     const H5_index_t index = (creation_order_flags(g.getId(), false) & H5P_CRT_ORDER_TRACKED)
                                  ? H5_INDEX_CRT_ORDER
                                  : H5_INDEX_NAME;
-    std::vector<std::string> names;
-    for (hsize_t i = 0; i < g.getNumObjs(); ++i) {
-      names.push_back(c_name(
-          [&](char* buffer, std::size_t size) {
-            return H5Lget_name_by_idx(g.getId(), ".", index, H5_ITER_INC, i, buffer, size,
-                                      H5P_DEFAULT);
-          },
-          "H5Lget_name_by_idx"));
-    }
-    return names;
+    return link_names(g.getId(), index);
   });
 }
 
@@ -885,17 +910,9 @@ std::vector<std::string> Hdf5Reader::attribute_names(const std::string& object) 
       const H5_index_t index = (creation_order_flags(o.getId(), true) & H5P_CRT_ORDER_TRACKED)
                                    ? H5_INDEX_CRT_ORDER
                                    : H5_INDEX_NAME;
-      std::vector<std::string> names;
-      const int count = o.getNumAttrs();
-      for (int i = 0; i < count; ++i) {
-        std::string name = c_name(
-            [&](char* buffer, std::size_t size) {
-              return H5Aget_name_by_idx(o.getId(), ".", index, H5_ITER_INC, static_cast<hsize_t>(i),
-                                        buffer, size, H5P_DEFAULT);
-            },
-            "H5Aget_name_by_idx");
-        if (object == "/" && name == kChecksumAttribute) continue;  // storage, not content
-        names.push_back(std::move(name));
+      std::vector<std::string> names = attribute_names_of(o.getId(), index);
+      if (object == "/") {  // the checksum: storage, not content
+        names.erase(std::remove(names.begin(), names.end(), kChecksumAttribute), names.end());
       }
       return names;
     });
