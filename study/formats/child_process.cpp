@@ -1,7 +1,6 @@
 #include "study/formats/child_process.hpp"
 
 #include <fcntl.h>
-#include <malloc.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -31,16 +30,9 @@ ChildOutcome run_in_child(const std::function<void()>& work, double seconds) {
     const int null = open("/dev/null", O_WRONLY);
     if (null >= 0) dup2(null, STDERR_FILENO);
     alarm(static_cast<unsigned>(std::ceil(std::max(1.0, seconds))));
-    // Memory malloc hands out is filled with a pattern here (glibc's M_PERTURB; a no-op under the
-    // sanitizers, whose malloc fills it already), so that a use of it before it is set fails in
-    // the child rather than in whichever process the heap's leftovers happen to make fail: HDF5
-    // 1.10 frees pointers of a link table it never set when a damaged group's links fail to
-    // decode (H5G__link_release_table, under valgrind: "conditional jump depends on uninitialised
-    // values" in H5MM_xfree), which crashed a parent whose child had read the same file without
-    // harm (fuzz/corpus/results/regression-hdf5-link-table-never-set). glibc's per-thread cache
-    // (blocks up to 1032 bytes) hands blocks back unfilled: for those the child is no surer than
-    // the parent.
-    mallopt(M_PERTURB, 0xA5);
+    // Nothing here takes or gives back memory, nor changes how malloc does (not even mallopt,
+    // which consolidates the heap): the work meets the heap as this process left it, as the
+    // parent's own read after it does (study/formats/first_read.cpp says why).
     try {
       work();
     } catch (...) {  // an error is an ending; the parent meets it again, with its message

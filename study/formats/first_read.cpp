@@ -152,46 +152,72 @@ FirstReads& first_reads() {
   return reads;
 }
 
+constexpr const char* kWhatToDo = " (the file is damaged; use a backup or run it again)";
+
 }  // namespace
 
-void check_first_read(const std::filesystem::path& path,
-                      const std::function<void()>& read_everything) {
-  const MappedFile mapped(path);
-  const std::span<const unsigned char> bytes = mapped.bytes();
-  const double seconds = kFirstReadSeconds + static_cast<double>(bytes.size()) / 1e7;
-  const std::string what_to_do = " (the file is damaged; use a backup or run it again)";
-  if (const std::optional<std::string> wrong = inconsistent_global_heap(bytes)) {
-    throw Hdf5Error(path.string() + ": damaged: " + *wrong +
-                    " (HDF5 1.10 would read past it); nothing of it was read" + what_to_do);
-  }
-  const std::string advice =
-      "; it was read first in a separate process, so nothing else is lost" + what_to_do;
-  Digest digest;
-  if (!bytes.empty()) {
-    Sha256 sha;
-    sha.add(bytes.data(), bytes.size());
-    digest = sha.digest();
-  }
-  std::optional<ChildOutcome> outcome = digest.empty() ? std::nullopt : first_reads().find(digest);
+// Why the parent touches no heap from the child's start to its own read: HDF5 1.10 reads memory
+// it never set on some damaged files (it frees a damaged group's link table entries it never
+// filled; it frees object-header blocks from its free lists), and what that memory holds is
+// whatever the heap held. The child starts from this process's heap as it is at the fork; if
+// the parent then takes or gives back memory before its own read (a digest kept in the cache,
+// a message string freed), its HDF5 calls get other blocks than the child's, and a file the
+// child read without harm crashed the parent (results_fuzzer findings). With the heap left
+// as it was, the parent's read takes the child's path through the same memory. So the digest
+// is kept in an array, the messages are made only when the file is refused, and the outcome is
+// kept by the caller (FirstRead::keep) after its read.
+FirstRead check_first_read(const std::filesystem::path& path,
+                           const std::function<void()>& read_everything) {
+  FirstRead first;
+  bool has_digest = false;
+  double seconds = kFirstReadSeconds;
+  std::optional<ChildOutcome> outcome;
+  {
+    const MappedFile mapped(path);
+    const std::span<const unsigned char> bytes = mapped.bytes();
+    seconds += static_cast<double>(bytes.size()) / 1e7;
+    if (const std::optional<std::string> wrong = inconsistent_global_heap(bytes)) {
+      throw Hdf5Error(path.string() + ": damaged: " + *wrong +
+                      " (HDF5 1.10 would read past it); nothing of it was read" + kWhatToDo);
+    }
+    if (!bytes.empty()) {
+      Sha256 sha;
+      sha.add(bytes.data(), bytes.size());
+      const Digest digest = sha.digest();
+      std::copy_n(digest.begin(), std::min(digest.size(), first.digest_.size()),
+                  first.digest_.begin());
+      has_digest = true;
+      outcome = first_reads().find(digest);
+    }
+  }  // everything of the check given back before the child starts
   if (!outcome) {
     outcome = run_in_child(read_everything, seconds);
-    if (!digest.empty() && outcome->kind != ChildOutcome::Kind::not_run) {
-      first_reads().keep(digest, *outcome);
-    }
+    first.to_keep_ = has_digest && outcome->kind != ChildOutcome::Kind::not_run;
+    first.outcome_ = *outcome;
   }
+  const auto refuse = [&](const std::string& why) {
+    first.keep();  // this process reads no more of it: memory is free to use
+    return Hdf5Error(path.string() + ": damaged: " + why +
+                     "; it was read first in a separate process, so nothing else is lost" +
+                     kWhatToDo);
+  };
   switch (outcome->kind) {
     case ChildOutcome::Kind::crashed:
-      throw Hdf5Error(path.string() + ": damaged: reading it crashes HDF5 (" +
-                      (outcome->signal ? std::string(strsignal(outcome->signal))
-                                       : "exit status " + std::to_string(outcome->exit_status)) +
-                      ")" + advice);
+      throw refuse("reading it crashes HDF5 (" +
+                   (outcome->signal ? std::string(strsignal(outcome->signal))
+                                    : "exit status " + std::to_string(outcome->exit_status)) +
+                   ")");
     case ChildOutcome::Kind::timed_out:
-      throw Hdf5Error(path.string() + ": damaged: reading it did not end within " +
-                      std::to_string(std::lround(seconds)) + " s" + advice);
+      throw refuse("reading it did not end within " + std::to_string(std::lround(seconds)) + " s");
     case ChildOutcome::Kind::ended:
     case ChildOutcome::Kind::not_run:
-      return;
+      break;
   }
+  return first;
+}
+
+void FirstRead::keep() const {
+  if (to_keep_) first_reads().keep(Digest(digest_.data(), digest_.size()), outcome_);
 }
 
 void remember_readable(std::span<const char> image) {

@@ -9,10 +9,13 @@
 // new file.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <span>
+
+#include "study/formats/child_process.hpp"
 
 namespace impactid {
 
@@ -20,13 +23,29 @@ namespace impactid {
 /// file takes milliseconds, under the sanitizers tens of them; a damaged one can loop forever.
 inline constexpr double kFirstReadSeconds = 5;
 
+/// What check_first_read learnt of a file that did not fail, for the caller to keep once it has
+/// read the file itself (keep()): keeping it takes memory, and between the child's start and
+/// the caller's own read this process must not touch its heap (first_read.cpp says why).
+class FirstRead {
+ public:
+  void keep() const;
+
+ private:
+  friend FirstRead check_first_read(const std::filesystem::path& path,
+                                    const std::function<void()>& read_everything);
+  std::array<char, 32> digest_{};  // SHA-256
+  bool to_keep_ = false;
+  ChildOutcome outcome_;
+};
+
 /// Checks the file's global heap collections (first_read.cpp says why), then runs
-/// `read_everything` (a walk of the whole file at `path`) in a child process unless these
-/// bytes were read before. Throws Hdf5Error "PATH: damaged: …" for an inconsistent collection,
-/// or when the child crashed or did not end within the bound; returns otherwise (fork failed:
-/// nothing learnt, the caller reads as before).
-void check_first_read(const std::filesystem::path& path,
-                      const std::function<void()>& read_everything);
+/// `read_everything` (a walk of the whole file at `path`, the same calls the caller makes next)
+/// in a child process unless these bytes were read before. Throws Hdf5Error "PATH: damaged: …"
+/// for an inconsistent collection, or when the child crashed or did not end within the bound;
+/// returns otherwise (fork failed: nothing learnt, the caller reads as before), and the caller
+/// then reads the file at once, before anything else takes or gives back memory.
+[[nodiscard]] FirstRead check_first_read(const std::filesystem::path& path,
+                                         const std::function<void()>& read_everything);
 
 /// Files HDF5 wrote in this process (Hdf5Writer::commit's image): readable by construction.
 /// Only images up to kRememberedImageBytes: the digest costs about 2 ms per MB at every commit,

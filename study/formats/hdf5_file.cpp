@@ -682,14 +682,14 @@ void Hdf5Writer::commit() {
 
 Hdf5Reader::Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked) : path_(path) {
   if (!std::filesystem::exists(path)) throw Hdf5Error(path.string() + ": no such file");
-  check_first_read(path,
-                   [&] { Hdf5Reader(path, UncheckedFile::quiet, InChild{}).read_everything(); });
+  // The child makes this object's own calls, and this process makes them next, before anything
+  // else takes or gives back memory (study/formats/first_read.cpp says why).
+  const FirstRead first = check_first_read(path, [this, unchecked] {
+    open(unchecked);
+    read_everything();
+  });
   open(unchecked);
-}
-
-Hdf5Reader::Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked, InChild)
-    : path_(path) {
-  open(unchecked);
+  first.keep();
 }
 
 void Hdf5Reader::read_everything() const {

@@ -157,9 +157,6 @@ class Hdf5Reader {
   std::vector<std::string> attached_scales(const std::string& dataset, unsigned index) const;
 
  private:
-  struct InChild {};
-  /// The open itself, with no first read in a child: the child's own reader.
-  Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked, InChild);
   void open(UncheckedFile unchecked);
   /// Reads everything in the file, going on past errors: the child's walk.
   void read_everything() const;
