@@ -1,18 +1,11 @@
 // libFuzzer target: a valid results file with the input's bytes applied to it as byte flips,
 // then read by every reader of results files (study/io/results_file.hpp, issue 38, item 5).
 //
-// At start the fuzzer runs a tiny grid plan (kBasePlan: a 4-element rod, 2 × 2 points) with the
-// sweep, as `impactid run` does, and writes the table twice into a private temporary folder:
-// base 0 as `impactid run` writes it, base 1 compressed and marked as shard 0/1, as
-// `impactid run --shard` writes it. The bases are made by the program under test, so they follow
-// its layout (a later writer's checksums, say) without a binary file in the repository.
-//
-// The input, bytes in order:
-//   byte 0: bit 0 chooses the base; with bit 1 set the file is also truncated, to the length
-//     (taken modulo the base's size + 1) in the next 3 bytes, little-endian;
-//   then records of 3 bytes of offset (little-endian, modulo the file's size), 1 byte n, and
-//     n % 8 + 1 bytes XORed into the file at the offset (one set bit is a bit flip; any byte
-//     value can be written). An empty input reads a base unchanged.
+// At start the fuzzer writes its two base files (fuzz/results_input.hpp: kBasePlan run with the
+// sweep, written as `impactid run` and `impactid run --shard` write it) into a private temporary
+// folder; each input is flips applied to one of them (results_input.hpp describes the input).
+// The bases are made by the program under test, so they follow its layout (a later writer's
+// checksums, say) without a binary file in the repository.
 //
 // The contract under test: each reader either succeeds or throws its documented error —
 //   - read_results: Hdf5Error (run --resume, export and merge start with it);
@@ -44,6 +37,7 @@
 #include <typeinfo>
 #include <vector>
 
+#include "fuzz/results_input.hpp"
 #include "study/formats/hdf5_file.hpp"
 #include "study/io/history_file.hpp"
 #include "study/io/results_file.hpp"
@@ -59,22 +53,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A numeric axis and a choice axis (its labels are CF flag_meanings), a practical range and the
-// verdict column: every kind of dataset and attribute a grid's file has.
-constexpr const char* kBasePlan = R"(name = "fuzz"
-[scene]
-elements = 4
-[method]
-name = "newmark"
-[study]
-kind = "grid"
-[study.axes]
-delta = { values = [0.5, 0.7] }
-contact = { values = ["lagrange", "penalty"] }
-[study.practical]
-eps_p = { max = 1.0 }
-)";
-
 [[noreturn]] void finding(const std::string& what) {
   std::fprintf(stderr, "results_fuzzer: FINDING: %s\n", what.c_str());
   std::abort();  // libFuzzer saves the input as crash-<sha1>
@@ -89,20 +67,10 @@ struct Fixture {
     std::string pattern = (fs::temp_directory_path() / "impactid-results-fuzzer-XXXXXX").string();
     if (!mkdtemp(pattern.data())) finding("cannot create a temporary folder");
     folder = pattern;
-    plan = impactid::parse_plan(kBasePlan, folder / "fuzz.toml");
-    const impactid::PointSet points(plan);
-    impactid::StudyResults results = impactid::empty_results(plan, points);
-    std::vector<long> all(static_cast<std::size_t>(points.size()));
-    std::iota(all.begin(), all.end(), 0L);
-    impactid::run_sweep(points, all, results, impactid::SweepOptions{});
-    impactid::store_practical_range(results, impactid::practical_range(results, plan.practical));
-    impactid::write_results(folder / "base-0.h5", results);
-    impactid::mark_shard(results, impactid::Shard{0, 1}, plan.path);
-    impactid::write_results_compressed(folder / "base-1.h5", results);
-    for (const char* name : {"base-0.h5", "base-1.h5"}) {
-      std::ifstream in(folder / name, std::ios::binary);
-      bases.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-      if (bases.back().empty()) finding(std::string("cannot read back ") + name);
+    plan = impactid::parse_plan(impactid::fuzzing::kBasePlan, folder / "fuzz.toml");
+    bases = impactid::fuzzing::write_bases(plan, folder);
+    for (std::size_t k = 0; k < bases.size(); ++k) {
+      if (bases[k].empty()) finding("cannot read back base-" + std::to_string(k) + ".h5");
     }
     // IMPACTID_RESULTS_FUZZER_BASES=DIR keeps a copy of the bases (to place seeds' flips).
     if (const char* keep = std::getenv("IMPACTID_RESULTS_FUZZER_BASES")) {
@@ -122,25 +90,9 @@ Fixture& fixture() {
   return f;
 }
 
-std::size_t little_endian(const std::uint8_t* p) { return p[0] | (p[1] << 8) | (p[2] << 16); }
-
-// The base with the input applied, as described above.
+// The base with the input applied (results_input.hpp).
 std::string mutated(const std::uint8_t* data, std::size_t size) {
-  std::string file = fixture().bases[size > 0 ? data[0] & 1 : 0];
-  std::size_t at = 1;
-  if (size > 0 && (data[0] & 2) && size >= 4) {
-    file.resize(little_endian(data + 1) % (file.size() + 1));
-    at = 4;
-  }
-  while (at + 4 <= size && !file.empty()) {
-    const std::size_t offset = little_endian(data + at) % file.size();
-    const std::size_t n = data[at + 3] % 8 + 1;
-    at += 4;
-    for (std::size_t k = 0; k < n && at < size && offset + k < file.size(); ++k, ++at) {
-      file[offset + k] = static_cast<char>(file[offset + k] ^ data[at]);
-    }
-  }
-  return file;
+  return impactid::fuzzing::apply_input(fixture().bases, data, size);
 }
 
 // `impactid run --resume`'s use of a file it read: the checks of run_command.cpp, then the sweep
@@ -248,8 +200,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     read_every_way(file);
   } catch (const std::exception& e) {
-    finding(std::string("a reader threw ") + typeid(e).name() + " (not its documented error): " +
-            e.what());
+    finding(std::string("a reader threw ") + typeid(e).name() +
+            " (not its documented error): " + e.what());
   } catch (...) {
     finding("a reader threw something that is not a std::exception");
   }

@@ -683,10 +683,23 @@ void Hdf5Writer::commit() {
 Hdf5Reader::Hdf5Reader(const std::filesystem::path& path, UncheckedFile unchecked) : path_(path) {
   if (!std::filesystem::exists(path)) throw Hdf5Error(path.string() + ": no such file");
   // The child makes this object's own calls, and this process makes them next, before anything
-  // else takes or gives back memory (study/formats/first_read.cpp says why).
+  // else takes or gives back memory (study/formats/first_read.cpp says why). The child also
+  // closes the file, as this object's end does (a damaged file's object headers have crashed
+  // HDF5 at the close, H5O__free), and reads it a second time, as a later reader of the same
+  // bytes does without a child of its own (HDF5's free lists, damaged by the first read, have
+  // crashed the next one).
   const FirstRead first = check_first_read(path, [this, unchecked] {
-    open(unchecked);
-    read_everything();
+    for (int pass = 0; pass < 2; ++pass) {
+      try {
+        open(unchecked);
+        read_everything();
+      } catch (const std::exception&) {  // the parent meets it again, and reports it
+      }
+      try {
+        file_.close();
+      } catch (const H5::Exception&) {
+      }
+    }
   });
   open(unchecked);
   first.keep();
