@@ -680,12 +680,19 @@ TEST(MpiRun, AnErrorInASearchNamesItAndKeepsTheSearchesThatEnded) {
   EXPECT_EQ(same.status, 0) << same.text;
 }
 
-// An optimisation: 12 searches on a 300-element rod (about 3 s on 3 ranks), rank 2 stopped once
-// a search is saved; the search it holds goes to another rank.
-TEST(MpiRun, AStoppedWorkersSearchesGoToTheOtherRanksAndTheRunEnds) {
+// An optimisation long enough to stop a worker in: 12 searches on a 300-element rod (about 3 s
+// on 3 ranks).
+std::string stalled_search_plan() {
   std::string text = kSearchPlan;
   text.replace(text.find("elements = 80"), 13, "elements = 300");
   text.replace(text.find("starts = 6"), 10, "starts = 12");
+  return text;
+}
+
+// That optimisation, rank 2 stopped once a search is saved; the search it holds goes to another
+// rank.
+TEST(MpiRun, AStoppedWorkersSearchesGoToTheOtherRanksAndTheRunEnds) {
+  std::string text = stalled_search_plan();
   text += "[output]\ncheckpoint_seconds = 0.05\n";
   stop_a_worker("search-stall", text, 1,
                 {"impactid run: rank 2 has not answered its searches for ", ", out at rank 2 for ",
@@ -698,22 +705,16 @@ TEST(MpiRun, AStoppedWorkersSearchesGoToTheOtherRanksAndTheRunEnds) {
 // the watch for stalled ranks never ran and the job hung (1 run in 2 of the test above, when the
 // SIGSTOP fell between the messages).
 TEST(MpiRun, AWorkerStoppedBetweenASearchsRowsAndItsEndDoesNotHoldRankZero) {
-  std::string text = kSearchPlan;
-  text.replace(text.find("elements = 80"), 13, "elements = 300");
-  text.replace(text.find("starts = 6"), 10, "starts = 12");
   stop_a_worker(
-      "search-halfway", text, 0,
+      "search-halfway", stalled_search_plan(), 0,
       {"impactid run: rank 2 has not answered its searches for ", "searches run per rank: "},
       "-x IMPACTID_MPI_STOP_AFTER_ROWS=2");
 }
 
 // As AWorkerStoppedInTheMiddleOfSendingItsRowsDoesNotHoldRankZero, for a search's rows.
 TEST(MpiRun, AWorkerStoppedInTheMiddleOfSendingASearchsRowsDoesNotHoldRankZero) {
-  std::string text = kSearchPlan;
-  text.replace(text.find("elements = 80"), 13, "elements = 300");
-  text.replace(text.find("starts = 6"), 10, "starts = 12");
   stop_a_worker(
-      "search-mid-send", text, 0,
+      "search-mid-send", stalled_search_plan(), 0,
       {"impactid run: rank 2 has not answered its searches for ", "searches run per rank: "},
       "-x IMPACTID_MPI_STOP_IN_ROWS=2 " + kRowsNeedTheirSender);
 }
