@@ -1,6 +1,7 @@
-// check_first_read (study/formats/first_read.hpp): the first read of some bytes runs in a child
-// process, once; a crash or a loop there is a refusal naming the file, kept for the same bytes;
-// bytes this process wrote, or changed bytes, are told apart by their digest.
+// first_read (study/formats/first_read.hpp): the walk of some bytes runs in a child process,
+// once, and its answers reach the caller; a crash or a loop there is a refusal naming the file,
+// kept for the same bytes; bytes this process wrote are walked here; changed bytes are another
+// file.
 #include "study/formats/first_read.hpp"
 
 #include <fcntl.h>
@@ -13,7 +14,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "study/formats/hdf5_error.hpp"
 #include "test_files.hpp"
@@ -27,10 +30,16 @@ fs::path scratch(const std::string& name) {
   return testing::scratch_path("first_read_test", name);
 }
 
-// A read whose child leaves a mark: the number of children that ran is the file's length.
+// A walk that leaves a mark where it ran: the number of walks is the file's length. Its answer
+// says in which process it ran.
 struct MarkingRead {
   fs::path marks;
-  void operator()() const { std::ofstream(marks, std::ios::app) << 'x'; }
+  Hdf5Answers operator()() const {
+    std::ofstream(marks, std::ios::app) << 'x';
+    Hdf5Answers answers;
+    answers.record("pid", {false, encode_answer(static_cast<long>(::getpid()))});
+    return answers;
+  }
   long children() const { return fs::exists(marks) ? static_cast<long>(fs::file_size(marks)) : 0; }
 };
 
@@ -40,23 +49,34 @@ MarkingRead marking(const std::string& name) {
   return read;
 }
 
+long walked_in(const Hdf5Answers& answers) {
+  const Hdf5Answers::Answer* pid = answers.find("pid");
+  EXPECT_NE(pid, nullptr);
+  long value = 0;
+  if (pid) decode_answer(pid->bytes, value);
+  return value;
+}
+
 TEST(FirstRead, TheSameBytesAreReadInAChildOnce) {
   const fs::path file = testing::write_file(scratch("once.bin"), "the bytes of a file, once");
   const MarkingRead read = marking("once");
-  check_first_read(file, read).keep();
-  check_first_read(file, read).keep();
+  EXPECT_NE(walked_in(*first_read(file, read)), static_cast<long>(::getpid()));
+  first_read(file, read);
   EXPECT_EQ(read.children(), 1);
   // Other bytes under the same name are another file.
   testing::write_file(file, "the bytes of a file, twice");
-  check_first_read(file, read).keep();
+  first_read(file, read);
   EXPECT_EQ(read.children(), 2);
 }
 
 TEST(FirstRead, ACrashIsARefusalNamingTheFileAndIsKept) {
   const fs::path file = testing::write_file(scratch("crash.bin"), "bytes that crash a reader");
-  const auto crash = [] { std::raise(SIGSEGV); };
+  const auto crash = []() -> Hdf5Answers {
+    std::raise(SIGSEGV);
+    return {};
+  };
   try {
-    check_first_read(file, crash).keep();
+    first_read(file, crash);
     FAIL() << "not refused";
   } catch (const Hdf5Error& e) {
     EXPECT_NE(std::string(e.what()).find(file.string() + ": damaged: reading it crashes HDF5"),
@@ -65,60 +85,55 @@ TEST(FirstRead, ACrashIsARefusalNamingTheFileAndIsKept) {
   }
   // The same bytes again: refused without a child, whatever the read would do now.
   const MarkingRead read = marking("crash");
-  EXPECT_THROW(check_first_read(file, read).keep(), Hdf5Error);
+  EXPECT_THROW(first_read(file, read), Hdf5Error);
   EXPECT_EQ(read.children(), 0);
 }
 
-// From the child's start to the caller's own read this process takes and gives back no memory,
-// so that the caller's read meets the heap the child met (first_read.cpp says why: HDF5 reads
-// memory it never set on some damaged files): the first block the child takes is the block
-// this process takes first after the check, and an outcome is kept only when the caller says.
-TEST(FirstRead, TheCallerMeetsTheHeapTheChildMet) {
-  const fs::path file =
-      testing::write_file(scratch("heap.bin"), "a file whose reader takes memory");
-  const fs::path where = scratch("heap.address");
-  const int fd = ::open(where.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  ASSERT_GE(fd, 0);
-  constexpr std::size_t kBytes = 40;  // the size of the blocks a kept outcome takes
-  constexpr int kBlocks = 4;
-  using Addresses = std::array<std::uintptr_t, kBlocks>;
-  // The addresses of kBlocks blocks taken one after the other, then given back.
-  const auto take_blocks = [] {
-    std::array<void*, kBlocks> blocks{};
-    Addresses addresses{};
-    for (int k = 0; k < kBlocks; ++k) {
-      blocks[k] = std::malloc(kBytes);
-      addresses[k] = reinterpret_cast<std::uintptr_t>(blocks[k]);
-    }
-    for (void* block : blocks) std::free(block);
-    return addresses;
+// The answers are the child's: recorded there, handed over whole, equal here.
+TEST(FirstRead, TheChildsAnswersReachTheCaller) {
+  const fs::path file = testing::write_file(scratch("answers.bin"), "a file with answers");
+  const std::vector<double> values{1.5, -0.0, 1e-300, 7};
+  const auto walk = [&values] {
+    Hdf5Answers answers;
+    answers.record("pid", {false, encode_answer(static_cast<long>(::getpid()))});
+    answers.record(hdf5_question("doubles", "/x"), {false, encode_answer(values)});
+    answers.record(hdf5_question("strings", "/y"), {true, "FILE: /y: data corrupted"});
+    return answers;
   };
-  const auto take = [fd, &take_blocks] {
-    const Addresses addresses = take_blocks();
-    if (::write(fd, addresses.data(), sizeof addresses) != sizeof addresses) _exit(3);
-  };
-  for (int round = 0; round < 3; ++round) {
-    ASSERT_EQ(::lseek(fd, 0, SEEK_SET), 0);
-    testing::write_file(file, "a file whose reader takes memory, round " + std::to_string(round));
-    const FirstRead first = check_first_read(file, take);
-    const Addresses mine = take_blocks();
-    first.keep();
-    Addresses childs{};
-    std::ifstream in(where, std::ios::binary);
-    in.read(reinterpret_cast<char*>(childs.data()), sizeof childs);
-    ASSERT_TRUE(in) << "the child wrote no addresses";
-    EXPECT_EQ(mine, childs) << "round " << round;
-  }
-  ::close(fd);
+  const std::shared_ptr<const Hdf5Answers> answers = first_read(file, walk);
+  EXPECT_NE(walked_in(*answers), static_cast<long>(::getpid()));
+  const Hdf5Answers::Answer* x = answers->find(hdf5_question("doubles", "/x"));
+  ASSERT_NE(x, nullptr);
+  std::vector<double> read;
+  decode_answer(x->bytes, read);
+  EXPECT_EQ(read, values);
+  const Hdf5Answers::Answer* y = answers->find(hdf5_question("strings", "/y"));
+  ASSERT_NE(y, nullptr);
+  EXPECT_TRUE(y->failed);
+  EXPECT_EQ(y->bytes, "FILE: /y: data corrupted");
 }
 
-TEST(FirstRead, BytesThisProcessWroteNeedNoChild) {
+// A child that ends without handing answers over (its walk threw) read nothing usable.
+TEST(FirstRead, AChildWithoutAnswersIsARefusal) {
+  const fs::path file = testing::write_file(scratch("silent.bin"), "a file whose walk throws");
+  const auto throwing = []() -> Hdf5Answers { throw std::runtime_error("no answers"); };
+  try {
+    first_read(file, throwing);
+    FAIL() << "not refused";
+  } catch (const Hdf5Error& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string() + ": damaged: its reader's answers"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(FirstRead, BytesThisProcessWroteAreWalkedHere) {
   const std::string bytes = "bytes an Hdf5Writer committed";
   remember_readable(bytes);
   const fs::path file = testing::write_file(scratch("written.bin"), bytes);
   const MarkingRead read = marking("written");
-  check_first_read(file, read).keep();
-  EXPECT_EQ(read.children(), 0);
+  EXPECT_EQ(walked_in(*first_read(file, read)), static_cast<long>(::getpid()));
+  EXPECT_EQ(read.children(), 1);  // walked here
 }
 
 // A global heap collection as HDF5 writes one (its header, then objects of a 16-byte header
@@ -140,7 +155,7 @@ std::string collection(std::uint64_t first_length, std::uint64_t free_length) {
 TEST(FirstRead, AConsistentGlobalHeapIsRead) {
   const fs::path file = testing::write_file(scratch("heap.bin"), collection(5, 24));
   const MarkingRead read = marking("heap");
-  check_first_read(file, read).keep();
+  first_read(file, read);
   EXPECT_EQ(read.children(), 1);
 }
 
@@ -158,7 +173,7 @@ TEST(FirstRead, AGlobalHeapObjectPastItsCollectionIsRefusedUnread) {
     const fs::path file = testing::write_file(scratch("bad-heap.bin"), c.bytes);
     const MarkingRead read = marking("bad-heap");
     try {
-      check_first_read(file, read).keep();
+      first_read(file, read);
       FAIL() << "not refused";
     } catch (const Hdf5Error& e) {
       const std::string what = e.what();
@@ -173,12 +188,13 @@ TEST(FirstRead, AGlobalHeapObjectPastItsCollectionIsRefusedUnread) {
 
 TEST(FirstRead, ALoopIsRefusedAtTheBound) {
   const fs::path file = testing::write_file(scratch("loop.bin"), "bytes that loop a reader");
-  const auto loop = [] {
+  const auto loop = []() -> Hdf5Answers {
     for (volatile bool forever = true; forever;) {
     }
+    return {};
   };
   try {
-    check_first_read(file, loop).keep();
+    first_read(file, loop);
     FAIL() << "not refused";
   } catch (const Hdf5Error& e) {
     EXPECT_NE(

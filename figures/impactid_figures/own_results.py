@@ -50,7 +50,7 @@ class BadFile(Exception):
 # Columns with role "indicator" that are no indicator of accuracy to draw as a surface.
 NOT_DRAWN = {"practical", "wall_time_s", "wall_time_max_s", "steps", "dof_steps", "objective", "feasible"}
 LOG_INDICATORS = {"eps_p", "eps_v", "p_max", "p_max_ratio", "energy_ratio", "wall_time_s"}
-# The checksum of a file's attributes and text, as study/formats/hdf5_file.cpp computes it
+# The checksum of a file's attributes and text, as study/formats/hdf5_support.cpp computes it
 # (metadata_checksum): objects by path, attributes by name, each item a field (8-byte
 # little-endian length, then its bytes), CRC-32 over all fields.
 CHECKSUM_ATTRIBUTE = "impactid_checksum"

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -83,9 +84,9 @@ std::uint64_t little_endian(const unsigned char* p, int bytes) {
 // attribute and text dataset) without checking its objects' lengths against the collection
 // (H5HG__cache_heap_deserialize), then copies an object of the length it decoded (H5HG_read:
 // past the collection, a crash or not, depending on what lies there) or loops for ever on a
-// free-space object of length 0. Whether it crashes depends on the memory around the copy, so
-// a child that survived it says nothing of this process: the collections are walked here, as
-// HDF5 walks them, with the checks it lacks. A collection is found by its header, "GCOL",
+// free-space object of length 0. Whether it crashes depends on the memory around the copy, and
+// a child that survived it would hand over whatever lay there as text: the collections are
+// walked here first, as HDF5 walks them, with the checks it lacks. A collection is found by its header, "GCOL",
 // version 1, three zero bytes (8 bytes no number or text of a results file holds), then its
 // size; lengths are 8 bytes (HDF5's default, which impactid's files use). Returns what is
 // wrong with the first inconsistent collection, or nothing.
@@ -125,26 +126,40 @@ std::optional<std::string> inconsistent_global_heap(std::span<const unsigned cha
   return std::nullopt;
 }
 
-// What this process learnt, by digest. Bounded: past kMaxKept entries it starts again (a
-// forgotten file costs one more child, nothing else).
+// What this process learnt, by digest: the answers of bytes read before (or nothing, for
+// bytes it wrote: those are walked here) and the refusals. Bounded: past kMaxKept entries or
+// kMaxKeptBytes of answers it starts again (a forgotten file costs one more child, nothing else).
+struct Kept {
+  ChildOutcome outcome;
+  std::shared_ptr<const Hdf5Answers> answers;  // null: bytes this process wrote
+};
+
 class FirstReads {
  public:
-  std::optional<ChildOutcome> find(const Digest& digest) {
+  std::optional<Kept> find(const Digest& digest) {
     std::lock_guard lock(mutex_);
-    const auto at = outcomes_.find(digest);
-    if (at == outcomes_.end()) return std::nullopt;
+    const auto at = kept_.find(digest);
+    if (at == kept_.end()) return std::nullopt;
     return at->second;
   }
-  void keep(const Digest& digest, const ChildOutcome& outcome) {
+  void keep(const Digest& digest, Kept kept) {
     std::lock_guard lock(mutex_);
-    if (outcomes_.size() >= kMaxKept) outcomes_.clear();
-    outcomes_[digest] = outcome;
+    const std::size_t size = kept.answers ? kept.answers->size_in_bytes() : 0;
+    if (size > kMaxKeptBytes) return;  // read again if asked again
+    if (kept_.size() >= kMaxKept || bytes_ + size > kMaxKeptBytes) {
+      kept_.clear();
+      bytes_ = 0;
+    }
+    bytes_ += size;
+    kept_.insert_or_assign(digest, std::move(kept));
   }
 
  private:
   static constexpr std::size_t kMaxKept = 4096;
+  static constexpr std::size_t kMaxKeptBytes = std::size_t{64} << 20;
   std::mutex mutex_;
-  std::unordered_map<Digest, ChildOutcome> outcomes_;
+  std::unordered_map<Digest, Kept> kept_;
+  std::size_t bytes_ = 0;
 };
 
 FirstReads& first_reads() {
@@ -154,24 +169,15 @@ FirstReads& first_reads() {
 
 constexpr const char* kWhatToDo = " (the file is damaged; use a backup or run it again)";
 
+// The child's exit status when its answers could not be written to the pipe.
+constexpr int kAnswersNotSent = 70;
+
 }  // namespace
 
-// Why the parent touches no heap from the child's start to its own read: HDF5 1.10 reads memory
-// it never set on some damaged files (it frees a damaged group's link table entries it never
-// filled; it frees object-header blocks from its free lists), and what that memory holds is
-// whatever the heap held. The child starts from this process's heap as it is at the fork; if
-// the parent then takes or gives back memory before its own read (a digest kept in the cache,
-// a message string freed), its HDF5 calls get other blocks than the child's, and a file the
-// child read without harm crashed the parent (results_fuzzer findings). With the heap left
-// as it was, the parent's read takes the child's path through the same memory. So the digest
-// is kept in an array, the messages are made only when the file is refused, and the outcome is
-// kept by the caller (FirstRead::keep) after its read.
-FirstRead check_first_read(const std::filesystem::path& path,
-                           const std::function<void()>& read_everything) {
-  FirstRead first;
-  bool has_digest = false;
+std::shared_ptr<const Hdf5Answers> first_read(const std::filesystem::path& path,
+                                               const std::function<Hdf5Answers()>& walk) {
+  Digest digest;
   double seconds = kFirstReadSeconds;
-  std::optional<ChildOutcome> outcome;
   {
     const MappedFile mapped(path);
     const std::span<const unsigned char> bytes = mapped.bytes();
@@ -183,50 +189,58 @@ FirstRead check_first_read(const std::filesystem::path& path,
     if (!bytes.empty()) {
       Sha256 sha;
       sha.add(bytes.data(), bytes.size());
-      const Digest digest = sha.digest();
-      std::copy_n(digest.begin(), std::min(digest.size(), first.digest_.size()),
-                  first.digest_.begin());
-      has_digest = true;
-      outcome = first_reads().find(digest);
+      digest = sha.digest();
     }
-  }  // everything of the check given back before the child starts
-  if (!outcome) {
-    outcome = run_in_child(read_everything, seconds);
-    first.to_keep_ = has_digest && outcome->kind != ChildOutcome::Kind::not_run;
-    first.outcome_ = *outcome;
   }
+  const auto walk_here = [&] { return std::make_shared<const Hdf5Answers>(walk()); };
   const auto refuse = [&](const std::string& why) {
-    first.keep();  // this process reads no more of it: memory is free to use
     return Hdf5Error(path.string() + ": damaged: " + why +
-                     "; it was read first in a separate process, so nothing else is lost" +
-                     kWhatToDo);
+                     "; it was read in a separate process, so nothing else is lost" + kWhatToDo);
   };
-  switch (outcome->kind) {
+  std::optional<Kept> kept = digest.empty() ? std::nullopt : first_reads().find(digest);
+  if (!kept) {
+    // The file cannot be read (missing, empty, unreadable: the walk says why) or is new here.
+    Kept fresh;
+    fresh.outcome = run_in_child(
+        [&](int output) {
+          if (!write_output(output, walk().serialized())) _exit(kAnswersNotSent);
+        },
+        seconds);
+    if (fresh.outcome.kind == ChildOutcome::Kind::not_run) return walk_here();  // no child
+    if (fresh.outcome.kind == ChildOutcome::Kind::ended) {
+      try {
+        fresh.answers = std::make_shared<const Hdf5Answers>(Hdf5Answers::parse(fresh.outcome.output));
+        fresh.outcome.output.clear();
+      } catch (const std::runtime_error& e) {
+        throw refuse(std::string("its reader's answers were unreadable (") + e.what() + ")");
+      }
+    }
+    if (!digest.empty()) first_reads().keep(digest, fresh);
+    kept = std::move(fresh);
+  }
+  switch (kept->outcome.kind) {
     case ChildOutcome::Kind::crashed:
-      throw refuse("reading it crashes HDF5 (" +
-                   (outcome->signal ? std::string(strsignal(outcome->signal))
-                                    : "exit status " + std::to_string(outcome->exit_status)) +
-                   ")");
+      throw refuse(
+          "reading it crashes HDF5 (" +
+          (kept->outcome.signal ? std::string(strsignal(kept->outcome.signal))
+                                : "exit status " + std::to_string(kept->outcome.exit_status)) +
+          ")");
     case ChildOutcome::Kind::timed_out:
       throw refuse("reading it did not end within " + std::to_string(std::lround(seconds)) + " s");
     case ChildOutcome::Kind::ended:
     case ChildOutcome::Kind::not_run:
       break;
   }
-  return first;
-}
-
-void FirstRead::keep() const {
-  if (to_keep_) first_reads().keep(Digest(digest_.data(), digest_.size()), outcome_);
+  return kept->answers ? kept->answers : walk_here();
 }
 
 void remember_readable(std::span<const char> image) {
   if (image.size() > kRememberedImageBytes) return;
   Sha256 sha;
   sha.add(image.data(), image.size());
-  ChildOutcome ended;
-  ended.kind = ChildOutcome::Kind::ended;
-  first_reads().keep(sha.digest(), ended);
+  Kept written;
+  written.outcome.kind = ChildOutcome::Kind::ended;
+  first_reads().keep(sha.digest(), written);
 }
 
 }  // namespace impactid

@@ -1,56 +1,42 @@
-// The first read of an HDF5 file in this process, in a child process
-// (study/formats/child_process.hpp), and what it taught: Hdf5Reader asks before it opens a file
+// The reading of an HDF5 file's bytes in a child process (study/formats/child_process.hpp):
+// Hdf5Reader's walk of the whole file runs there and hands its answers over
+// (study/formats/hdf5_answers.hpp), so that HDF5 never parses bytes this process did not write
 // (study/formats/hdf5_file.hpp says why).
 //
-// Outcomes are kept by the SHA-256 of the file's bytes, so a file read again (a results file
-// opened by several readers in one command, a file this process wrote and reads back) costs no
-// second child, and a damaged one is refused at once instead of after the bound again. Bytes
-// are what HDF5 parses, so the same bytes take the same paths; a file whose bytes changed is a
-// new file.
+// What was learnt is kept by the SHA-256 of the file's bytes, so a file read again (a results
+// file opened by several readers in one command) costs no second child, and a damaged one is
+// refused at once instead of after the bound again. Bytes are what HDF5 parses, so the same
+// bytes give the same answers; a file whose bytes changed is a new file.
 #pragma once
 
-#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <span>
 
-#include "study/formats/child_process.hpp"
+#include "study/formats/hdf5_answers.hpp"
 
 namespace impactid {
 
-/// The bound on the first read of a file under 10 MB (1 s more per 10 MB): reading a results
+/// The bound on a child's reading of a file under 10 MB (1 s more per 10 MB): reading a results
 /// file takes milliseconds, under the sanitizers tens of them; a damaged one can loop forever.
 inline constexpr double kFirstReadSeconds = 5;
 
-/// What check_first_read learnt of a file that did not fail, for the caller to keep once it has
-/// read the file itself (keep()): keeping it takes memory, and between the child's start and
-/// the caller's own read this process must not touch its heap (first_read.cpp says why).
-class FirstRead {
- public:
-  void keep() const;
+/// The answers of the file at `path`: what `walk` (a walk of the whole file that records every
+/// answer a reader may ask for, going on past errors) records. Bytes this process wrote are
+/// walked in this process; other bytes in a child process unless they were answered before.
+/// Throws Hdf5Error "PATH: damaged: …" when the file's global heap collections are
+/// inconsistent (first_read.cpp says why they are checked first), or when the child crashed or
+/// did not end within the bound. When no child can be started (fork failed: no memory, no
+/// process slot) the walk runs in this process, the one way left to read the file.
+std::shared_ptr<const Hdf5Answers> first_read(const std::filesystem::path& path,
+                                               const std::function<Hdf5Answers()>& walk);
 
- private:
-  friend FirstRead check_first_read(const std::filesystem::path& path,
-                                    const std::function<void()>& read_everything);
-  std::array<char, 32> digest_{};  // SHA-256
-  bool to_keep_ = false;
-  ChildOutcome outcome_;
-};
-
-/// Checks the file's global heap collections (first_read.cpp says why), then runs
-/// `read_everything` (a walk of the whole file at `path`, the same calls the caller makes next)
-/// in a child process unless these bytes were read before. Throws Hdf5Error "PATH: damaged: …"
-/// for an inconsistent collection, or when the child crashed or did not end within the bound;
-/// returns otherwise (fork failed: nothing learnt, the caller reads as before), and the caller
-/// then reads the file at once, before anything else takes or gives back memory.
-[[nodiscard]] FirstRead check_first_read(const std::filesystem::path& path,
-                                         const std::function<void()>& read_everything);
-
-/// Files HDF5 wrote in this process (Hdf5Writer::commit's image): readable by construction.
-/// Only images up to kRememberedImageBytes: the digest costs about 2 ms per MB at every commit,
-/// and a large sweep's checkpoints (160 MB at 10⁶ points) are read back by a later process,
-/// which reads them in a child anyway.
+/// Files HDF5 wrote in this process (Hdf5Writer::commit's image): readable by construction, so
+/// walked in this process. Only images up to kRememberedImageBytes: the digest costs about 2 ms
+/// per MB at every commit, and a large sweep's checkpoints (160 MB at 10⁶ points) are read back
+/// by a later process, which reads them in a child anyway.
 inline constexpr std::size_t kRememberedImageBytes = std::size_t{16} << 20;
 void remember_readable(std::span<const char> image);
 

@@ -34,16 +34,18 @@
 //
 // Checksums are checked after HDF5 has parsed the structures holding them, and HDF5 1.10.8
 // trusts some of those blindly: a damaged global-heap collection (where variable-length strings
-// live, the plan's text among them) makes it copy ~10^18 bytes (SIGSEGV) or loop forever
-// (scripts/fuzz's results fuzzer found both in about a hundred byte flips). So a Hdf5Reader
-// first walks the file's global heap collections with the checks HDF5 lacks (a copy past a
-// collection crashes or not depending on the memory around it: no trial read can rule it
-// out), then reads the file in a child process (study/formats/first_read.hpp): everything in it,
-// every object, attribute, dataset and dimension scale. A child that crashes or does not end
-// within kFirstReadSeconds (+ 1 s per 10 MB) makes the Hdf5Error "FILE: damaged: reading it
-// crashes HDF5 (…)"; a child that ends (the walk raised errors or not) lets this process read
-// the same bytes, which take the same paths, so whatever error it meets is the one reported.
-// Bytes read once, or written by this process, are not read in a child again.
+// live, the plan's text among them) makes it copy ~10^18 bytes (SIGSEGV) or loop forever, and
+// damaged groups and object headers make it free memory it never set, at once or in a later
+// reader of the same bytes (scripts/fuzz's results fuzzer found each). So HDF5 never parses, in
+// this process, bytes this process did not write. A Hdf5Reader first walks the file's global
+// heap collections with the checks HDF5 lacks (a copy past a collection crashes or not
+// depending on the memory around it: no trial read can rule it out), then reads the whole file
+// in a child process (study/formats/first_read.hpp): every object, attribute, dataset and
+// dimension scale, each answer or error recorded (study/formats/hdf5_answers.hpp) and handed
+// back; the reader answers from them. A child that crashes or does not end within
+// kFirstReadSeconds (+ 1 s per 10 MB) makes the Hdf5Error "FILE: damaged: reading it crashes
+// HDF5 (…)". Bytes read once are answered again from memory; bytes this process wrote are read
+// here, without a child.
 //
 // Files track the creation order of their root group's links and attributes (as netCDF-4
 // does), so members() and attribute_names() list them in the order they were written.
@@ -55,14 +57,18 @@
 #include <H5Cpp.h>
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "study/formats/hdf5_error.hpp"
 
 namespace impactid {
+
+class Hdf5Answers;
 
 using Hdf5Dims = std::vector<hsize_t>;
 
@@ -120,9 +126,10 @@ class Hdf5Writer {
 };
 
 /// Read access to a results file. Throws Hdf5Error naming the file for a missing, truncated or
-/// corrupt file and for a missing object. Opening reads the whole file once in a child process
-/// (above), then checks the checksum of the attributes and text; each dataset read checks its
-/// Fletcher32 (HDF5 does); a mismatch throws "FILE: OBJECT: data corrupted: …".
+/// corrupt file and for a missing object. Opening reads the whole file once (above), checking
+/// the checksum of the attributes and text and each dataset's Fletcher32; the accessors then
+/// answer from what was read, each throwing the error its reading met ("FILE: OBJECT: data
+/// corrupted: …" for a checksum that does not match). Copies share what was read.
 class Hdf5Reader {
  public:
   explicit Hdf5Reader(const std::filesystem::path& path,
@@ -157,12 +164,14 @@ class Hdf5Reader {
   std::vector<std::string> attached_scales(const std::string& dataset, unsigned index) const;
 
  private:
-  void open(UncheckedFile unchecked);
-  /// Reads everything in the file, going on past errors: the child's walk.
-  void read_everything() const;
+  template <class T>
+  T answer(std::string_view what, const std::string& object,
+           const std::string& argument = {}) const;
+  Hdf5Error unanswered(std::string_view what, const std::string& object,
+                       const std::string& argument) const;
 
   std::filesystem::path path_;
-  mutable H5::H5File file_;  // HDF5 opens objects through non-const handles
+  std::shared_ptr<const Hdf5Answers> answers_;
   bool checksummed_ = false;
 };
 
