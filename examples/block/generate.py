@@ -66,7 +66,7 @@ eigenfrequencies (3 rigid modes ~ 0).
 import argparse
 import os
 import sys
-from decimal import Decimal, ROUND_CEILING, ROUND_FLOOR
+from decimal import ROUND_CEILING, ROUND_FLOOR
 
 import numpy as np
 import scipy.io
@@ -74,6 +74,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import getfem as gf
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from getfem_export import fmt, round_sig, to_scipy, write_mtx  # noqa: E402
 
 E = 200e3  # MPa
 NU = 0.3
@@ -85,35 +88,6 @@ N_TRANSITS = 1.5  # times the two-way transit 2H/c_p after first contact
 DROP_TOL = 1e-12  # relative to max|K|: assembled round-off entries of K below it are dropped
 
 DEFAULTS = {"nx": 40, "ny": 20, "width": 20.0, "height": 10.0}
-
-
-def round_sig(x, digits, rounding):
-    """Round a positive float to `digits` significant digits (decimal)."""
-    d = Decimal(repr(float(x)))
-    quantum = Decimal(1).scaleb(d.adjusted() - digits + 1)
-    return float(d.quantize(quantum, rounding=rounding))
-
-
-def to_scipy(spmat):
-    """getfem Spmat -> scipy CSC matrix with sorted indices."""
-    n, m = (int(s) for s in spmat.size())
-    jc, ir = spmat.csc_ind()
-    val = spmat.csc_val()
-    a = sp.csc_matrix((np.asarray(val, dtype=float), np.asarray(ir), np.asarray(jc)),
-                      shape=(n, m))
-    a.sum_duplicates()
-    a.sort_indices()
-    return a
-
-
-def write_mtx(path, a):
-    a = sp.coo_matrix(a)
-    scipy.io.mmwrite(path, a, symmetry="symmetric", precision=17)
-
-
-def fmt(x):
-    """Shortest round-trip float text (valid TOML / CSV)."""
-    return repr(float(x))
 
 
 def main():
