@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cstring>
 #include <random>
 
 namespace impactid {
@@ -91,6 +92,46 @@ TEST(ContactLcp, DecoupledConstraintsNeedOneSolve) {
   EXPECT_EQ(solve_contact_lcp(d, p, 2, mu), 0);
   EXPECT_EQ(mu[0], 0.5);
   EXPECT_EQ(mu[1], 0.0);
+}
+
+// The O(m) path for a diagonal D gives the general solver's bits (its Cholesky of D_SS reduces
+// exactly to (p/√d)/√d, or p/d for one penetrating constraint), for any mix of signs and sizes
+// up to a block's or a beam's face of contacts.
+TEST(ContactLcp, ADiagonalProblemIsSolvedInLinearTimeToTheSameBits) {
+  std::mt19937_64 random(20261128);
+  std::uniform_real_distribution<double> positive(1e-3, 1e3), signed_value(-1.0, 1.0);
+  for (const int m : {1, 2, 3, 17, 121, 300}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      Eigen::MatrixXd d = Eigen::MatrixXd::Zero(m, m);
+      Eigen::VectorXd p(m);
+      for (int k = 0; k < m; ++k) {
+        d(k, k) = positive(random);
+        // A few penetrating constraints, one, all, or none of them.
+        const double share = trial % 4 == 0 ? 1.0 : trial % 4 == 1 ? 0.0 : 0.3;
+        p[k] = (signed_value(random) + 1.0) / 2.0 < share ? positive(random) : -positive(random);
+      }
+      if (trial == 3) p.setConstant(-1.0), p[m / 2] = 2.5;  // exactly one
+      ASSERT_TRUE(is_positive_diagonal(d.data(), m));
+      ContactLcpWorkspace workspace;
+      workspace.resize(m);
+      Eigen::VectorXd general(m), fast(m);
+      EXPECT_EQ(solve_contact_lcp(d.data(), p.data(), m, general.data(), workspace), 0);
+      EXPECT_EQ(solve_diagonal_contact_lcp(d.data(), p.data(), m, fast.data()), 0);
+      for (int k = 0; k < m; ++k) {
+        ASSERT_EQ(std::memcmp(&general[k], &fast[k], sizeof(double)), 0)
+            << "m = " << m << ", trial " << trial << ", k = " << k << ": " << general[k]
+            << " vs " << fast[k];
+      }
+    }
+  }
+  // Not diagonal: an off-diagonal entry, a zero or negative pivot.
+  Eigen::MatrixXd d = Eigen::MatrixXd::Identity(3, 3);
+  d(2, 0) = 1e-300;
+  EXPECT_FALSE(is_positive_diagonal(d.data(), 3));
+  d(2, 0) = 0.0, d(1, 1) = 0.0;
+  EXPECT_FALSE(is_positive_diagonal(d.data(), 3));
+  d(1, 1) = -1.0;
+  EXPECT_FALSE(is_positive_diagonal(d.data(), 3));
 }
 
 }  // namespace

@@ -118,4 +118,30 @@ int solve_contact_lcp(const double* d, const double* p, int m, double* mu, Conta
   return solve(d, p, m, mu, {w.factor.data(), m, w.rhs.data(), w.active.data(), w.in.data()}, cap);
 }
 
+bool is_positive_diagonal(const double* d, int m) {
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < m; ++i) {
+      if (i == j ? !(d[i + m * j] > 0.0) : d[i + m * j] != 0.0) return false;
+    }
+  }
+  return true;
+}
+
+int solve_diagonal_contact_lcp(const double* d, const double* p, int m, double* mu) {
+  int count = 0;
+  for (int k = 0; k < m; ++k) count += p[k] > 0.0 ? 1 : 0;
+  for (int k = 0; k < m; ++k) {
+    const double dk = d[k + m * k];
+    if (!(p[k] > 0.0)) {
+      mu[k] = 0.0;
+    } else if (count == 1) {
+      mu[k] = p[k] / dk;  // solve_active's one-constraint answer
+    } else {
+      const double l = std::sqrt(dk);  // the Cholesky factor's diagonal; its other entries are 0
+      mu[k] = (p[k] / l) / l;
+    }
+  }
+  return 0;
+}
+
 }  // namespace impactid

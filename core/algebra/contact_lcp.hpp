@@ -56,4 +56,14 @@ struct ContactLcpWorkspace {
 int solve_contact_lcp(const double* delassus, const double* violation, int m, double* mu,
                       ContactLcpWorkspace& workspace);
 
+/// True when D is diagonal with a positive diagonal, exactly (contacts on distinct DOFs of a
+/// lumped mass under central difference: the contacts do not interact within a step).
+bool is_positive_diagonal(const double* delassus, int m);
+
+/// solve_contact_lcp for a D that is_positive_diagonal, in O(m) instead of a Cholesky factor of
+/// the active set per flip: the same bits, since with zero off-diagonals that factorisation
+/// reduces exactly to μ_k = (p_k/√d_kk)/√d_kk on the penetrating constraints (p_k/d_kk when
+/// there is one), and no flip follows (the penetrating set is the answer). Returns 0 (flips).
+int solve_diagonal_contact_lcp(const double* delassus, const double* violation, int m, double* mu);
+
 }  // namespace impactid

@@ -45,6 +45,8 @@ enum class PenaltyForm {
 struct ConstraintListProblem {
   Eigen::MatrixXd delassus;   ///< m × m, symmetric positive definite
   Eigen::MatrixXd penalized;  ///< D + diag(compliance); empty for lagrange
+  /// Each is_positive_diagonal (core/algebra/contact_lcp.hpp): its LCP is solved in O(m).
+  bool delassus_diagonal = false, penalized_diagonal = false;
 };
 
 /// g = −gap + x[plus] − x[minus] of one constraint (> 0: penetration), in this order of operations
