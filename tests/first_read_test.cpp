@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <optional>
 #include <csignal>
 #include <cstdint>
 #include <cstdlib>
@@ -50,8 +51,8 @@ MarkingRead marking(const std::string& name) {
 }
 
 long walked_in(const Hdf5Answers& answers) {
-  const Hdf5Answers::Answer* pid = answers.find("pid");
-  EXPECT_NE(pid, nullptr);
+  const std::optional<Hdf5Answers::Answer> pid = answers.find("pid");
+  EXPECT_TRUE(pid.has_value());
   long value = 0;
   if (pid) decode_answer(pid->bytes, value);
   return value;
@@ -102,13 +103,13 @@ TEST(FirstRead, TheChildsAnswersReachTheCaller) {
   };
   const std::shared_ptr<const Hdf5Answers> answers = first_read(file, walk);
   EXPECT_NE(walked_in(*answers), static_cast<long>(::getpid()));
-  const Hdf5Answers::Answer* x = answers->find(hdf5_question("doubles", "/x"));
-  ASSERT_NE(x, nullptr);
+  const std::optional<Hdf5Answers::Answer> x = answers->find(hdf5_question("doubles", "/x"));
+  ASSERT_TRUE(x.has_value());
   std::vector<double> read;
   decode_answer(x->bytes, read);
   EXPECT_EQ(read, values);
-  const Hdf5Answers::Answer* y = answers->find(hdf5_question("strings", "/y"));
-  ASSERT_NE(y, nullptr);
+  const std::optional<Hdf5Answers::Answer> y = answers->find(hdf5_question("strings", "/y"));
+  ASSERT_TRUE(y.has_value());
   EXPECT_TRUE(y->failed);
   EXPECT_EQ(y->bytes, "FILE: /y: data corrupted");
 }

@@ -209,7 +209,8 @@ std::shared_ptr<const Hdf5Answers> first_read(const std::filesystem::path& path,
     if (fresh.outcome.kind == ChildOutcome::Kind::not_run) return walk_here();  // no child
     if (fresh.outcome.kind == ChildOutcome::Kind::ended) {
       try {
-        fresh.answers = std::make_shared<const Hdf5Answers>(Hdf5Answers::parse(fresh.outcome.output));
+        fresh.answers = std::make_shared<const Hdf5Answers>(
+            Hdf5Answers::parse(std::move(fresh.outcome.output)));
         fresh.outcome.output.clear();
       } catch (const std::runtime_error& e) {
         throw refuse(std::string("its reader's answers were unreadable (") + e.what() + ")");

@@ -61,38 +61,37 @@ T decode_number(std::string_view bytes) {
 
 }  // namespace
 
-void Hdf5Answers::record(std::string question, Answer answer) {
-  bytes_ += question.size() + answer.bytes.size();
-  answers_.insert_or_assign(std::move(question), std::move(answer));
+void Hdf5Answers::record(std::string_view question, Answer answer) {
+  put_text(records_, question);
+  records_ += answer.failed ? '\1' : '\0';
+  put_count(records_, answer.bytes.size());
+  places_.insert_or_assign(std::string(question),
+                           Place{answer.failed, records_.size(), answer.bytes.size()});
+  records_.append(answer.bytes);
 }
 
-const Hdf5Answers::Answer* Hdf5Answers::find(const std::string& question) const {
-  const auto at = answers_.find(question);
-  return at == answers_.end() ? nullptr : &at->second;
+std::optional<Hdf5Answers::Answer> Hdf5Answers::find(const std::string& question) const {
+  const auto at = places_.find(question);
+  if (at == places_.end()) return std::nullopt;
+  const Place& p = at->second;
+  return Answer{p.failed, std::string_view(records_).substr(p.offset, p.length)};
 }
 
-std::string Hdf5Answers::serialized() const {
-  std::string out;
-  out.reserve(bytes_ + answers_.size() * 24 + 8);
-  put_count(out, answers_.size());
-  for (const auto& [question, answer] : answers_) {
-    put_text(out, question);
-    out += answer.failed ? '\1' : '\0';
-    put_text(out, answer.bytes);
-  }
-  return out;
-}
-
-Hdf5Answers Hdf5Answers::parse(std::string_view bytes) {
-  Cursor in(bytes);
+Hdf5Answers Hdf5Answers::parse(std::string bytes) {
   Hdf5Answers answers;
-  const std::uint64_t n = in.count();
-  for (std::uint64_t k = 0; k < n; ++k) {
+  if (!std::string_view(bytes).starts_with(kMagic)) {
+    throw std::runtime_error("HDF5 answers without their header");
+  }
+  answers.records_ = std::move(bytes);
+  const std::string_view all(answers.records_);
+  Cursor in(all.substr(kMagic.size()));
+  while (!in.done()) {
     std::string question(in.text());
     const bool failed = in.take(1)[0] != '\0';
-    answers.record(std::move(question), {failed, std::string(in.text())});
+    const std::string_view value = in.text();
+    const auto offset = static_cast<std::size_t>(value.data() - all.data());
+    answers.places_.insert_or_assign(std::move(question), Place{failed, offset, value.size()});
   }
-  if (!in.done()) throw std::runtime_error("HDF5 answers followed by other bytes");
   return answers;
 }
 

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -22,24 +23,36 @@ class Hdf5Answers {
   /// A recorded answer: the value's bytes (encode_answer), or the error's message.
   struct Answer {
     bool failed = false;
-    std::string bytes;
+    std::string_view bytes;
   };
 
-  void record(std::string question, Answer answer);
-  /// The answer to `question`, or null when the walk did not ask it.
-  const Answer* find(const std::string& question) const;
+  /// Adds an answer (a question asked again replaces the earlier answer).
+  void record(std::string_view question, Answer answer);
+  /// The answer to `question` (its bytes a view into this object), or none when the walk did
+  /// not ask it.
+  std::optional<Answer> find(const std::string& question) const;
 
-  /// Every answer in one string of bytes, and back. parse() throws std::runtime_error for bytes
-  /// that are not such a string (cut short, or a count past its end).
-  std::string serialized() const;
-  static Hdf5Answers parse(std::string_view bytes);
+  /// Every answer in one string of bytes, and back: parse() keeps the string it is given and
+  /// answers from it (no copy of the values: a results file's are most of its size). It throws
+  /// std::runtime_error for bytes that are not such a string (cut short, a length past its end).
+  const std::string& serialized() const { return records_; }
+  static Hdf5Answers parse(std::string bytes);
 
   /// The bytes the answers hold (for a bounded cache).
-  std::size_t size_in_bytes() const { return bytes_; }
+  std::size_t size_in_bytes() const { return records_.size(); }
 
  private:
-  std::unordered_map<std::string, Answer> answers_;
-  std::size_t bytes_ = 0;
+  struct Place {
+    bool failed;
+    std::size_t offset, length;  // of the answer's bytes in records_
+  };
+  // The records in order, each its question, a failed flag and its bytes (lengths 8 bytes, in
+  // native order: the bytes never leave the machine), and where each question's answer lies.
+  // records_ starts with kMagic, so that no bytes at all (a child that wrote nothing) are not
+  // taken for a file without answers.
+  static constexpr std::string_view kMagic = "impactid HDF5 answers 1\n";
+  std::string records_{kMagic};
+  std::unordered_map<std::string, Place> places_;
 };
 
 /// A question's key: what is asked (the reader's function name), of which object, and its

@@ -256,10 +256,10 @@ class Walk {
     std::string question = hdf5_question(what, object, argument);
     try {
       auto value = read();
-      answers_.record(std::move(question), {false, encode_answer(value)});
+      answers_.record(question, {false, encode_answer(value)});
       return value;
     } catch (const std::exception& e) {
-      answers_.record(std::move(question), {true, e.what()});
+      answers_.record(question, {true, e.what()});
       return std::nullopt;
     }
   }
@@ -351,9 +351,9 @@ template <class T>
 T Hdf5Reader::answer(std::string_view what, const std::string& object,
                      const std::string& argument) const {
   const std::string at = absolute(object);
-  const Hdf5Answers::Answer* recorded = answers_->find(hdf5_question(what, at, argument));
+  const std::optional<Hdf5Answers::Answer> recorded = answers_->find(hdf5_question(what, at, argument));
   if (!recorded) throw unanswered(what, at, argument);
-  if (recorded->failed) throw Hdf5Error(as_asked(recorded->bytes, object, at));
+  if (recorded->failed) throw Hdf5Error(as_asked(std::string(recorded->bytes), object, at));
   T value{};
   try {
     decode_answer(recorded->bytes, value);
@@ -369,8 +369,8 @@ T Hdf5Reader::answer(std::string_view what, const std::string& object,
 Hdf5Error Hdf5Reader::unanswered(std::string_view what, const std::string& object,
                                  const std::string& argument) const {
   for (const char* kind : {"is_group", "type_class"}) {
-    const Hdf5Answers::Answer* a = answers_->find(hdf5_question(kind, object));
-    if (a && a->failed) return Hdf5Error(a->bytes);
+    const std::optional<Hdf5Answers::Answer> a = answers_->find(hdf5_question(kind, object));
+    if (a && a->failed) return Hdf5Error(std::string(a->bytes));
   }
   const std::string named = path_.string() + ": " + object;
   if (!exists(object)) return Hdf5Error(named + ": no such object in the file");
@@ -399,15 +399,15 @@ bool Hdf5Reader::exists(const std::string& path) const {
   const std::string object = absolute(path);
   if (object == "/") return true;
   const std::string group = parent_of(object);
-  if (const Hdf5Answers::Answer* members = answers_->find(hdf5_question("members", group))) {
-    if (members->failed) throw Hdf5Error(members->bytes);
+  if (const auto members = answers_->find(hdf5_question("members", group))) {
+    if (members->failed) throw Hdf5Error(std::string(members->bytes));
     std::vector<std::string> names;
     decode_answer(members->bytes, names);
     const std::string name = object.substr(group == "/" ? 1 : group.size() + 1);
     return std::find(names.begin(), names.end(), name) != names.end();
   }
-  if (const Hdf5Answers::Answer* a = answers_->find(hdf5_question("is_group", group))) {
-    if (a->failed) throw Hdf5Error(a->bytes);
+  if (const auto a = answers_->find(hdf5_question("is_group", group))) {
+    if (a->failed) throw Hdf5Error(std::string(a->bytes));
   }
   return false;  // inside a dataset, or inside an object that is not in the file
 }

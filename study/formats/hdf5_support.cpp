@@ -89,7 +89,7 @@ namespace {
 // index (H5Lget_name_by_idx, H5Aget_name_by_idx): for each name HDF5 1.10 builds a table of
 // every link or attribute, and when one of a damaged group's fails to decode it frees the
 // table's entries it never set (H5G__link_release_table), a crash that depends on what the heap
-// held (a results_fuzzer finding: the first-read child survived the file, the parent did not).
+// held (a results_fuzzer finding: one reading of the file survived it, the next did not).
 // Native iteration over dense storage reads them one at a time without that table.
 struct NamedEntry {
   std::string name;
