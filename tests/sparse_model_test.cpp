@@ -71,6 +71,58 @@ TEST(SparseFactorization, NamesTheDofOfANegativePivot) {
   EXPECT_EQ(f.failed_dof(), 3);
 }
 
+// The 7-point Laplacian of a side³ grid plus the identity, built sparse (a 3D model's pattern).
+SparseMatrix cube_matrix(int side) {
+  const int n = side * side * side;
+  std::vector<Eigen::Triplet<double>> entries;
+  const auto at = [side](int i, int j, int k) { return (k * side + j) * side + i; };
+  for (int k = 0; k < side; ++k) {
+    for (int j = 0; j < side; ++j) {
+      for (int i = 0; i < side; ++i) {
+        const int row = at(i, j, k);
+        entries.emplace_back(row, row, 7.0);
+        if (i > 0) entries.emplace_back(row, at(i - 1, j, k), -1.0);
+        if (i + 1 < side) entries.emplace_back(row, at(i + 1, j, k), -1.0);
+        if (j > 0) entries.emplace_back(row, at(i, j - 1, k), -1.0);
+        if (j + 1 < side) entries.emplace_back(row, at(i, j + 1, k), -1.0);
+        if (k > 0) entries.emplace_back(row, at(i, j, k - 1), -1.0);
+        if (k + 1 < side) entries.emplace_back(row, at(i, j, k + 1), -1.0);
+      }
+    }
+  }
+  SparseMatrix a(n, n);
+  a.setFromTriplets(entries.begin(), entries.end());
+  return a;
+}
+
+// The ordering is chosen by the factor's size: nested dissection (METIS) on a large 3D pattern,
+// where it stores far fewer entries; AMD below kMetisMinimumSize (the shipped 2D block among
+// them); none for a diagonal matrix. The solves agree either way.
+TEST(SparseFactorization, ChoosesNestedDissectionForALarge3dPatternAndAmdOtherwise) {
+  const SparseMatrix cube = cube_matrix(24);  // 13,824 unknowns
+  ASSERT_GE(cube.rows(), kMetisMinimumSize);
+  SparseFactorization f;
+  ASSERT_TRUE(f.factor(cube));
+  EXPECT_EQ(f.ordering(), SparseOrdering::metis);
+  Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(cube.rows(), -1.0, 2.0);
+  const Eigen::VectorXd rhs = b;
+  f.solve_in_place(b);
+  EXPECT_LT((cube * b - rhs).norm(), 1e-12 * rhs.norm());
+  // AMD's factor of the same matrix, for the record of what METIS saved.
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> amd(cube);
+  const auto amd_entries = amd.matrixL().nestedExpression().nonZeros();
+  EXPECT_LE(static_cast<double>(f.factor_nonzeros()), kMetisSaving * amd_entries)
+      << f.factor_nonzeros() << " against AMD's " << amd_entries;
+
+  SparseFactorization small;
+  ASSERT_TRUE(small.factor(cube_matrix(12)));  // 1,728 unknowns
+  EXPECT_EQ(small.ordering(), SparseOrdering::amd);
+  SparseFactorization diagonal;
+  ASSERT_TRUE(diagonal.factor(sparse(Eigen::MatrixXd::Identity(4, 4))));
+  EXPECT_EQ(diagonal.ordering(), SparseOrdering::none);
+  EXPECT_EQ(ordering_name(SparseOrdering::metis), "metis");
+}
+
 // Two masses m joined by a spring k, flying at v0 toward a wall at `gap` from the second one.
 // At the impact the second node stops (the Lagrange multiplier's impulse); then it stays on the
 // wall while the first compresses the spring: λ = k·(u1 − u2) = v0·√(k·m)·sin(ω·s), ω = √(k/m),
