@@ -3,6 +3,7 @@ sparse matrices as SciPy's, Matrix Market files as impactid reads them, decimal 
 time step and shortest round-trip number text. Imported by each generator from its parent
 folder."""
 
+import os
 from decimal import Decimal
 
 import numpy as np
@@ -37,3 +38,22 @@ def write_mtx(path, a):
 def fmt(x):
     """Shortest round-trip float text (valid TOML / CSV)."""
     return repr(float(x))
+
+
+class Verdicts:
+    """--check's verdicts: each a measured value against its limit, printed, all of them
+    passed or not."""
+
+    def __init__(self):
+        self.ok = True
+
+    def __call__(self, name, value, limit):
+        good = bool(value <= limit)
+        self.ok = self.ok and good
+        print(f"  [{'ok' if good else 'FAIL'}] {name}: {value:.3e} (limit {limit:.0e})")
+
+    def read_back(self, outdir, matrices):
+        """Each (file, matrix): the Matrix Market file read back equals the matrix exactly."""
+        for fn, a in matrices:
+            b = sp.csc_matrix(scipy.io.mmread(os.path.join(outdir, fn)))
+            self(f"{fn} read back: max |file - matrix|", abs(b - a).max(), 0.0)

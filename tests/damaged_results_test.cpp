@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -29,32 +30,40 @@ fs::path scratch(const std::string& name) {
   return testing::scratch_path("damaged_results_test", name);
 }
 
-TEST(DamagedResults, EveryFindingOfTheResultsFuzzerIsRefusedByName) {
-  // Under the sanitizers: HDF5's own leak on a damaged header (fuzz/lsan.supp says which) would
-  // end every refusal with LeakSanitizer's report; the caller's LSAN_OPTIONS win.
-  const std::string leaks =
-      "suppressions=" + (fs::path(IMPACTID_SOURCE_DIR) / "fuzz" / "lsan.supp").string();
-  ::setenv("LSAN_OPTIONS", leaks.c_str(), 0);
-  const Plan plan = parse_plan(fuzzing::kBasePlan, scratch("fuzz.toml"));
-  const fs::path folder = scratch("bases");
+// The fuzzer's findings as files: each fuzz/corpus/results/regression-hdf5-* input applied to
+// the fuzzer's base files, written as SCRATCH/<name><suffix>.h5. Returns (name, file) pairs.
+std::vector<std::pair<std::string, fs::path>> finding_files(const std::string& suffix) {
+  const Plan plan = parse_plan(fuzzing::kBasePlan, scratch("fuzz" + suffix + ".toml"));
+  const fs::path folder = scratch("bases" + suffix);
   fs::create_directories(folder);
   const std::vector<std::string> bases = fuzzing::write_bases(plan, folder);
-  ASSERT_FALSE(bases[0].empty());
-  ASSERT_FALSE(bases[1].empty());
-  int replayed = 0;
+  EXPECT_FALSE(bases[0].empty());
+  EXPECT_FALSE(bases[1].empty());
+  std::vector<std::pair<std::string, fs::path>> files;
   for (const auto& entry :
        fs::directory_iterator(fs::path(IMPACTID_SOURCE_DIR) / "fuzz" / "corpus" / "results")) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("regression-hdf5-", 0) != 0) continue;
     std::ifstream in(entry.path(), std::ios::binary);
     const std::string input{std::istreambuf_iterator<char>(in), {}};
-    const fs::path file = scratch(name + ".h5");
-    {
-      const std::string bytes = fuzzing::apply_input(
-          bases, reinterpret_cast<const std::uint8_t*>(input.data()), input.size());
-      std::ofstream out(file, std::ios::binary | std::ios::trunc);
-      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    }
+    const fs::path file = scratch(name + suffix + ".h5");
+    const std::string bytes = fuzzing::apply_input(
+        bases, reinterpret_cast<const std::uint8_t*>(input.data()), input.size());
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    files.emplace_back(name, file);
+  }
+  return files;
+}
+
+TEST(DamagedResults, EveryFindingOfTheResultsFuzzerIsRefusedByName) {
+  // Under the sanitizers: HDF5's own leak on a damaged header (fuzz/lsan.supp says which) would
+  // end every refusal with LeakSanitizer's report; the caller's LSAN_OPTIONS win.
+  const std::string leaks =
+      "suppressions=" + (fs::path(IMPACTID_SOURCE_DIR) / "fuzz" / "lsan.supp").string();
+  ::setenv("LSAN_OPTIONS", leaks.c_str(), 0);
+  int replayed = 0;
+  for (const auto& [name, file] : finding_files("")) {
     const auto o = testing::run_impactid("export " + file.string() + " --csv " +
                                          scratch(name + "-csv").string());
     // A crash: -1 (the process did not exit), or 128 + the signal (the shell's report of it).
@@ -72,24 +81,8 @@ TEST(DamagedResults, EveryFindingOfTheResultsFuzzerIsRefusedByName) {
 // Each finding read 25 times in this process: the same refusal, or the same values, each time.
 // While a reader of one lives, HDF5 holds no file of this process open: the walk ran elsewhere.
 TEST(DamagedResults, EveryFindingReadOverAndOverInOneProcessGivesOneOutcome) {
-  const Plan plan = parse_plan(fuzzing::kBasePlan, scratch("fuzz-again.toml"));
-  const fs::path folder = scratch("bases-again");
-  fs::create_directories(folder);
-  const std::vector<std::string> bases = fuzzing::write_bases(plan, folder);
   int refused = 0;
-  for (const auto& entry :
-       fs::directory_iterator(fs::path(IMPACTID_SOURCE_DIR) / "fuzz" / "corpus" / "results")) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind("regression-hdf5-", 0) != 0) continue;
-    std::ifstream in(entry.path(), std::ios::binary);
-    const std::string input{std::istreambuf_iterator<char>(in), {}};
-    const fs::path file = scratch(name + "-again.h5");
-    {
-      const std::string bytes = fuzzing::apply_input(
-          bases, reinterpret_cast<const std::uint8_t*>(input.data()), input.size());
-      std::ofstream out(file, std::ios::binary | std::ios::trunc);
-      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    }
+  for (const auto& [name, file] : finding_files("-again")) {
     std::string first;
     for (int round = 0; round < 25; ++round) {
       std::string outcome;

@@ -78,14 +78,13 @@ import sys
 from decimal import ROUND_CEILING, ROUND_FLOOR
 
 import numpy as np
-import scipy.io
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import getfem as gf
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from getfem_export import fmt, round_sig, to_scipy, write_mtx  # noqa: E402
+from getfem_export import Verdicts, fmt, round_sig, to_scipy, write_mtx  # noqa: E402
 
 E = 2e11  # Pa
 NU = 0.3
@@ -308,18 +307,9 @@ def main():
 
 
 def check(K_raw, K, M, m_diag, comp, nx, nyz, lateral, omega_max, start, out):
-    ok = True
-
-    def verdict(name, value, limit):
-        nonlocal ok
-        good = bool(value <= limit)
-        ok = ok and good
-        print(f"  [{'ok' if good else 'FAIL'}] {name}: {value:.3e} (limit {limit:.0e})")
-
+    verdict = Verdicts()
     print("checks:")
-    for fn, a in (("K.mtx", K), ("M.mtx", M)):
-        b = sp.csc_matrix(scipy.io.mmread(os.path.join(out, fn)))
-        verdict(f"{fn} read back: max |file - matrix|", abs(b - a).max(), 0.0)
+    verdict.read_back(out, (("K.mtx", K), ("M.mtx", M)))
     knorm = spla.norm(K_raw, "fro")
     verdict("asymmetry of assembled K, ||K - K^T||_F / ||K||_F",
             spla.norm(K_raw - K_raw.T, "fro") / knorm, 1e-14)
@@ -340,7 +330,7 @@ def check(K_raw, K, M, m_diag, comp, nx, nyz, lateral, omega_max, start, out):
                      return_eigenvectors=False)[0]
     verdict("omega_max: |shift-invert (K, M) - scaled LA| / omega_max",
             abs(np.sqrt(top) - omega_max) / omega_max, 1e-9)
-    return ok
+    return verdict.ok
 
 
 if __name__ == "__main__":

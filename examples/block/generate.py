@@ -69,14 +69,13 @@ import sys
 from decimal import ROUND_CEILING, ROUND_FLOOR
 
 import numpy as np
-import scipy.io
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import getfem as gf
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from getfem_export import fmt, round_sig, to_scipy, write_mtx  # noqa: E402
+from getfem_export import Verdicts, fmt, round_sig, to_scipy, write_mtx  # noqa: E402
 
 E = 200e3  # MPa
 NU = 0.3
@@ -257,18 +256,9 @@ def main():
 
 
 def check(mim, mf_u, K_raw, K, Mc, M, m_diag, comp, lam, mu, W, H, omega_max, v0, outdir):
-    ok = True
-
-    def verdict(name, value, limit):
-        nonlocal ok
-        good = bool(value <= limit)
-        ok = ok and good
-        print(f"  [{'ok' if good else 'FAIL'}] {name}: {value:.3e} (limit {limit:.0e})")
-
+    verdict = Verdicts()
     print("checks:")
-    for fn, a in (("K.mtx", K), ("M_consistent.mtx", Mc), ("M.mtx", M)):
-        b = sp.csc_matrix(scipy.io.mmread(os.path.join(outdir, fn)))
-        verdict(f"{fn} read back: max |file - matrix|", abs(b - a).max(), 0.0)
+    verdict.read_back(outdir, (("K.mtx", K), ("M_consistent.mtx", Mc), ("M.mtx", M)))
     knorm = spla.norm(K_raw, "fro")
     verdict("||K_written - K_assembled||_F / ||K||_F", spla.norm(K - K_raw, "fro") / knorm, 1e-15)
     verdict("asymmetry of assembled K, ||K - K^T||_F / ||K||_F",
@@ -310,7 +300,7 @@ def check(mim, mf_u, K_raw, K, Mc, M, m_diag, comp, lam, mu, W, H, omega_max, v0
     evc = spla.eigsh(K, k=1, M=Mc, sigma=10.0 * omega_max**2, which="LM", v0=v0,
                      return_eigenvectors=False)[0]
     print(f"  (for comparison: omega_max with the consistent mass = {np.sqrt(evc):.6e} rad/s)")
-    return ok
+    return verdict.ok
 
 
 if __name__ == "__main__":
