@@ -116,7 +116,7 @@ SparseMatrix effective_matrix(int side) {
           ? grid_scene(side)
           : *std::get<Simulation>(build(load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) /
                                                         "examples/block/scene.toml")))
-                 .model;
+                 .model();
   const ImplicitCoefficients c = implicit_coefficients(HhtParams{.alpha = -0.1});
   const double dt = scene.dt;
   return SparseMatrix((1.0 - c.alpha_m) * scene.model->mass +

@@ -110,7 +110,7 @@ py::dict used_parameters(const Simulation& sim) {
     const auto value = numeric_value(sim, info.name);
     if (value && std::isfinite(*value)) out[info.name] = *value;
   }
-  out["mass"] = to_string(sim.scene.mass);
+  out["mass"] = to_string(mass_key(sim));
   const MethodDescriptor& method = descriptor(sim.method);
   for (const auto& [name, word] : method.choices(sim.method)) out[name] = word;
   for (const ReportedValue& v : method.values(sim.method)) {
@@ -150,15 +150,15 @@ py::dict run_dict(const Simulation& sim, const Evaluation& e,
     if (ok && std::isfinite(v)) indicators[info.name] = v;  // NaN: not applicable to the scene
   }
   out["indicators"] = indicators;
-  if (!sim.bodies && !sim.model) out["pressure_scale"] = derive(sim.scene).pressure_scale;
+  if (const RodScene* rod = sim.rod()) out["pressure_scale"] = derive(*rod).pressure_scale;
   py::list contacts;
   std::vector<std::string> names;
-  if (sim.bodies) {
-    for (const SceneContact& c : scene_contacts(*sim.bodies)) names.push_back(c.name);
-    out["primary_contact"] = names[static_cast<std::size_t>(derive(*sim.bodies).primary_contact)];
-  } else if (sim.model) {
-    for (const ModelContact& c : sim.model->model->contacts) names.push_back(c.name);
-    out["primary_contact"] = names[static_cast<std::size_t>(primary_contact_index(*sim.model))];
+  if (sim.bodies()) {
+    for (const SceneContact& c : scene_contacts(*sim.bodies())) names.push_back(c.name);
+    out["primary_contact"] = names[static_cast<std::size_t>(derive(*sim.bodies()).primary_contact)];
+  } else if (sim.model()) {
+    for (const ModelContact& c : sim.model()->model->contacts) names.push_back(c.name);
+    out["primary_contact"] = names[static_cast<std::size_t>(primary_contact_index(*sim.model()))];
   }
   for (std::size_t k = 0; k < names.size() && k < e.contacts.size(); ++k) {
     const ContactIndicators& c = e.contacts[k];
@@ -184,7 +184,7 @@ py::dict run_dict(const Simulation& sim, const Evaluation& e,
   out["reference_error"] = finite_or_none(e.reference_error);
   py::list history;
   for (const HistoryColumn& c :
-       history_columns(sim, workspace.trace, sim.model ? &*workspace.model_reference : nullptr)) {
+       history_columns(sim, workspace.trace, sim.model() ? &*workspace.model_reference : nullptr)) {
     history.append(py::make_tuple(c.name, c.units, c.description, array_of(c.values)));
   }
   out["history"] = history;

@@ -154,9 +154,9 @@ TEST(ShippedPlans, IdenticalDissipationMatchesItsDefinition) {
   for (const Simulation& sim : sims) {
     kinds.push_back(kind_of(sim.method));
     // Omega = 1 is the highest mode of each point's own rod: 2*Courant with a lumped mass.
-    const RodSceneDerived d = derive(sim.scene);
+    const RodSceneDerived d = derive(*sim.rod());
     const double courant = d.time_step * d.wave_speed / d.element_length;
-    EXPECT_NEAR(rod_max_omega_dt(sim.scene.mass, courant), 1.0, 1e-12);
+    EXPECT_NEAR(rod_max_omega_dt(sim.rod()->mass, courant), 1.0, 1e-12);
   }
   for (const MethodKind kind :
        {MethodKind::central_difference, MethodKind::backward_euler, MethodKind::newmark,

@@ -261,7 +261,7 @@ struct ExpectedNaN {
 };
 
 ExpectedNaN expected_nan(const Simulation& sim, const RunSummary& summary) {
-  const RodScene& s = sim.scene;
+  const RodScene& s = *sim.rod();
   const double c = std::sqrt(s.youngs_modulus / s.density);
   const double dt = summary.dt;
   const long n = summary.planned_steps;

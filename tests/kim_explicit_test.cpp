@@ -350,7 +350,7 @@ TEST(KimExplicit, RunsOnAModelOfSparseMatrices) {
   SimulationWorkspace ws;
   const Simulation block = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*block.model);
+  const AssembledScene scene = assemble(*block.model());
   ASSERT_TRUE(scene.sparse);
   const RunSummary summary = simulate(scene, KimExplicitParams{}, RunOptions{}, ws);
   EXPECT_EQ(summary.status, RunStatus::ok) << summary.message;

@@ -448,7 +448,7 @@ TEST(KrAlpha, RunsOnAModelOfSparseMatrices) {
   SimulationWorkspace ws;
   const Simulation block = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*block.model);
+  const AssembledScene scene = assemble(*block.model());
   ASSERT_TRUE(scene.sparse);
   const RunSummary summary = simulate(scene, KrAlphaParams{}, RunOptions{}, ws);
   EXPECT_EQ(summary.status, RunStatus::ok) << summary.message;

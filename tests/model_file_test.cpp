@@ -71,8 +71,8 @@ TEST(ModelFile, ReadsAGoodModelAndRunsIt) {
   ASSERT_TRUE(std::holds_alternative<Simulation>(built))
       << std::get<ParameterError>(built).constraint;
   const Simulation sim = std::get<Simulation>(built);
-  EXPECT_EQ(sim.model->model->size(), 3);
-  EXPECT_EQ(sim.model->model->contacts.front().plus, 2);
+  EXPECT_EQ(sim.model()->model->size(), 3);
+  EXPECT_EQ(sim.model()->model->contacts.front().plus, 2);
   SimulationWorkspace ws;
   const Evaluation e = evaluate(sim, ws);
   EXPECT_EQ(e.summary.status, RunStatus::ok) << e.summary.message;
@@ -196,12 +196,12 @@ TEST(ModelFile, ReadsAReferenceHistoryFromHdf5) {
   const Simulation from_csv = std::get<Simulation>(build(load_scene_file(scene)));
   {  // the CSV's numbers as text, read back
     std::vector<double> tc, pc, vc;
-    for (const auto& sample : from_csv.model->model->reference->t) tc.push_back(sample);
+    for (const auto& sample : from_csv.model()->model->reference->t) tc.push_back(sample);
     Hdf5Writer h5(dir / "r.h5");
     h5.dataset("t", tc, Hdf5Dims{tc.size()});
-    h5.dataset("wall.pressure", from_csv.model->model->reference->contacts[0].pressure,
+    h5.dataset("wall.pressure", from_csv.model()->model->reference->contacts[0].pressure,
                Hdf5Dims{tc.size()});
-    h5.dataset("wall.velocity", from_csv.model->model->reference->contacts[0].velocity,
+    h5.dataset("wall.velocity", from_csv.model()->model->reference->contacts[0].velocity,
                Hdf5Dims{tc.size()});
     h5.commit();
   }
@@ -377,11 +377,11 @@ TEST(ModelReference, TheRodsConvergedReferenceApproachesTheExactSolutionWithTheM
     write_file(dir / "scene.toml", scene.substr(0, scene.find("[scene.reference]")));
     const Simulation model = std::get<Simulation>(build(load_scene_file(dir / "scene.toml")));
     const ModelReference r =
-        model_reference(*model.model, model_reference_defaults(*model.model->model));
+        model_reference(*model.model(), model_reference_defaults(*model.model()->model));
     ASSERT_TRUE(r.converged) << r.description();
     EXPECT_LT(r.change, 1e-3);
     EXPECT_EQ(kind_of(r.options.method), MethodKind::central_difference);
-    const RodImpactExact exact(rod.scene);
+    const RodImpactExact exact(*rod.rod());
     double dp = 0, sp = 0, dv = 0, sv = 0;
     for (std::size_t i = 0; i < r.contacts[0].pressure.size(); ++i) {
       const ContactNodeValues e = exact.at_sample(static_cast<long>(i) + 1);
@@ -405,7 +405,7 @@ TEST(ModelReference, TheRodsConvergedReferenceApproachesTheExactSolutionWithTheM
 TEST(ModelExample, TheBlockKeepsTheSignoriniConditionsAfterEveryStep) {
   const Simulation sim = std::get<Simulation>(
       build(load_scene_file(fs::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*sim.model);
+  const AssembledScene scene = assemble(*sim.model());
   ASSERT_TRUE(scene.sparse);
   const SparseSystem& system = *scene.sparse;
   for (const MethodParams& method :

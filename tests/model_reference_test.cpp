@@ -55,7 +55,7 @@ Simulation model_simulation(const fs::path& scene, const std::string& reference_
 // the last change and that difference.
 TEST(ModelReference, IsCheckedByASecondMethodOfAnotherFamily) {
   const Simulation sim = model_simulation(three_dof_model("check"));
-  const ModelReference r = model_reference(*sim.model, reference_options(sim));
+  const ModelReference r = model_reference(*sim.model(), reference_options(sim));
   ASSERT_TRUE(r.converged) << r.description();
   EXPECT_EQ(kind_of(r.options.method), MethodKind::central_difference);
   ASSERT_TRUE(r.has_check) << r.description();
@@ -77,7 +77,7 @@ TEST(ModelReference, IsCheckedByASecondMethodOfAnotherFamily) {
 
   // Backward Euler as the reference method is checked by central difference (M diagonal).
   const Simulation be = model_simulation(three_dof_model("check_be"), "backward-euler");
-  const ModelReference rb = model_reference(*be.model, reference_options(be));
+  const ModelReference rb = model_reference(*be.model(), reference_options(be));
   if (rb.converged) {
     ASSERT_TRUE(rb.has_check);
     EXPECT_EQ(kind_of(rb.check_method), MethodKind::central_difference);

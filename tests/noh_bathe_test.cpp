@@ -307,7 +307,7 @@ TEST(NohBathe, RunsOnAModelOfSparseMatrices) {
   SimulationWorkspace ws;
   const Simulation block = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*block.model);
+  const AssembledScene scene = assemble(*block.model());
   ASSERT_TRUE(scene.sparse);
   const RunSummary summary = simulate(scene, NohBatheParams{}, RunOptions{}, ws);
   EXPECT_EQ(summary.status, RunStatus::ok) << summary.message;

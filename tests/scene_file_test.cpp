@@ -86,7 +86,7 @@ TEST(SceneFile, ABodiesTableParsesToItsScene) {
   EXPECT_FALSE(s.left_wall.has_value());
   const auto built = build(plan.base);
   ASSERT_TRUE(std::holds_alternative<Simulation>(built));
-  EXPECT_TRUE(std::get<Simulation>(built).bodies.has_value());
+  EXPECT_TRUE(std::get<Simulation>(built).bodies() != nullptr);
 }
 
 TEST(SceneFile, MistakesNameTheirKeyAndPlace) {
@@ -268,7 +268,7 @@ TEST(SceneEvaluation, WithoutAReferenceThePointFailsWithTheReason) {
   const Simulation& sim = std::get<Simulation>(built);
   SimulationWorkspace workspace;
   workspace.reference =
-      SceneReference{.scene = *sim.bodies,
+      SceneReference{.scene = *sim.bodies(),
                      .options = ReferenceOptions{.tolerance = sim.indicators.reference_tolerance},
                      .converged = false,
                      .message = "ChainExact: more than 10000000 events"};

@@ -38,7 +38,7 @@ const std::filesystem::path kExamples = std::filesystem::path(IMPACTID_SOURCE_DI
 
 // A scene of the examples, as `impactid` builds it from its scene file.
 ModelScene example_model(const std::string& name) {
-  return *std::get<Simulation>(build(load_scene_file(kExamples / name / "scene.toml"))).model;
+  return *std::get<Simulation>(build(load_scene_file(kExamples / name / "scene.toml"))).model();
 }
 
 // The same assembled scene with its matrices and its wall as a sparse model: the sparse path

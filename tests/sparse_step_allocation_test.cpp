@@ -70,7 +70,7 @@ namespace {
 TEST(SparseStep, AllocatesNothingOnTheBlock) {
   const Simulation sim = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*sim.model);
+  const AssembledScene scene = assemble(*sim.model());
   ASSERT_TRUE(scene.sparse);
   const SparseSystem& system = *scene.sparse;
   for (const bool cdm : {false, true}) {
@@ -126,7 +126,7 @@ TEST(SparseStep, AllocatesNothingOnTheBlock) {
 TEST(SparseStep, HouboltAndWilsonThetaAllocateNothingOnTheBlock) {
   const Simulation sim = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*sim.model);
+  const AssembledScene scene = assemble(*sim.model());
   ASSERT_TRUE(scene.sparse);
   const SparseSystem& system = *scene.sparse;
   for (const bool houbolt : {true, false}) {
@@ -282,7 +282,7 @@ TEST(SparseStep, KrAlphaAllocatesNothing) {
 TEST(SparseStep, SparseExplicitSchemesAllocateNothingOnTheBlock) {
   const Simulation sim = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*sim.model);
+  const AssembledScene scene = assemble(*sim.model());
   ASSERT_TRUE(scene.sparse);
   const SparseSystem& system = *scene.sparse;
   for (const ContactLaw law :

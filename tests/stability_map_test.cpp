@@ -124,7 +124,7 @@ Simulation build_point(const Settings& method, double courant, MassMatrix mass) 
 }
 
 Prediction predict(const Simulation& sim) {
-  const RodScene& scene = sim.scene;
+  const RodScene& scene = *sim.rod();
   const RodSceneDerived d = derive(scene);
   const double courant = d.time_step * d.wave_speed / d.element_length;
   const double limit = sim.run.energy_growth_limit;
@@ -317,7 +317,7 @@ TEST(StabilityMap, CentralDifferenceAgreesWithTheCourantLimit) {
   check_map("central difference", runs);
   // The limit itself, independently of amplification.hpp.
   for (const MapRun& r : runs) {
-    const double limit = r.simulation.scene.mass == MassMatrix::lumped ? 1.0 : 1.0 / std::sqrt(3.0);
+    const double limit = r.simulation.rod()->mass == MassMatrix::lumped ? 1.0 : 1.0 / std::sqrt(3.0);
     if (r.courant < limit) {
       EXPECT_STREQ(to_string(r.summary.status), "ok") << r.label << " " << r.courant;
     }

@@ -461,7 +461,7 @@ TEST(WilsonTheta, SparseModelsKeepTheConditions) {
 
   const Simulation block = std::get<Simulation>(build(
       load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) / "examples/block/scene.toml")));
-  const AssembledScene scene = assemble(*block.model);
+  const AssembledScene scene = assemble(*block.model());
   ASSERT_TRUE(scene.sparse);
   SimulationWorkspace ws;
   const RunSummary summary =

@@ -61,14 +61,18 @@ struct ExportedContact {
 }  // namespace
 
 void export_model(const Simulation& sim, const std::filesystem::path& directory) {
-  if (sim.model) throw std::runtime_error("the scene is a model already: its files are its export");
-  const AssembledScene scene = sim.bodies ? assemble(*sim.bodies) : assemble(sim.scene);
+  if (sim.model()) {
+    throw std::runtime_error("the scene is a model already: its files are its export");
+  }
+  const Scene* bodies = sim.bodies();
+  const RodScene* rod = sim.rod();
+  const AssembledScene scene = bodies ? assemble(*bodies) : assemble(*rod);
   const SecondOrderSystem& system = scene.system;
-  const double t_end = sim.bodies ? derive(*sim.bodies).end_time : derive(sim.scene).end_time;
+  const double t_end = bodies ? derive(*bodies).end_time : derive(*rod).end_time;
 
   std::vector<ExportedContact> contacts;
-  if (sim.bodies) {
-    const std::vector<SceneContact> list = scene_contacts(*sim.bodies);
+  if (bodies) {
+    const std::vector<SceneContact> list = scene_contacts(*bodies);
     for (std::size_t k = 0; k < list.size(); ++k) {
       contacts.push_back({list[k].name,
                           system.constraints.empty()
@@ -87,17 +91,16 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
 
   // The exact solution at the samples, when the scene has one.
   std::vector<ContactSamples> exact;
-  if (!sim.bodies && !sim.scene.far_gap) {
-    const RodImpactExact solution(sim.scene);
+  if (rod && !rod->far_gap) {
+    const RodImpactExact solution(*rod);
     exact.resize(1);
     for (long i = 1; i <= scene.step_count; ++i) {
       const ContactNodeValues e = solution.at_sample(i);
       exact[0].pressure.push_back(e.pressure);
       exact[0].velocity.push_back(e.velocity);
     }
-  } else if (sim.bodies && sim.bodies->rayleigh_mass == 0.0 &&
-             sim.bodies->rayleigh_stiffness == 0.0) {
-    const SceneReference r = scene_reference(*sim.bodies, ReferenceOptions{});
+  } else if (bodies && bodies->rayleigh_mass == 0.0 && bodies->rayleigh_stiffness == 0.0) {
+    const SceneReference r = scene_reference(*bodies, ReferenceOptions{});
     if (r.usable() && r.refinements == 0) exact = r.contacts;
   }
 

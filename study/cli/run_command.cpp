@@ -385,7 +385,7 @@ void write_point_histories(const PointSet& points, std::span<const long> indices
     simulation.run.record_history = true;
     evaluate(simulation, workspace);  // the rod's or a scene of bodies' run, as the sweep's
     write_history(folder / ("point-" + std::to_string(index) + ".h5"), simulation, workspace.trace,
-                  simulation.model ? &*workspace.model_reference : nullptr);
+                  simulation.model() ? &*workspace.model_reference : nullptr);
   }
   std::fprintf(stderr, "impactid run: wrote the time histories of %zu points to %s/\n",
                indices.size(), folder.string().c_str());

@@ -54,13 +54,15 @@ void write_contact_law(const Simulation& sim, const Evaluation& e) {
 }
 
 void write_json(const Simulation& sim, const Evaluation& e) {
-  const RodSceneDerived d = derive(sim.scene);
+  const RodScene* rod = sim.rod();
+  const Scene* bodies = sim.bodies();
+  const ModelScene* model = sim.model();
   JsonWriter json(std::cout);
   json.begin_object();
   json.key("method").value(to_string(kind_of(sim.method)));
   json.key("parameters").begin_object();
   for_each_used_parameter(sim, [&](const char* name, double v) { json.key(name).value(v); });
-  json.key("mass").value(to_string(sim.scene.mass));
+  json.key("mass").value(to_string(mass_key(sim)));
   const MethodDescriptor& method = descriptor(sim.method);
   for (const auto& [name, word] : method.choices(sim.method)) json.key(name).value(word);
   // Derived coefficients that are no parameter of any method (generalized-alpha's alpha_m and
@@ -83,7 +85,7 @@ void write_json(const Simulation& sim, const Evaluation& e) {
     json.key("contact_iterations").value(e.summary.contact_iterations);
     json.key("unconverged_contact_steps").value(e.summary.unconverged_contact_steps);
     json.key("stable_dt").value(e.summary.stable_dt);
-    if (!sim.scene.far_gap && !sim.bodies && !sim.model) {
+    if (rod && !rod->far_gap) {
       json.key("max_penetration").value(e.indicators.max_penetration);
     }
   }
@@ -93,24 +95,24 @@ void write_json(const Simulation& sim, const Evaluation& e) {
   json.key("nop_v").value(e.indicators.nop_v);
   json.key("p_max").value(e.indicators.p_max);
   json.key("p_max_ratio").value(e.indicators.p_max_ratio);
-  if (!sim.bodies && !sim.model) json.key("pressure_scale").value(d.pressure_scale);
+  if (rod) json.key("pressure_scale").value(derive(*rod).pressure_scale);
   json.key("contact_episodes").value(e.indicators.contact_episodes);
   json.key("energy_ratio").value(e.indicators.energy_ratio);
-  if (sim.scene.far_gap) {
+  if (rod && rod->far_gap) {
     json.key("far_contact_episodes").value(e.indicators.far_contact_episodes);
     json.key("impacts").value(e.indicators.impacts);
     json.key("max_penetration").value(e.indicators.max_penetration);
   }
-  if (sim.bodies || sim.model) {
+  if (!rod) {
     json.key("max_penetration").value(e.indicators.max_penetration);
     std::vector<std::string> contacts;
     int primary = 0;
-    if (sim.bodies) {
-      for (const SceneContact& c : scene_contacts(*sim.bodies)) contacts.push_back(c.name);
-      primary = derive(*sim.bodies).primary_contact;
+    if (bodies) {
+      for (const SceneContact& c : scene_contacts(*bodies)) contacts.push_back(c.name);
+      primary = derive(*bodies).primary_contact;
     } else {
-      for (const ModelContact& c : sim.model->model->contacts) contacts.push_back(c.name);
-      primary = primary_contact_index(*sim.model);
+      for (const ModelContact& c : model->model->contacts) contacts.push_back(c.name);
+      primary = primary_contact_index(*model);
       json.key("reference").value(e.reference);
     }
     json.key("reference_trusted").value(e.reference_trusted);
@@ -177,28 +179,32 @@ void write_contacts(const std::vector<std::string>& names, int primary, bool mod
 }
 
 void write_text(const Simulation& sim, const Evaluation& e) {
-  const RodSceneDerived d = derive(sim.scene);
   std::printf("method      %s%s\n", to_string(kind_of(sim.method)),
               method_values_text(sim.method).c_str());
-  if (sim.model) {
-    const Model& model = *sim.model->model;
-    std::printf("scene       model of %ld DOFs (%s), %zu contact(s)%s%s\n",
-                static_cast<long>(model.size()), model.source.c_str(), model.contacts.size(),
-                model.units.empty() ? "" : "; units ", model.units.c_str());
-    std::printf("time        dt = %.6g, %ld steps to t_end = %.6g\n", sim.model->dt,
-                step_count(sim.model->t_end, sim.model->dt), sim.model->t_end);
-  } else if (sim.bodies) {
-    write_bodies(*sim.bodies);
-  } else {
-    std::printf(
-        "scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
-        "v0 = %g mm/s, gap = %g mm, %s mass\n",
-        sim.scene.length, sim.scene.elements, sim.scene.youngs_modulus, sim.scene.density,
-        sim.scene.area, sim.scene.velocity, sim.scene.gap, to_string(sim.scene.mass));
-    std::printf("time        dt = %.6g s (Courant %.4g), %ld steps to t_end = %.6g s\n",
-                d.time_step, d.time_step * d.wave_speed / d.element_length, d.step_count,
-                d.end_time);
-  }
+  std::visit(
+      Overloaded{
+          [](const RodScene& rod) {
+            const RodSceneDerived d = derive(rod);
+            std::printf(
+                "scene       L = %g mm, n = %d, E = %g MPa, rho = %g t/mm^3, A = %g mm^2, "
+                "v0 = %g mm/s, gap = %g mm, %s mass\n",
+                rod.length, rod.elements, rod.youngs_modulus, rod.density, rod.area,
+                rod.velocity, rod.gap, to_string(rod.mass));
+            std::printf("time        dt = %.6g s (Courant %.4g), %ld steps to t_end = %.6g s\n",
+                        d.time_step, d.time_step * d.wave_speed / d.element_length, d.step_count,
+                        d.end_time);
+          },
+          [](const Scene& bodies) { write_bodies(bodies); },
+          [](const ModelScene& scene) {
+            const Model& model = *scene.model;
+            std::printf("scene       model of %ld DOFs (%s), %zu contact(s)%s%s\n",
+                        static_cast<long>(model.size()), model.source.c_str(),
+                        model.contacts.size(), model.units.empty() ? "" : "; units ",
+                        model.units.c_str());
+            std::printf("time        dt = %.6g, %ld steps to t_end = %.6g\n", scene.dt,
+                        step_count(scene.t_end, scene.dt), scene.t_end);
+          }},
+      sim.scene);
   std::printf("status      %s%s%s\n", to_string(e.summary.status),
               e.summary.message.empty() ? "" : ": ", e.summary.message.c_str());
   std::printf(
@@ -212,10 +218,10 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
     return;
   }
-  if (sim.model) {
+  if (const ModelScene* model = sim.model()) {
     std::vector<std::string> names;
-    for (const ModelContact& c : sim.model->model->contacts) names.push_back(c.name);
-    write_contacts(names, primary_contact_index(*sim.model), true, e);
+    for (const ModelContact& c : model->model->contacts) names.push_back(c.name);
+    write_contacts(names, primary_contact_index(*model), true, e);
     std::printf("reference   %s\n", e.reference.c_str());
     std::printf("            estimated error %.3g: an eps below it is not resolved\n",
                 e.reference_error);
@@ -234,10 +240,10 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
     return;
   }
-  if (sim.bodies) {
+  if (const Scene* bodies = sim.bodies()) {
     std::vector<std::string> names;
-    for (const SceneContact& c : scene_contacts(*sim.bodies)) names.push_back(c.name);
-    write_contacts(names, derive(*sim.bodies).primary_contact, false, e);
+    for (const SceneContact& c : scene_contacts(*bodies)) names.push_back(c.name);
+    write_contacts(names, derive(*bodies).primary_contact, false, e);
     if (e.reference_refinements == 0) {
       std::printf("reference   the exact solution of the chain\n");
     } else {
@@ -258,11 +264,11 @@ void write_text(const Simulation& sim, const Evaluation& e) {
   std::printf("velocity    eps_v = %.6g   NoP_v = %g\n", i.eps_v, i.nop_v);
   std::printf("contact     %g episode(s); energy at t_end / initial = %.6g\n", i.contact_episodes,
               i.energy_ratio);
-  if (sim.scene.far_gap) {
+  if (const RodScene& rod = *sim.rod(); rod.far_gap) {
     std::printf(
         "far wall    far_gap = %g mm: %g episode(s); %g impact(s) at both walls; largest "
         "penetration of a wall = %.3g mm\n",
-        *sim.scene.far_gap, i.far_contact_episodes, i.impacts, i.max_penetration);
+        *rod.far_gap, i.far_contact_episodes, i.impacts, i.max_penetration);
   }
   std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
 }

@@ -199,20 +199,19 @@ void write_hdf5(const std::filesystem::path& path, const std::vector<Column>& co
 
 std::vector<HistoryColumn> history_columns(const Simulation& simulation, const ContactTrace& trace,
                                            const ModelReference* model_reference) {
-  std::vector<Column> columns;
-  if (simulation.model) {
-    if (!model_reference) {
-      throw HistoryFileError("a model's history needs its reference");
-    }
-    columns = model_history_columns(*simulation.model, trace, *model_reference);
-  } else if (simulation.bodies) {
-    columns =
-        bodies_history_columns(*simulation.bodies, trace, derive(*simulation.bodies).time_step,
-                               reference_options(simulation));
-  } else {
-    columns = rod_history_columns(simulation.scene, trace);
-  }
-  return columns;
+  return std::visit(
+      Overloaded{[&](const RodScene& rod) { return rod_history_columns(rod, trace); },
+                 [&](const Scene& bodies) {
+                   return bodies_history_columns(bodies, trace, derive(bodies).time_step,
+                                                 reference_options(simulation));
+                 },
+                 [&](const ModelScene& model) {
+                   if (!model_reference) {
+                     throw HistoryFileError("a model's history needs its reference");
+                   }
+                   return model_history_columns(model, trace, *model_reference);
+                 }},
+      simulation.scene);
 }
 
 bool is_history_file(const std::filesystem::path& path) {
@@ -243,7 +242,7 @@ void write_history(const std::filesystem::path& path, const Simulation& simulati
     std::filesystem::create_directories(path.parent_path(), ec);
     if (ec) throw HistoryFileError(path.parent_path().string() + ": " + ec.message());
   }
-  if (simulation.model && !model_reference) {
+  if (simulation.model() && !model_reference) {
     throw HistoryFileError(path.string() + ": a model's history needs its reference");
   }
   const std::vector<Column> columns = history_columns(simulation, trace, model_reference);

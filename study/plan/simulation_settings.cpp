@@ -310,8 +310,7 @@ std::optional<ParameterError> assign_text(SimulationSettings& settings, std::str
 std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
   auto method = build_method(s.method.kind, s.method.given);
   if (const auto* e = std::get_if<ParameterError>(&method)) return *e;
-  Simulation out{s.scene,      std::nullopt, std::nullopt, std::get<MethodParams>(method),
-                 s.indicators, s.run,        s.reference};
+  Simulation out{s.scene, std::get<MethodParams>(method), s.indicators, s.run, s.reference};
   out.verdict = s.verdict;
   if (s.model) {
     if (!s.rod_keys.empty()) {
@@ -347,12 +346,12 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     scene.rayleigh_mass = s.scene.rayleigh_mass;
     scene.rayleigh_stiffness = s.scene.rayleigh_stiffness;
     if (auto e = validate(scene)) return *e;
-    out.model = std::move(scene);
     // A model's converged reference has its own default tolerance
     // (core/reference/model_reference.hpp).
     if (!s.reference_tolerance_given) {
-      out.indicators.reference_tolerance = model_reference_defaults(*out.model->model).tolerance;
+      out.indicators.reference_tolerance = model_reference_defaults(*scene.model).tolerance;
     }
+    out.scene = std::move(scene);
   } else if (s.bodies) {
     if (!s.rod_keys.empty()) {
       return ParameterError{s.rod_keys.front().first, format_value(s.rod_keys.front().second),
@@ -368,8 +367,8 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     scene.dt = s.scene.dt;
     scene.t_end = s.scene.t_end;
     if (auto e = validate(scene)) return *e;
-    out.bodies = std::move(scene);
-  } else if (auto e = validate(out.scene)) {
+    out.scene = std::move(scene);
+  } else if (auto e = validate(s.scene)) {
     return *e;
   }
   if (auto e = validate(out.method)) return *e;
@@ -403,53 +402,60 @@ std::optional<double> numeric_value(const Simulation& sim, std::string_view name
   if (name == "verdict_nop_p") return sim.verdict.nop_p;
   if (name == "verdict_eps_v") return sim.verdict.eps_v;
   if (name == "verdict_nop_v") return sim.verdict.nop_v;
-  if (sim.model) {
-    if (name == "dt") return sim.model->dt;
-    if (name == "courant") return sim.model->dt * sim.model->model->omega_bound / 2.0;
-    if (name == "t_end") return sim.model->t_end;
-    if (name == "rayleigh_mass") return sim.model->rayleigh_mass;
-    if (name == "rayleigh_stiffness") return sim.model->rayleigh_stiffness;
+  if (const ModelScene* model = sim.model()) {
+    if (name == "dt") return model->dt;
+    if (name == "courant") return model->dt * model->model->omega_bound / 2.0;
+    if (name == "t_end") return model->t_end;
+    if (name == "rayleigh_mass") return model->rayleigh_mass;
+    if (name == "rayleigh_stiffness") return model->rayleigh_stiffness;
     if (name == "reference_tolerance") return sim.indicators.reference_tolerance;
     if (name == "reference_max_refinements") return reference_options(sim).max_refinements;
     const ParameterInfo* info = find_parameter(name);
     if (info && info->group == ParameterGroup::scene) return std::nullopt;  // the rod's keys
-  }
-  if (sim.bodies) {
-    const SceneDerived d = derive(*sim.bodies);
-    if (is_scene_path(name)) return scene_path_value(*sim.bodies, name);
+  } else if (const Scene* bodies = sim.bodies()) {
+    const SceneDerived d = derive(*bodies);
+    if (is_scene_path(name)) return scene_path_value(*bodies, name);
     if (name == "courant") return d.time_step / d.min_h_over_c;
     if (name == "dt") return d.time_step;
     if (name == "t_end") return d.end_time;
-    if (name == "rayleigh_mass") return sim.bodies->rayleigh_mass;
-    if (name == "rayleigh_stiffness") return sim.bodies->rayleigh_stiffness;
+    if (name == "rayleigh_mass") return bodies->rayleigh_mass;
+    if (name == "rayleigh_stiffness") return bodies->rayleigh_stiffness;
     if (name == "reference_tolerance") return sim.indicators.reference_tolerance;
     if (name == "reference_max_refinements") return reference_options(sim).max_refinements;
     for (const char* key : {"length", "elements", "youngs_modulus", "density", "area", "velocity",
                             "gap", "far_gap"}) {
       if (name == key) return std::nullopt;  // the rod's keys: not this scene's
     }
+  } else {
+    const RodScene& sc = std::get<RodScene>(sim.scene);
+    const RodSceneDerived d = derive(sc);
+    if (name == "length") return sc.length;
+    if (name == "elements") return sc.elements;
+    if (name == "youngs_modulus") return sc.youngs_modulus;
+    if (name == "density") return sc.density;
+    if (name == "area") return sc.area;
+    if (name == "velocity") return sc.velocity;
+    if (name == "gap") return sc.gap;
+    if (name == "far_gap") return sc.far_gap;
+    if (name == "rayleigh_mass") return sc.rayleigh_mass;
+    if (name == "rayleigh_stiffness") return sc.rayleigh_stiffness;
+    if (name == "courant") return d.time_step * d.wave_speed / d.element_length;
+    if (name == "dt") return d.time_step;
+    if (name == "t_end") return d.end_time;
+    // The rod's reference is exact.
+    if (name == "reference_tolerance" || name == "reference_max_refinements") return std::nullopt;
   }
-  const RodScene& sc = sim.scene;
-  const RodSceneDerived d = derive(sc);
-  if (name == "length") return sc.length;
-  if (name == "elements") return sc.elements;
-  if (name == "youngs_modulus") return sc.youngs_modulus;
-  if (name == "density") return sc.density;
-  if (name == "area") return sc.area;
-  if (name == "velocity") return sc.velocity;
-  if (name == "gap") return sc.gap;
-  if (name == "far_gap") return sc.far_gap;
-  if (name == "rayleigh_mass") return sc.rayleigh_mass;
-  if (name == "rayleigh_stiffness") return sc.rayleigh_stiffness;
-  if (name == "courant") return d.time_step * d.wave_speed / d.element_length;
-  if (name == "dt") return d.time_step;
-  if (name == "t_end") return d.end_time;
   if (name == "peak_prominence") return sim.indicators.peak_prominence;
-  // The rod's reference is exact.
-  if (name == "reference_tolerance" || name == "reference_max_refinements") return std::nullopt;
   if (name == "energy_growth_limit") return sim.run.energy_growth_limit;
   if (find_method_parameter(name)) return reported_value(sim.method, name);
   return std::nullopt;
+}
+
+MassMatrix mass_key(const Simulation& sim) {
+  return std::visit(Overloaded{[](const RodScene& rod) { return rod.mass; },
+                               [](const Scene& bodies) { return bodies.mass; },
+                               [](const ModelScene&) { return MassMatrix::lumped; }},
+                    sim.scene);
 }
 
 std::string method_values_text(const MethodParams& method) {
@@ -464,7 +470,7 @@ std::string method_values_text(const MethodParams& method) {
 
 ReferenceOptions reference_options(const Simulation& sim) {
   ReferenceOptions options =
-      sim.model ? model_reference_defaults(*sim.model->model) : ReferenceOptions{};
+      sim.model() ? model_reference_defaults(*sim.model()->model) : ReferenceOptions{};
   options.tolerance = sim.indicators.reference_tolerance;
   if (sim.reference.method) options.method = default_params(*sim.reference.method);
   if (sim.reference.max_refinements) options.max_refinements = *sim.reference.max_refinements;

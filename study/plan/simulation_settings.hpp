@@ -18,6 +18,7 @@
 #include "core/common/parameter_error.hpp"
 #include "core/methods/method.hpp"
 #include "core/methods/method_registry.hpp"
+#include "core/model/any_scene.hpp"
 #include "core/model/model_scene.hpp"
 #include "core/model/rod_scene.hpp"
 #include "core/model/scene.hpp"
@@ -68,17 +69,22 @@ struct SimulationSettings {
 
 /// A complete, validated simulation.
 struct Simulation {
-  RodScene scene;
-  /// A scene of bodies, complete (its mass, step and end time set) and valid; when set, it is
-  /// the scene that runs and `scene` is unused.
-  std::optional<Scene> bodies;
-  /// A user's model, complete and valid; when set, it is the scene that runs.
-  std::optional<ModelScene> model;
+  /// The scene that runs, valid and complete: the rod, a scene of bodies (its mass, step and end
+  /// time set from the settings) or a user's model.
+  AnyScene scene;
   MethodParams method;
   IndicatorOptions indicators;
   RunOptions run;
   ReferenceSettings reference;
   VerdictThresholds verdict;  ///< how evaluate() judges the run (metrics/verdict.hpp)
+
+  /// The scene when it is of that kind, else null.
+  const RodScene* rod() const { return std::get_if<RodScene>(&scene); }
+  const Scene* bodies() const { return std::get_if<Scene>(&scene); }
+  const ModelScene* model() const { return std::get_if<ModelScene>(&scene); }
+  RodScene* rod() { return std::get_if<RodScene>(&scene); }
+  Scene* bodies() { return std::get_if<Scene>(&scene); }
+  ModelScene* model() { return std::get_if<ModelScene>(&scene); }
 };
 
 enum class ParameterGroup { scene, method, output };
@@ -112,6 +118,10 @@ std::optional<ParameterError> assign_text(SimulationSettings& settings, std::str
 /// when only α was given, β and γ of every Newmark-family method); nothing for a choice
 /// parameter or one the method does not have.
 std::optional<double> numeric_value(const Simulation& simulation, std::string_view name);
+
+/// The value of the `mass` key in a built simulation: the rod's or the scene of bodies' choice; a
+/// model's M is its file, and the key keeps its default (lumped), which build() requires of it.
+MassMatrix mass_key(const Simulation& simulation);
 
 /// A method's numbers as reports print them: " (delta = 0.3, alpha = -0.3, beta = 0.4225,
 /// gamma = 0.8)", every parameter and derived coefficient (%.6g); "" for a method without.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <optional>
+#include <variant>
 #include <vector>
 
 #include "core/model/scene_assembly.hpp"
@@ -14,14 +15,14 @@ namespace {
 
 // The indicators of a run of a scene of bodies against the scene's reference, which `reference`
 // caches from run to run.
-Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
-                           const RunSummary& summary, const ContactTrace& trace,
-                           std::optional<SceneReference>& reference) {
+Evaluation evaluate_bodies(const Simulation& sim, const Scene& bodies,
+                           const AssembledScene& scene, const RunSummary& summary,
+                           const ContactTrace& trace, std::optional<SceneReference>& reference) {
   Evaluation out;
   out.summary = summary;
   const ReferenceOptions options = reference_options(sim);
-  if (!reference || reference->scene != *sim.bodies || reference->options != options) {
-    reference = scene_reference(*sim.bodies, options);
+  if (!reference || reference->scene != bodies || reference->options != options) {
+    reference = scene_reference(bodies, options);
   }
   out.contacts.resize(scene.probes.size());
   if (!reference->usable() && out.summary.status == RunStatus::ok) {
@@ -29,8 +30,8 @@ Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
     out.summary.status = RunStatus::failed;
     out.summary.message = "no reference for the scene: " + reference->message;
   }
-  out.indicators = evaluate_indicators(*sim.bodies, *reference, trace, out.summary, sim.indicators,
-                                       out.contacts);
+  out.indicators =
+      evaluate_indicators(bodies, *reference, trace, out.summary, sim.indicators, out.contacts);
   out.reference_refinements = reference->refinements;
   out.reference_change = reference->change;
   out.reference = reference->description();
@@ -41,8 +42,8 @@ Evaluation evaluate_bodies(const Simulation& sim, const AssembledScene& scene,
 }
 
 // A user's model against its reference, which `reference` caches from run to run.
-Evaluation evaluate_model(const Simulation& sim, SimulationWorkspace& workspace) {
-  const ModelScene& scene = *sim.model;
+Evaluation evaluate_model(const Simulation& sim, const ModelScene& scene,
+                          SimulationWorkspace& workspace) {
   Evaluation out;
   out.summary = simulate(assemble(scene), sim.method, sim.run, workspace);
   const ReferenceOptions options = reference_options(sim);
@@ -98,16 +99,16 @@ void evaluate_bodies_batch(std::span<const Simulation> simulations,
   std::array<MethodParams, kBatchLanes> methods;
   std::array<RunSummary, kBatchLanes> summaries;
   for (std::size_t k = 0; k < count; ++k) {
-    scenes.push_back(assemble(*simulations[k].bodies));
+    scenes.push_back(assemble(*simulations[k].bodies()));
     pointers[k] = &scenes.back();
     methods[k] = simulations[k].method;
   }
   std::array<ContactTrace, kBatchLanes>* traces = &workspace.chain.traces;
-  if (as_rod(*simulations[0].bodies)) {
+  if (as_rod(*simulations[0].bodies())) {
     // The paper's form (batchable_together): the rod's kernel, whose trace then gets the one
     // contact's columns as simulate() gives them.
     std::array<RodScene, kBatchLanes> rods;
-    for (std::size_t k = 0; k < count; ++k) rods[k] = *as_rod(*simulations[k].bodies);
+    for (std::size_t k = 0; k < count; ++k) rods[k] = *as_rod(*simulations[k].bodies());
     simulate_batch(std::span(rods).first(count), std::span(methods).first(count),
                    simulations[0].run, workspace.rod, std::span(summaries).first(count));
     traces = &workspace.rod.traces;
@@ -121,50 +122,58 @@ void evaluate_bodies_batch(std::span<const Simulation> simulations,
                          simulations[0].run, workspace.chain, std::span(summaries).first(count));
   }
   for (std::size_t k = 0; k < count; ++k) {
-    out[k] =
-        evaluate_bodies(simulations[k], scenes[k], summaries[k], (*traces)[k], workspace.reference);
+    out[k] = evaluate_bodies(simulations[k], *simulations[k].bodies(), scenes[k], summaries[k],
+                             (*traces)[k], workspace.reference);
   }
 }
 
 }  // namespace
 
 Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
-  if (sim.model) return evaluate_model(sim, workspace);
-  if (sim.bodies) {
-    const AssembledScene scene = assemble(*sim.bodies);
-    const RunSummary summary = simulate(scene, sim.method, sim.run, workspace);
-    return evaluate_bodies(sim, scene, summary, workspace.trace, workspace.reference);
-  }
-  Evaluation out;
-  out.summary = simulate(sim.scene, sim.method, sim.run, workspace);
-  out.indicators = evaluate_indicators(sim.scene, workspace.trace, out.summary, sim.indicators);
-  out.verdict = judge(out.summary.status, out.indicators, true, sim.verdict);
-  return out;
+  return std::visit(
+      Overloaded{[&](const RodScene& rod) {
+                   Evaluation out;
+                   out.summary = simulate(rod, sim.method, sim.run, workspace);
+                   out.indicators =
+                       evaluate_indicators(rod, workspace.trace, out.summary, sim.indicators);
+                   out.verdict = judge(out.summary.status, out.indicators, true, sim.verdict);
+                   return out;
+                 },
+                 [&](const Scene& bodies) {
+                   const AssembledScene scene = assemble(bodies);
+                   const RunSummary summary = simulate(scene, sim.method, sim.run, workspace);
+                   return evaluate_bodies(sim, bodies, scene, summary, workspace.trace,
+                                          workspace.reference);
+                 },
+                 [&](const ModelScene& model) { return evaluate_model(sim, model, workspace); }},
+      sim.scene);
 }
 
 bool batchable_together(const Simulation& first, const Simulation& next) {
-  if (first.model || next.model) return false;  // a model's points run one by one
-  if (first.bodies || next.bodies) {
-    if (!first.bodies || !next.bodies) return false;
-    // The paper's form runs on the rod's named contact: the rod's kernel takes it.
-    const std::optional<RodScene> rod_a = as_rod(*first.bodies), rod_b = as_rod(*next.bodies);
-    if (rod_a || rod_b) {
-      return rod_a && rod_b && batchable(*rod_a, first.method, first.run) &&
-             batchable(*rod_b, next.method, next.run) &&
-             same_batch(*rod_a, first.method, first.run, *rod_b, next.method, next.run);
-    }
-    const AssembledScene a = assemble(*first.bodies), b = assemble(*next.bodies);
-    return chain_batchable(a, first.method, first.run) &&
-           chain_batchable(b, next.method, next.run) && same_chain_batch(a, first.run, b, next.run);
-  }
-  return batchable(first.scene, first.method, first.run) &&
-         batchable(next.scene, next.method, next.run) &&
-         same_batch(first.scene, first.method, first.run, next.scene, next.method, next.run);
+  const auto rods = [&](const RodScene& a, const RodScene& b) {
+    return batchable(a, first.method, first.run) && batchable(b, next.method, next.run) &&
+           same_batch(a, first.method, first.run, b, next.method, next.run);
+  };
+  return std::visit(
+      Overloaded{
+          rods,
+          [&](const Scene& a_bodies, const Scene& b_bodies) {
+            // The paper's form runs on the rod's named contact: the rod's kernel takes it.
+            const std::optional<RodScene> rod_a = as_rod(a_bodies), rod_b = as_rod(b_bodies);
+            if (rod_a || rod_b) return rod_a && rod_b && rods(*rod_a, *rod_b);
+            const AssembledScene a = assemble(a_bodies), b = assemble(b_bodies);
+            return chain_batchable(a, first.method, first.run) &&
+                   chain_batchable(b, next.method, next.run) &&
+                   same_chain_batch(a, first.run, b, next.run);
+          },
+          // A model's points run one by one, and scenes of different kinds never share a batch.
+          [](const auto&, const auto&) { return false; }},
+      first.scene, next.scene);
 }
 
 void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWorkspace& workspace,
                     std::span<Evaluation> out) {
-  if (simulations[0].bodies) {
+  if (simulations[0].bodies()) {
     evaluate_bodies_batch(simulations, workspace, out);
     return;
   }
@@ -173,7 +182,7 @@ void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWork
   std::array<RunSummary, kBatchLanes> summaries;
   const std::size_t count = simulations.size();
   for (std::size_t k = 0; k < count; ++k) {
-    scenes[k] = simulations[k].scene;
+    scenes[k] = *simulations[k].rod();
     methods[k] = simulations[k].method;
   }
   simulate_batch(std::span(scenes).first(count), std::span(methods).first(count),
@@ -190,9 +199,9 @@ void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWork
   }
   for (std::size_t begin = 0, end = 0; begin < count; begin = end) {
     end = begin + 1;
-    while (end < count && simulations[end].scene == simulations[begin].scene) ++end;
+    while (end < count && scenes[end] == scenes[begin]) ++end;
     const std::size_t n = end - begin;
-    evaluate_indicators(simulations[begin].scene, std::span(traces).subspan(begin, n),
+    evaluate_indicators(scenes[begin], std::span(traces).subspan(begin, n),
                         std::span(summaries).subspan(begin, n),
                         std::span(options).subspan(begin, n),
                         std::span(indicators).subspan(begin, n));

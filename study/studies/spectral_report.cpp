@@ -1,5 +1,7 @@
 #include "study/studies/spectral_report.hpp"
 
+#include <stdexcept>
+
 #include "core/methods/method_registry.hpp"
 #include "study/studies/spectral_study.hpp"
 
@@ -13,7 +15,9 @@ SpectralReport spectral_report(const Simulation& simulation, std::optional<doubl
     r.omega_max_from = "omega-max";
   } else if (scene_given) {
     // The highest mode of the rod at this Courant number (core/spectral/amplification.hpp).
-    r.omega_max = rod_max_omega_dt(simulation.scene.mass, simulation.scene.courant);
+    const RodScene* rod = simulation.rod();
+    if (!rod) throw std::invalid_argument("a method's spectral report takes Ω_max from the rod");
+    r.omega_max = rod_max_omega_dt(rod->mass, rod->courant);
     r.omega_max_from = "courant";
   }
   const MethodParams& params = simulation.method;

@@ -39,7 +39,8 @@ struct SpectralReport {
 /// The report of the simulation's method. Ω_max: `omega_max` when given (> 0, finite: the
 /// caller checks, and that it is not given with courant or mass), else the rod's highest mode
 /// at its Courant number and mass when `scene_given` (courant or mass was given), else the
-/// default. `omega_dt`: each > 0 and finite (checked by the caller).
+/// default; `scene_given` needs the simulation's scene to be the rod (std::invalid_argument
+/// otherwise). `omega_dt`: each > 0 and finite (checked by the caller).
 SpectralReport spectral_report(const Simulation& simulation, std::optional<double> omega_max,
                                bool scene_given, std::span<const double> omega_dt);
 

@@ -38,16 +38,21 @@ bool contact_indicator(const std::string& name) {
 }
 
 // The names of a scene's contacts: a scene of bodies' or a model's; none for the rod (whose
-// indicators are its one contact's). S is SimulationSettings or Simulation.
-template <class S>
-std::vector<std::string> contact_names(const S& s) {
+// indicators are its one contact's).
+std::vector<std::string> contact_names(const Scene* bodies, const ModelScene* model) {
   std::vector<std::string> names;
-  if (s.bodies) {
-    for (const SceneContact& c : scene_contacts(*s.bodies)) names.push_back(c.name);
-  } else if (s.model) {
-    for (const ModelContact& c : s.model->model->contacts) names.push_back(c.name);
+  if (bodies) {
+    for (const SceneContact& c : scene_contacts(*bodies)) names.push_back(c.name);
+  } else if (model) {
+    for (const ModelContact& c : model->model->contacts) names.push_back(c.name);
   }
   return names;
+}
+std::vector<std::string> contact_names(const SimulationSettings& s) {
+  return contact_names(s.bodies ? &*s.bodies : nullptr, s.model ? &*s.model : nullptr);
+}
+std::vector<std::string> contact_names(const Simulation& s) {
+  return contact_names(s.bodies(), s.model());
 }
 
 bool is_dimension(const PointSet& points, const std::string& name) {

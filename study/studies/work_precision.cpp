@@ -156,14 +156,14 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
 
     const Evaluation evaluation = evaluate(simulation, workspace);
     double fastest = evaluation.summary.wall_time_s, slowest = fastest;
-    const std::optional<AssembledScene> bodies =
-        simulation.bodies  ? std::optional(assemble(*simulation.bodies))
-        : simulation.model ? std::optional(assemble(*simulation.model))
-                           : std::nullopt;
+    const std::optional<AssembledScene> assembled = std::visit(
+        Overloaded{[](const RodScene&) { return std::optional<AssembledScene>(); },
+                   [](const auto& scene) { return std::optional(assemble(scene)); }},
+        simulation.scene);
     for (int repeat = 1; repeat < wp.repeats; ++repeat) {
       const RunSummary again =
-          bodies ? simulate(*bodies, simulation.method, simulation.run, workspace)
-                 : simulate(simulation.scene, simulation.method, simulation.run, workspace);
+          assembled ? simulate(*assembled, simulation.method, simulation.run, workspace)
+                    : simulate(*simulation.rod(), simulation.method, simulation.run, workspace);
       assert(again.status == evaluation.summary.status && again.steps == evaluation.summary.steps);
       fastest = std::min(fastest, again.wall_time_s);
       slowest = std::max(slowest, again.wall_time_s);
@@ -181,9 +181,11 @@ SweepOutcome run_work_precision(const Plan& plan, StudyResults& results,
     steps->values[i] = static_cast<double>(evaluation.summary.steps);
     dof_steps->values[i] =
         static_cast<double>(evaluation.summary.steps - evaluation.summary.skipped_steps) *
-        static_cast<double>(simulation.bodies  ? derive(*simulation.bodies).nodes
-                            : simulation.model ? simulation.model->model->size()
-                                               : simulation.scene.elements + 1);
+        static_cast<double>(std::visit(
+            Overloaded{[](const RodScene& rod) { return static_cast<long>(rod.elements) + 1; },
+                       [](const Scene& bodies) { return derive(bodies).nodes; },
+                       [](const ModelScene& model) { return static_cast<long>(model.model->size()); }},
+            simulation.scene));
 
     ++done;
     if (evaluation.summary.status != RunStatus::ok) ++unstable;
