@@ -15,6 +15,8 @@
 #include <variant>
 #include <vector>
 
+#include "core/batch/batched_model.hpp"
+#include "core/batch/sparse_lanes.hpp"
 #include "core/methods/method_registry.hpp"
 #include "core/model/model_scene.hpp"
 #include "core/model/sparse_factorization.hpp"
@@ -108,6 +110,64 @@ BENCHMARK(BM_ModelRun)
                                                1)})
     ->Unit(benchmark::kMillisecond);
 
+// Central difference on a model, kBatchLanes consecutive points of a Courant sweep (0.50 to 0.575
+// in steps of 0.005, as a batch of a fine sweep holds; a batch runs until its longest lane
+// ends, so its lanes' spread of step counts, here 15 %, is time no lane uses): each point
+// alone through simulate() (Each) and all together through the model kernel (Lanes,
+// core/batch/batched_model.hpp), the same numbers bit for bit. Args: the grid's side (0: the
+// shipped block). Counter points/s, set-up included; the ratio of the two is the issue's "per
+// point" speed-up of an explicit sweep.
+std::vector<AssembledScene> courant_sweep(int side) {
+  const ModelScene base =
+      side > 0
+          ? grid_scene(side)
+          : *std::get<Simulation>(build(load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) /
+                                                        "examples/block/scene.toml")))
+                 .model();
+  std::vector<AssembledScene> scenes;
+  for (int k = 0; k < kBatchLanes; ++k) {
+    ModelScene scene = base;
+    const double courant = 0.5 + 0.005 * k;
+    scene.dt = 2.0 * courant / base.model->omega_bound;
+    scene.t_end = static_cast<double>(kSteps) * (2.0 * 0.6 / base.model->omega_bound);
+    scenes.push_back(assemble(scene));
+  }
+  return scenes;
+}
+
+void BM_ModelSweepEach(benchmark::State& state) {
+  const std::vector<AssembledScene> scenes = courant_sweep(static_cast<int>(state.range(0)));
+  SimulationWorkspace workspace;
+  for (auto _ : state) {
+    for (const AssembledScene& scene : scenes) {
+      benchmark::DoNotOptimize(
+          simulate(scene, CentralDifferenceParams{}, RunOptions{}, workspace).final_energy);
+    }
+  }
+  state.counters["points/s"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * kBatchLanes, benchmark::Counter::kIsRate);
+  state.SetLabel(std::to_string(scenes[0].sparse->size()) + " DOFs");
+}
+BENCHMARK(BM_ModelSweepEach)->Arg(0)->Arg(100)->Arg(316)->Unit(benchmark::kMillisecond);
+
+void BM_ModelSweepLanes(benchmark::State& state) {
+  const std::vector<AssembledScene> scenes = courant_sweep(static_cast<int>(state.range(0)));
+  std::vector<const AssembledScene*> pointers;
+  for (const AssembledScene& scene : scenes) pointers.push_back(&scene);
+  const std::vector<MethodParams> methods(scenes.size(), CentralDifferenceParams{});
+  std::vector<RunSummary> summaries(scenes.size());
+  ModelBatchWorkspace workspace;
+  for (auto _ : state) {
+    simulate_model_batch(pointers, methods, RunOptions{}, workspace, summaries);
+    benchmark::DoNotOptimize(summaries[0].final_energy);
+  }
+  state.counters["points/s"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * kBatchLanes, benchmark::Counter::kIsRate);
+  state.SetLabel(std::to_string(scenes[0].sparse->size()) + " DOFs, " +
+                 std::to_string(workspace.kernel_lanes()) + " lanes in the kernel");
+}
+BENCHMARK(BM_ModelSweepLanes)->Arg(0)->Arg(100)->Arg(316)->Unit(benchmark::kMillisecond);
+
 // HHT's effective matrix of the grid model, M + b1·dt²·K; side 0: of the shipped block
 // (examples/block, 1722 DOFs of plane strain).
 SparseMatrix effective_matrix(int side) {
@@ -146,6 +206,63 @@ void BM_SparseFactor(benchmark::State& state) {
   state.SetLabel("SimplicialLDLT/AMD");
 }
 BENCHMARK(BM_SparseFactor)->Arg(0)->Arg(32)->Arg(100)->Arg(316)->Unit(benchmark::kMillisecond);
+
+// The stiffness product K·u of an explicit step for a batch of kBatchLanes points: as each
+// point alone (kBatchLanes calls of multiply_add, each reading K once) and in lanes
+// (multiply_add_lanes: K read once for all; core/batch/sparse_lanes.hpp). Same K as the runs':
+// the grid model's (side 32, 100, 316) or the block's (0). Counters: lane products per second,
+// and the bytes of K (values and row indices) read per lane product.
+SparseMatrix product_stiffness(int side) {
+  return side > 0 ? grid_scene(side).model->stiffness
+                  : std::get<Simulation>(
+                        build(load_scene_file(std::filesystem::path(IMPACTID_SOURCE_DIR) /
+                                              "examples/block/scene.toml")))
+                        .model()
+                        ->model->stiffness;
+}
+
+std::vector<LaneBlock> product_lanes(Eigen::Index n) {
+  std::vector<LaneBlock> x(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (int l = 0; l < kBatchLanes; ++l) {
+      x[static_cast<std::size_t>(i)].lane[l] = 1.0 + 1e-3 * static_cast<double>((i + l) % 97);
+    }
+  }
+  return x;
+}
+
+void product_counters(benchmark::State& state, const SparseMatrix& k) {
+  const double products = static_cast<double>(state.iterations()) * kBatchLanes;
+  state.counters["lane-products/s"] = benchmark::Counter(products, benchmark::Counter::kIsRate);
+  state.counters["K bytes/lane"] =
+      static_cast<double>(k.nonZeros()) * (sizeof(double) + sizeof(int));
+  state.SetLabel(std::to_string(k.rows()) + " DOFs, " + std::to_string(k.nonZeros()) + " nnz");
+}
+
+void BM_StiffnessProductEach(benchmark::State& state) {
+  const SparseMatrix k = product_stiffness(static_cast<int>(state.range(0)));
+  std::vector<Eigen::VectorXd> x(kBatchLanes, Eigen::VectorXd::Ones(k.rows()));
+  std::vector<Eigen::VectorXd> y(kBatchLanes, Eigen::VectorXd::Zero(k.rows()));
+  for (auto _ : state) {
+    for (int l = 0; l < kBatchLanes; ++l) multiply_add(k, -1.0, x[l], y[l]);
+    benchmark::DoNotOptimize(y.data());
+  }
+  product_counters(state, k);
+}
+BENCHMARK(BM_StiffnessProductEach)->Arg(0)->Arg(100)->Arg(316)->Unit(benchmark::kMicrosecond);
+
+void BM_StiffnessProductLanes(benchmark::State& state) {
+  const SparseMatrix k = product_stiffness(static_cast<int>(state.range(0)));
+  const std::vector<LaneBlock> x = product_lanes(k.rows());
+  std::vector<LaneBlock> y(static_cast<std::size_t>(k.rows()));
+  for (auto _ : state) {
+    multiply_add_lanes(k, -1.0, x, y);
+    benchmark::DoNotOptimize(y.data());
+  }
+  product_counters(state, k);
+  state.counters["K bytes/lane"] = state.counters["K bytes/lane"] / kBatchLanes;
+}
+BENCHMARK(BM_StiffnessProductLanes)->Arg(0)->Arg(100)->Arg(316)->Unit(benchmark::kMicrosecond);
 
 #ifdef IMPACTID_HAVE_CHOLMOD
 // The same with CHOLMOD's supernodal Cholesky (Debian's SuiteSparse), through Eigen's wrapper.

@@ -1,8 +1,9 @@
 // Which runs the batched kernels take, and which share a batch: level-independent, so compiled
 // once (the kernels themselves are compiled per level: core/batch/kernel_target.hpp). Declared in
 // core/batch/batched_simulation.hpp, core/batch/batched_explicit.hpp,
-// core/batch/batched_kr_alpha.hpp and core/batch/batched_chain.hpp beside the kernels they
-// describe.
+// core/batch/batched_kr_alpha.hpp, core/batch/batched_chain.hpp and core/batch/batched_model.hpp
+// beside the kernels they describe.
+#include <cstring>
 #include <variant>
 
 #include "core/algebra/contact_lcp.hpp"
@@ -10,6 +11,7 @@
 #include "core/batch/batched_chain.hpp"
 #include "core/batch/batched_explicit.hpp"
 #include "core/batch/batched_kr_alpha.hpp"
+#include "core/batch/batched_model.hpp"
 #include "core/batch/batched_simulation.hpp"
 
 namespace impactid {
@@ -17,6 +19,26 @@ namespace {
 
 bool same_tridiagonal(const Tridiagonal& a, const Tridiagonal& b) {
   return a.lower == b.lower && a.diag == b.diag && a.upper == b.upper;
+}
+
+// The same stored entries, bit for bit (a NaN equals itself): the matrices' pattern and values.
+bool same_sparse(const SparseMatrix& a, const SparseMatrix& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros() ||
+      !a.isCompressed() || !b.isCompressed()) {
+    return false;
+  }
+  const auto same = [](const auto* x, const auto* y, Eigen::Index count) {
+    return count == 0 || std::memcmp(x, y, sizeof(*x) * static_cast<std::size_t>(count)) == 0;
+  };
+  return same(a.outerIndexPtr(), b.outerIndexPtr(), a.outerSize() + 1) &&
+         same(a.innerIndexPtr(), b.innerIndexPtr(), a.nonZeros()) &&
+         same(a.valuePtr(), b.valuePtr(), a.nonZeros());
+}
+
+bool same_options(const RunOptions& a, const RunOptions& b) {
+  return a.energy_growth_limit == b.energy_growth_limit &&
+         a.energy_check_interval == b.energy_check_interval &&
+         a.record_history == b.record_history && a.skip_free_flight == b.skip_free_flight;
 }
 
 }  // namespace
@@ -136,6 +158,45 @@ bool same_chain_batch(const AssembledScene& a, const RunOptions& options_a, cons
   return same_options && a.dt == b.dt && a.rigid_flight == b.rigid_flight &&
          same_tridiagonal(s.mass, t.mass) && same_tridiagonal(s.stiffness, t.stiffness) &&
          same_tridiagonal(s.damping, t.damping);
+}
+
+bool model_kernel_method(const MethodParams& method) {
+  const auto* cdm = std::get_if<CentralDifferenceParams>(&method);
+  return cdm && cdm->velocity == CdmVelocity::central;
+}
+
+bool model_batchable(const AssembledScene& scene, const MethodParams& method,
+                     const RunOptions& options) {
+  // Damping adds a product with C to the step (and C/(2Δt) to the left-hand matrix), the
+  // penalty laws their springs or iterations, the backward velocity another finish: those runs go
+  // through simulate().
+  return scene.sparse && model_kernel_method(method) &&
+         !scene.sparse->has_damping() && !scene.sparse->constraints.empty() &&
+         scene.probes.size() == scene.sparse->constraints.size() && scene.contact_columns &&
+         !options.record_history && options.contact.law == ContactLaw::lagrange;
+}
+
+bool same_model_batch(const AssembledScene& a, const RunOptions& options_a, const AssembledScene& b,
+                      const RunOptions& options_b) {
+  const SparseSystem& s = *a.sparse;
+  const SparseSystem& t = *b.sparse;
+  if (s.constraints.size() != t.constraints.size() || a.probes.size() != b.probes.size()) {
+    return false;
+  }
+  for (std::size_t k = 0; k < s.constraints.size(); ++k) {
+    const Constraint &c = s.constraints[k], &d = t.constraints[k];
+    if (c.plus != d.plus || c.minus != d.minus || c.gap != d.gap ||
+        a.probes[k].area != b.probes[k].area ||
+        a.probes[k].velocity_dof != b.probes[k].velocity_dof) {
+      return false;
+    }
+  }
+  return same_options(options_a, options_b) && a.rigid_flight == b.rigid_flight &&
+         a.initial_velocity.size() == b.initial_velocity.size() &&
+         a.initial_velocity == b.initial_velocity &&
+         a.initial_displacement.size() == b.initial_displacement.size() &&
+         a.initial_displacement == b.initial_displacement && same_sparse(s.mass, t.mass) &&
+         same_sparse(s.stiffness, t.stiffness);
 }
 
 }  // namespace impactid

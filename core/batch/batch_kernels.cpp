@@ -9,7 +9,9 @@
 #include "core/batch/batched_chain.hpp"
 #include "core/batch/batched_explicit.hpp"
 #include "core/batch/batched_kr_alpha.hpp"
+#include "core/batch/batched_model.hpp"
 #include "core/batch/batched_simulation.hpp"
+#include "core/batch/sparse_lanes.hpp"
 #include "core/common/kernel_level.hpp"
 
 namespace impactid {
@@ -21,11 +23,14 @@ struct LevelKernels {
   decltype(&kernels_x86_64_v4::simulate_explicit_lanes) explicit_methods;
   decltype(&kernels_x86_64_v4::simulate_kr_alpha_lanes) kr_alpha;
   decltype(&kernels_x86_64_v4::simulate_chain_lanes) chain;
+  decltype(&kernels_x86_64_v4::multiply_add_lanes) sparse_product;
+  decltype(&kernels_x86_64_v4::simulate_model_lanes) model;
 };
 #define IMPACTID_LEVEL_KERNELS(level_namespace)                                         \
   LevelKernels {                                                                        \
     level_namespace::simulate_rod_lanes, level_namespace::simulate_explicit_lanes,      \
-        level_namespace::simulate_kr_alpha_lanes, level_namespace::simulate_chain_lanes \
+        level_namespace::simulate_kr_alpha_lanes, level_namespace::simulate_chain_lanes, \
+        level_namespace::multiply_add_lanes, level_namespace::simulate_model_lanes        \
   }
 
 // The row of the level that runs; null on baseline.
@@ -103,6 +108,32 @@ void simulate_chain_batch(std::span<const AssembledScene* const> scenes,
     return kernels->chain(scenes, methods, options, ws.storage_, ws.start_, ws.integrators_,
                           ws.traces, summaries);
   }
+  simulate_each(scenes, methods, options, ws.scalar_, ws.traces, summaries);
+}
+
+void multiply_add_lanes(const SparseMatrix& a, double s, std::span<const LaneBlock> x,
+                        std::span<LaneBlock> y) {
+  if (const LevelKernels* kernels = level_kernels()) return kernels->sparse_product(a, s, x, y);
+  // Baseline x86-64: multiply_add's operations, lane by lane.
+  for (int l = 0; l < kBatchLanes; ++l) {
+    for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+      const double sx = s * x[static_cast<std::size_t>(j)].lane[l];
+      if (sx == 0.0) continue;
+      for (SparseMatrix::InnerIterator it(a, j); it; ++it) {
+        y[static_cast<std::size_t>(it.row())].lane[l] += it.value() * sx;
+      }
+    }
+  }
+}
+
+void simulate_model_batch(std::span<const AssembledScene* const> scenes,
+                          std::span<const MethodParams> methods, const RunOptions& options,
+                          ModelBatchWorkspace& ws, std::span<RunSummary> summaries) {
+  if (const LevelKernels* kernels = level_kernels()) {
+    return kernels->model(scenes, methods, options, ws.storage_, ws.states_, ws.steppers_,
+                          ws.traces, ws.scalar_, ws.kernel_lanes_, summaries);
+  }
+  ws.kernel_lanes_ = 0;
   simulate_each(scenes, methods, options, ws.scalar_, ws.traces, summaries);
 }
 

@@ -15,8 +15,10 @@
 #include "core/common/state.hpp"
 #include "core/methods/implicit_integrator.hpp"
 #include "core/methods/method.hpp"
+#include "core/methods/sparse_integrators.hpp"
 #include "core/model/rod_scene.hpp"
 #include "core/model/scene_assembly.hpp"
+#include "core/model/sparse_system.hpp"
 #include "core/run/simulation.hpp"
 
 namespace impactid {
@@ -45,8 +47,8 @@ struct BatchStorage {
 
 }  // namespace impactid
 
-// One level's entry points: simulate_batch, simulate_explicit_batch, simulate_kr_alpha_batch and
-// simulate_chain_batch of the public headers, for that level's registers.
+// One level's entry points: simulate_batch, simulate_explicit_batch, simulate_kr_alpha_batch,
+// simulate_chain_batch, multiply_add_lanes and simulate_model_batch of the public headers, for that level's registers.
 #define IMPACTID_DECLARE_BATCH_KERNELS(level_namespace)                                            \
   namespace impactid::level_namespace {                                                            \
   void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const MethodParams> methods, \
@@ -64,6 +66,16 @@ struct BatchStorage {
                             std::array<State, kBatchLanes>& starts,                                \
                             std::array<ImplicitIntegrator, kBatchLanes>& integrators,              \
                             std::array<ContactTrace, kBatchLanes>& traces,                         \
+                            std::span<RunSummary> summaries);                                      \
+  void multiply_add_lanes(const SparseMatrix& a, double s, std::span<const LaneBlock> x,           \
+                          std::span<LaneBlock> y);                                                 \
+  void simulate_model_lanes(std::span<const AssembledScene* const> scenes,                         \
+                            std::span<const MethodParams> methods, const RunOptions& options,      \
+                            std::vector<LaneBlock>& blocks,                                        \
+                            std::array<State, kBatchLanes>& states,                                \
+                            std::array<SparseCentralDifference, kBatchLanes>& steppers,            \
+                            std::array<ContactTrace, kBatchLanes>& traces,                         \
+                            SimulationWorkspace& scalar, int& kernel_lanes,                        \
                             std::span<RunSummary> summaries);                                      \
   }
 

@@ -16,13 +16,6 @@ namespace {  // NOLINT(google-build-namespaces): one translation unit (above)
 
 using namespace simd;  // NOLINT(google-build-using-namespace): the kernel's vocabulary
 
-// a ≠ 0 lane by lane: the scalar step skips a contact force that is zero.
-[[gnu::always_inline]] inline LaneMask nonzero(const Lanes& a) {
-  LaneMask out;
-  for (int l = 0; l < kLanes; ++l) out.set(l, a[l] != 0.0);
-  return out;
-}
-
 // One contact of the chain: its nodes and probe (the same in every lane), each lane's gap and
 // column A⁻¹·G_kᵀ. A lane's column is exactly zero outside its rows [lane_begin, lane_end)
 // (ImplicitIntegrator::constraint_rows), where the scalar step does not touch the unknowns; the

@@ -187,6 +187,12 @@ template <class Op>
   for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = a.r[k] > b.r[k]; });
   return out;
 }
+// a != 0 lane by lane (a NaN is not zero, as in the scalar comparison).
+[[gnu::always_inline]] inline LaneMask nonzero(const Lanes& a) {
+  LaneMask out;
+  for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = a.r[k] != 0.0; });
+  return out;
+}
 [[gnu::always_inline]] inline LaneMask operator&(const LaneMask& a, const LaneMask& b) {
   LaneMask out;
   for_each_register([&](auto k) __attribute__((always_inline)) { out.r[k] = a.r[k] & b.r[k]; });

@@ -108,6 +108,12 @@ class SparseCentralDifference {
   /// Augmented-Lagrangian iterations since initialize(), and steps that ended at the cap.
   long contact_iterations() const { return list_law_.iterations(); }
   long unconverged_contact_steps() const { return list_law_.unconverged(); }
+  /// What initialize() and the steps so far set up, for the batched model kernel
+  /// (core/batch/batched_model.hpp), which continues the recurrence lane by lane with these
+  /// numbers: u₋, u and t, the left-hand matrix's factorisation, the Delassus matrix G·A⁻¹·Gᵀ.
+  const CentralDifferenceRecurrence& recurrence() const { return recurrence_; }
+  const SparseFactorization& factorization() const { return factorization_; }
+  const ConstraintListProblem& contact_problem() const { return list_; }
 
  private:
   CentralDifferenceRecurrence recurrence_;  // the update formulas, u₋, u and u₊

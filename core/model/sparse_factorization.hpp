@@ -57,6 +57,10 @@ class SparseFactorization {
   SparseOrdering ordering() const;
   Eigen::Index failed_dof() const { return failed_dof_; }
   double failed_pivot() const { return failed_pivot_; }
+  /// Whether the matrix was diagonal; its solve is then b[i] *= inverse_diagonal()[i], which the
+  /// batched model kernel (core/batch/batched_model.hpp) repeats lane by lane.
+  bool diagonal() const { return diagonal_; }
+  const Eigen::VectorXd& inverse_diagonal() const { return inverse_diagonal_; }
 
  private:
   // SimplicialLDLT with the entries of L its symbolic analysis found (Eigen keeps them per column).

@@ -41,11 +41,12 @@ Evaluation evaluate_bodies(const Simulation& sim, const Scene& bodies,
   return out;
 }
 
-// A user's model against its reference, which `reference` caches from run to run.
-Evaluation evaluate_model(const Simulation& sim, const ModelScene& scene,
-                          SimulationWorkspace& workspace) {
+// A run of a user's model measured against its reference, which the workspace caches from run to
+// run (SimulationWorkspace::model_reference and the earlier ones).
+Evaluation measure_model(const Simulation& sim, const ModelScene& scene, const RunSummary& summary,
+                         const ContactTrace& trace, SimulationWorkspace& workspace) {
   Evaluation out;
-  out.summary = simulate(assemble(scene), sim.method, sim.run, workspace);
+  out.summary = summary;
   const ReferenceOptions options = reference_options(sim);
   std::optional<ModelReference>& reference = workspace.model_reference;
   if (!reference || !(reference->scene == scene) || !(reference->options == options)) {
@@ -77,8 +78,8 @@ Evaluation evaluate_model(const Simulation& sim, const ModelScene& scene,
   }
   std::vector<ContactSamples> samples = reference->contacts;
   samples.resize(out.contacts.size());
-  out.indicators = evaluate_indicators(samples, primary, workspace.trace, out.summary,
-                                       sim.indicators, out.contacts);
+  out.indicators =
+      evaluate_indicators(samples, primary, trace, out.summary, sim.indicators, out.contacts);
   out.reference_refinements = reference->refinements;
   out.reference_change = reference->change;
   out.reference_dt = reference->dt;
@@ -87,6 +88,34 @@ Evaluation evaluate_model(const Simulation& sim, const ModelScene& scene,
   out.reference_error = reference->error;
   out.verdict = judge(out.summary.status, out.indicators, out.reference_trusted, sim.verdict);
   return out;
+}
+
+Evaluation evaluate_model(const Simulation& sim, const ModelScene& scene,
+                          SimulationWorkspace& workspace) {
+  const RunSummary summary = simulate(assemble(scene), sim.method, sim.run, workspace);
+  return measure_model(sim, scene, summary, workspace.trace, workspace);
+}
+
+// evaluate_batch of a user's model: one run of the model kernel, then each lane's indicators.
+void evaluate_models_batch(std::span<const Simulation> simulations,
+                           BatchEvaluationWorkspace& workspace, std::span<Evaluation> out) {
+  const std::size_t count = simulations.size();
+  std::vector<AssembledScene> scenes;
+  scenes.reserve(count);
+  std::array<const AssembledScene*, kBatchLanes> pointers;
+  std::array<MethodParams, kBatchLanes> methods;
+  std::array<RunSummary, kBatchLanes> summaries;
+  for (std::size_t k = 0; k < count; ++k) {
+    scenes.push_back(assemble(*simulations[k].model()));
+    pointers[k] = &scenes.back();
+    methods[k] = simulations[k].method;
+  }
+  simulate_model_batch(std::span(pointers).first(count), std::span(methods).first(count),
+                       simulations[0].run, workspace.model, std::span(summaries).first(count));
+  for (std::size_t k = 0; k < count; ++k) {
+    out[k] = measure_model(simulations[k], *simulations[k].model(), summaries[k],
+                           workspace.model.traces[k], workspace.model_references);
+  }
 }
 
 // evaluate_batch of scenes of bodies: one run of the chain kernel, then each lane's indicators.
@@ -166,7 +195,18 @@ bool batchable_together(const Simulation& first, const Simulation& next) {
                    chain_batchable(b, next.method, next.run) &&
                    same_chain_batch(a, first.run, b, next.run);
           },
-          // A model's points run one by one, and scenes of different kinds never share a batch.
+          [&](const ModelScene& a_model, const ModelScene& b_model) {
+            // The cheap tests first: assembling copies the model's matrices.
+            if (a_model.model != b_model.model || !model_kernel_method(first.method) ||
+                !model_kernel_method(next.method)) {
+              return false;
+            }
+            const AssembledScene a = assemble(a_model), b = assemble(b_model);
+            return model_batchable(a, first.method, first.run) &&
+                   model_batchable(b, next.method, next.run) &&
+                   same_model_batch(a, first.run, b, next.run);
+          },
+          // Scenes of different kinds never share a batch.
           [](const auto&, const auto&) { return false; }},
       first.scene, next.scene);
 }
@@ -175,6 +215,10 @@ void evaluate_batch(std::span<const Simulation> simulations, BatchEvaluationWork
                     std::span<Evaluation> out) {
   if (simulations[0].bodies()) {
     evaluate_bodies_batch(simulations, workspace, out);
+    return;
+  }
+  if (simulations[0].model()) {
+    evaluate_models_batch(simulations, workspace, out);
     return;
   }
   std::array<RodScene, kBatchLanes> scenes;

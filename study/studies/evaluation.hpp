@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/batch/batched_chain.hpp"
+#include "core/batch/batched_model.hpp"
 #include "core/batch/batched_simulation.hpp"
 #include "core/run/simulation.hpp"
 #include "metrics/evaluation.hpp"
@@ -25,14 +26,20 @@ Evaluation evaluate(const Simulation& simulation, SimulationWorkspace& workspace
 struct BatchEvaluationWorkspace {
   BatchWorkspace rod;
   ChainBatchWorkspace chain;
+  ModelBatchWorkspace model;
   std::optional<SceneReference> reference;
+  /// The references of users' models (SimulationWorkspace::model_reference and the earlier ones),
+  /// as evaluate() keeps them.
+  SimulationWorkspace model_references;
 };
 
 /// Whether `next` can join a batch that starts with `first`: the rod's scene through its kernel
 /// (core/batch/batched_simulation.hpp: both batchable, the same rod, time step and run options,
 /// both single-step methods, both composite schemes or both one explicit method), a scene of bodies
 /// through the chain kernel
-/// (core/batch/batched_chain.hpp: the same assembled system, time step and run options).
+/// (core/batch/batched_chain.hpp: the same assembled system, time step and run options), a user's
+/// model through the model kernel (core/batch/batched_model.hpp: central difference on the same
+/// model, each point its own time step).
 bool batchable_together(const Simulation& first, const Simulation& next);
 
 /// evaluate() for 1..kBatchLanes simulations at once, each batchable_together with the first:
