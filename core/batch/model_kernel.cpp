@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <span>
 #include <string>
@@ -340,29 +339,9 @@ void run_model(ModelBatch& b, const std::array<const CentralDifferenceRecurrence
   b.penetration = penetration;
 }
 
-// Whether predict_fused gives the scalar's bits: M compressed with exactly its diagonal stored,
-// K compressed, exactly symmetric (pattern and values, bit for bit) with each column's rows
-// sorted.
+// Whether predict_fused gives the scalar's bits (core/model/sparse_system.hpp says why).
 bool fused_predictor(const SparseSystem& system) {
-  const SparseMatrix& m = system.mass;
-  const SparseMatrix& k = system.stiffness;
-  if (!m.isCompressed() || !k.isCompressed() || m.nonZeros() != m.rows()) return false;
-  for (Eigen::Index j = 0; j < m.outerSize(); ++j) {
-    if (m.outerIndexPtr()[j] != j || m.innerIndexPtr()[j] != j) return false;
-  }
-  for (Eigen::Index j = 0; j < k.outerSize(); ++j) {
-    for (int e = k.outerIndexPtr()[j] + 1; e < k.outerIndexPtr()[j + 1]; ++e) {
-      if (k.innerIndexPtr()[e - 1] >= k.innerIndexPtr()[e]) return false;
-    }
-  }
-  const SparseMatrix transpose = k.transpose();  // compressed, rows sorted
-  if (transpose.nonZeros() != k.nonZeros()) return false;
-  const auto same = [](const auto* x, const auto* y, Eigen::Index count) {
-    return std::memcmp(x, y, sizeof(*x) * static_cast<std::size_t>(count)) == 0;
-  };
-  return same(k.outerIndexPtr(), transpose.outerIndexPtr(), k.outerSize() + 1) &&
-         same(k.innerIndexPtr(), transpose.innerIndexPtr(), k.nonZeros()) &&
-         same(k.valuePtr(), transpose.valuePtr(), k.nonZeros());
+  return stores_diagonal_only(system.mass) && is_exactly_symmetric(system.stiffness);
 }
 
 // Whether the kernel takes a lane whose stepper is set up: its step is the one step_model repeats

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <type_traits>
 
 #include "core/common/state.hpp"
 #include "core/methods/method.hpp"
@@ -45,6 +46,12 @@ struct CentralDifferenceRecurrence {
   double t = 0.0;                              ///< the time of u
   Eigen::VectorXd u_previous, u, u_next;       ///< u₋, u at t, u₊
   Eigen::VectorXd scratch;
+  /// On a sparse model without damping whose M stores its diagonal only and whose K is exactly
+  /// symmetric (stores_diagonal_only, is_exactly_symmetric: core/model/sparse_system.hpp), the
+  /// caller may set this: predict() then forms M·s − K·u in one pass over the rows, gathering K's
+  /// column i for row i, the same products in the same order as the two column-by-column
+  /// products, so the same bits (the batched model kernel's predict_fused does the same).
+  bool one_pass = false;
 
   /// From `initial` at t₀ (a₀ consistent); sizes the vectors.
   void start(CdmVelocity variant, double step, const State& initial) {
@@ -64,6 +71,25 @@ struct CentralDifferenceRecurrence {
   void predict(const System& system, const typename System::Factorization& lhs) {
     const Eigen::Index n = system.size();
     const double inv_dt2 = 1.0 / (dt * dt);
+    if constexpr (std::is_same_v<System, SparseSystem>) {
+      if (one_pass) {
+        const double* mass = system.mass.valuePtr();
+        const double* values = system.stiffness.valuePtr();
+        const int* rows = system.stiffness.innerIndexPtr();
+        const int* starts = system.stiffness.outerIndexPtr();
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const double s = (2.0 * u[i] - u_previous[i]) * inv_dt2;
+          double sum = s != 0.0 ? 0.0 + mass[i] * s : 0.0;  // multiply(): 0 + m·s, skipped at 0
+          for (int e = starts[i]; e < starts[i + 1]; ++e) {
+            const double sx = -1.0 * u[rows[e]];
+            if (sx != 0.0) sum += values[e] * sx;
+          }
+          u_next[i] = sum;
+        }
+        lhs.solve_in_place(u_next);
+        return;
+      }
+    }
     // rhs = M·(2u − u₋)/Δt² − K·u − (damping term of the variant)
     for (Eigen::Index i = 0; i < n; ++i) scratch[i] = (2.0 * u[i] - u_previous[i]) * inv_dt2;
     multiply(system.mass, scratch, u_next);

@@ -121,6 +121,8 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
     return false;
   }
   recurrence_.start(velocity, dt, initial);
+  recurrence_.one_pass =
+      !system.has_damping() && stores_diagonal_only(system.mass) && is_exactly_symmetric(system.stiffness);
   correction_.resize(system.size());
   const auto m = static_cast<int>(system.constraints.size());
   list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);

@@ -1,5 +1,7 @@
 #include "core/model/sparse_system.hpp"
 
+#include <cstring>
+
 namespace impactid {
 
 double SparseSystem::energy(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
@@ -27,6 +29,31 @@ double quadratic_form(const SparseMatrix& a, const Eigen::VectorXd& x) {
     sum += x[j] * column;
   }
   return sum;
+}
+
+bool stores_diagonal_only(const SparseMatrix& a) {
+  if (!a.isCompressed() || a.rows() != a.cols() || a.nonZeros() != a.rows()) return false;
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+    if (a.outerIndexPtr()[j] != j || a.innerIndexPtr()[j] != j) return false;
+  }
+  return true;
+}
+
+bool is_exactly_symmetric(const SparseMatrix& a) {
+  if (!a.isCompressed() || a.rows() != a.cols()) return false;
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+    for (int e = a.outerIndexPtr()[j] + 1; e < a.outerIndexPtr()[j + 1]; ++e) {
+      if (a.innerIndexPtr()[e - 1] >= a.innerIndexPtr()[e]) return false;
+    }
+  }
+  const SparseMatrix transpose = a.transpose();  // compressed, rows sorted
+  if (transpose.nonZeros() != a.nonZeros()) return false;
+  const auto same = [](const auto* x, const auto* y, Eigen::Index count) {
+    return count == 0 || std::memcmp(x, y, sizeof(*x) * static_cast<std::size_t>(count)) == 0;
+  };
+  return same(a.outerIndexPtr(), transpose.outerIndexPtr(), a.outerSize() + 1) &&
+         same(a.innerIndexPtr(), transpose.innerIndexPtr(), a.nonZeros()) &&
+         same(a.valuePtr(), transpose.valuePtr(), a.nonZeros());
 }
 
 bool is_diagonal(const SparseMatrix& a) {

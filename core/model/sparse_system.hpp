@@ -44,6 +44,13 @@ struct SparseSystem {
   double energy(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const;
 };
 
+/// Whether A is compressed and stores exactly its diagonal, one entry per column.
+bool stores_diagonal_only(const SparseMatrix& a);
+/// Whether A is compressed, each column's rows sorted, and A equals its transpose entry by entry,
+/// bit for bit: then column i holds row i's entries in column order, and gathering it gives the
+/// products a column-by-column scatter (multiply_add) adds to y[i], in the same order.
+bool is_exactly_symmetric(const SparseMatrix& a);
+
 /// y = A·x, overwriting y (sized n). y must not alias x.
 void multiply(const SparseMatrix& a, const Eigen::VectorXd& x, Eigen::VectorXd& y);
 /// y += s·A·x. y must not alias x.
