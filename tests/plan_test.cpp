@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/reference/scene_reference.hpp"
 #include "metrics/indicator_table.hpp"
 #include "study/plan/point_set.hpp"
 
@@ -727,6 +728,24 @@ TEST(ShippedPlans, EveryPlanLoads) {
     }
   }
   EXPECT_GE(count, 6);
+}
+
+// plans/clamped-bar.toml is Doyen, Ern & Piperno's benchmark (L = E = ρ = 1, a = ½), so that its
+// points are measured against the clamped bar's exact solution.
+TEST(ShippedPlans, TheClampedBarIsTheBenchmark) {
+  const Plan plan = load_plan(plans_dir() / "clamped-bar.toml");
+  const auto built = build(plan.base);  // the scene that runs, whole-scene keys moved in
+  ASSERT_TRUE(std::holds_alternative<Simulation>(built));
+  const Scene* scene = std::get<Simulation>(built).bodies();
+  ASSERT_NE(scene, nullptr);
+  const std::optional<ClampedBarParams> bar = clamped_bar_params(*scene);
+  ASSERT_TRUE(bar.has_value());
+  EXPECT_EQ(bar->length, 1.0);
+  EXPECT_EQ(bar->youngs_modulus, 1.0);
+  EXPECT_EQ(bar->density, 1.0);
+  EXPECT_EQ(bar->amplitude, 0.5);
+  const PointSet points(plan);
+  EXPECT_EQ(points.dimension_names(), (std::vector<std::string>{"alpha", "delta"}));
 }
 
 TEST(ShippedPlans, PaperFiguresHaveThePapersGrids) {

@@ -119,6 +119,10 @@ bool kr_alpha_batchable(const RodScene& scene, const MethodParams& method) {
 bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
                      const RunOptions& options) {
   const SecondOrderSystem& system = scene.system;
+  // A clamped end or an initial displacement (AssembledScene::starts_free false) runs through
+  // simulate(): the kernel's lanes have not been held bit for bit to it on such a scene
+  // (tests/batched_chain_test.cpp covers bodies that start free and unstrained).
+  if (!scene.starts_free) return false;
   if (!is_single_step_implicit(method) || options.record_history ||
       options.contact.law != ContactLaw::lagrange || !system.has_constraint_list() ||
       system.has_contact() || system.has_far_contact() || !scene.contact_columns ||

@@ -22,10 +22,11 @@
 // the end of the step.
 //
 // What batches (chain_batchable / same_chain_batch): implicit methods on a scene with a
-// constraint list (scenes of bodies, three or more nodes), no histories; lanes of one batch share
-// the assembled matrices, the contacts' nodes and probes, the time step and the run options, and
-// may differ in the method and its parameters, the gaps, the initial velocities, the first
-// contact time, the primary contact and the end time.
+// constraint list (scenes of bodies, three or more nodes) whose bodies start free and unstrained
+// (no clamped end, no initial displacement: those run through simulate()), no histories; lanes of
+// one batch share the assembled matrices, the contacts' nodes and probes, the time step and the run
+// options, and may differ in the method and its parameters, the gaps, the initial velocities, the
+// first contact time, the primary contact and the end time.
 //
 // Thread safety: one ChainBatchWorkspace per thread; simulate_chain_batch is reentrant.
 #pragma once
@@ -43,7 +44,9 @@
 namespace impactid {
 
 /// Whether a run can go through simulate_chain_batch: an implicit method, an assembled scene
-/// with a constraint list whose walls hold the first or the last node, no histories.
+/// with a constraint list whose walls hold the first or the last node, whose bodies start free
+/// and unstrained (AssembledScene::starts_free: no clamped end, no initial displacement), no
+/// histories.
 bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
                      const RunOptions& options);
 

@@ -29,6 +29,32 @@ std::string body_path(const Scene& scene, std::size_t b) {
   return "body." + (name.empty() ? std::to_string(b + 1) : name);
 }
 
+double body_length(const Body& body) {
+  double length = 0.0;
+  for (const Segment& s : body.segments) length += s.length;
+  return length;
+}
+
+// A body's initial strain (right − left)/L; 0 for an undisplaced body.
+double initial_strain(const Body& body) {
+  if (body.displacement.is_zero()) return 0.0;
+  return (body.displacement.right - body.displacement.left) / body_length(body);
+}
+
+// The gap still open at t = 0: `gap` less what the initial displacements close of it (`closing`).
+// An undisplaced scene's gap is returned as it is, so that its numbers stay those it always had.
+double open_gap(double gap, double closing) {
+  return closing == 0.0 ? gap : gap - closing;
+}
+
+std::string displacement_text(const LinearDisplacement& d) {
+  return "[" + format_value(d.left) + ", " + format_value(d.right) + "]";
+}
+
+bool clamped(const std::optional<Wall>& wall) {
+  return wall && wall->kind == WallKind::clamped;
+}
+
 bool valid_name(const std::string& name) {
   return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
@@ -62,11 +88,37 @@ Scene to_scene(const RodScene& rod) {
   return scene;
 }
 
-std::optional<RodScene> as_rod(const Scene& scene) {
-  if (scene.bodies.size() != 1 || scene.bodies[0].segments.size() != 1 || scene.left_wall ||
-      !scene.right_wall) {
-    return std::nullopt;
+const char* to_string(WallKind kind) {
+  switch (kind) {
+    case WallKind::contact:
+      return "contact";
+    case WallKind::clamped:
+      return "clamped";
   }
+  return "unknown";
+}
+
+std::optional<WallKind> wall_kind_from_string(const std::string& name) {
+  for (const WallKind kind : {WallKind::contact, WallKind::clamped}) {
+    if (name == to_string(kind)) return kind;
+  }
+  return std::nullopt;
+}
+
+bool bodies_start_free(const Scene& scene) {
+  if (clamped(scene.left_wall) || clamped(scene.right_wall)) return false;
+  return std::all_of(scene.bodies.begin(), scene.bodies.end(),
+                     [](const Body& body) { return body.displacement.is_zero(); });
+}
+
+bool in_paper_form(const Scene& scene) {
+  return scene.bodies.size() == 1 && scene.bodies[0].segments.size() == 1 && !scene.left_wall &&
+         scene.right_wall && scene.right_wall->kind == WallKind::contact &&
+         bodies_start_free(scene);
+}
+
+std::optional<RodScene> as_rod(const Scene& scene) {
+  if (!in_paper_form(scene)) return std::nullopt;
   const Body& body = scene.bodies[0];
   const Segment& segment = body.segments[0];
   RodScene rod;
@@ -106,26 +158,31 @@ std::vector<SceneContact> scene_contacts(const Scene& scene) {
   std::vector<SceneContact> contacts;
   const auto& bodies = scene.bodies;
   if (bodies.empty()) return contacts;
-  if (scene.left_wall) {
+  // A gap closes as the constraint's g = u_plus − u_minus − gap rises to 0: an initial
+  // displacement of the plus side closes it, of the minus side opens it.
+  if (scene.left_wall && scene.left_wall->kind == WallKind::contact) {
+    const Body& first = bodies.front();
     contacts.push_back(
         {"wall_left", ContactKind::left_wall, -1, 0, scene.left_wall->gap,
-         bodies.front().segments.empty() ? 1.0 : bodies.front().segments.front().area,
-         closing_time(scene.left_wall->gap, -bodies.front().velocity)});
+         first.segments.empty() ? 1.0 : first.segments.front().area,
+         closing_time(open_gap(scene.left_wall->gap, -first.displacement.left), -first.velocity)});
   }
   for (std::size_t b = 0; b + 1 < bodies.size(); ++b) {
     const Body& left = bodies[b];
     const Body& right = bodies[b + 1];
-    contacts.push_back({left.name + "-" + right.name, ContactKind::bodies, static_cast<int>(b),
-                        static_cast<int>(b + 1), right.gap,
-                        left.segments.empty() ? 1.0 : left.segments.back().area,
-                        closing_time(right.gap, left.velocity - right.velocity)});
+    contacts.push_back(
+        {left.name + "-" + right.name, ContactKind::bodies, static_cast<int>(b),
+         static_cast<int>(b + 1), right.gap,
+         left.segments.empty() ? 1.0 : left.segments.back().area,
+         closing_time(open_gap(right.gap, left.displacement.right - right.displacement.left),
+                      left.velocity - right.velocity)});
   }
-  if (scene.right_wall) {
+  if (scene.right_wall && scene.right_wall->kind == WallKind::contact) {
     const Body& last = bodies.back();
-    contacts.push_back({"wall_right", ContactKind::right_wall, static_cast<int>(bodies.size()) - 1,
-                        -1, scene.right_wall->gap,
-                        last.segments.empty() ? 1.0 : last.segments.back().area,
-                        closing_time(scene.right_wall->gap, last.velocity)});
+    contacts.push_back(
+        {"wall_right", ContactKind::right_wall, static_cast<int>(bodies.size()) - 1, -1,
+         scene.right_wall->gap, last.segments.empty() ? 1.0 : last.segments.back().area,
+         closing_time(open_gap(scene.right_wall->gap, last.displacement.right), last.velocity)});
   }
   return contacts;
 }
@@ -186,6 +243,10 @@ std::optional<ParameterError> validate(const Scene& s) {
         }
       }
     }
+    if (!(std::isfinite(body.displacement.left) && std::isfinite(body.displacement.right))) {
+      return ParameterError{path + ".displacement", displacement_text(body.displacement),
+                            "must be finite ([u at the first node, u at the last node], mm)"};
+    }
     nodes += 1;
   }
   if (nodes > 10'000'001) {
@@ -193,9 +254,29 @@ std::optional<ParameterError> validate(const Scene& s) {
   }
   for (const auto& [wall, side] : {std::pair{&s.left_wall, "left"}, {&s.right_wall, "right"}}) {
     if (!*wall) continue;
+    const std::string at = std::string("wall.") + side;
+    if ((*wall)->kind != WallKind::contact && (*wall)->kind != WallKind::clamped) {
+      return ParameterError{at + ".kind", std::to_string(static_cast<int>((*wall)->kind)),
+                            "must be \"contact\" or \"clamped\""};
+    }
     if (auto e = require_in_range("gap", (*wall)->gap, 0.0, kMax, "must be >= 0 and finite"); e) {
-      e->field = std::string("wall.") + side + ".gap";
+      e->field = at + ".gap";
       return e;
+    }
+    if ((*wall)->kind != WallKind::clamped) continue;
+    if ((*wall)->gap != 0.0) {
+      return ParameterError{at + ".gap", format_value((*wall)->gap),
+                            "a clamped end has no gap (" + at + ".kind = \"clamped\"): give none"};
+    }
+    // The clamped node: the first body's first, or the last body's last.
+    const bool left = *side == 'l';
+    const std::size_t b = left ? 0 : s.bodies.size() - 1;
+    const LinearDisplacement& d = s.bodies[b].displacement;
+    if ((left ? d.left : d.right) != 0.0) {
+      return ParameterError{body_path(s, b) + ".displacement", displacement_text(d),
+                            std::string("must be 0 at the clamped end (") + at +
+                                ".kind = \"clamped\" holds the body's " +
+                                (left ? "first" : "last") + " node at u = 0)"};
     }
   }
   for (auto error : {
@@ -219,8 +300,30 @@ std::optional<ParameterError> validate(const Scene& s) {
                               " contacts (bodies and walls): the bound of the contact solver"};
   }
   if (contacts.empty()) {
-    return ParameterError{"body", s.bodies[0].name,
-                          "a scene needs at least one contact (a wall or a second body)"};
+    const bool has_clamp = clamped(s.left_wall) || clamped(s.right_wall);
+    return ParameterError{
+        "body", s.bodies[0].name,
+        std::string("a scene needs at least one contact (a wall or a second body") +
+            (has_clamp ? "; a clamped wall is none)" : ")")};
+  }
+  // The initial displacement must keep every constraint (no contact closed past its gap).
+  for (const SceneContact& c : contacts) {
+    const Body* left =
+        c.left_body >= 0 ? &s.bodies[static_cast<std::size_t>(c.left_body)] : nullptr;
+    const Body* right =
+        c.right_body >= 0 ? &s.bodies[static_cast<std::size_t>(c.right_body)] : nullptr;
+    const double closing =
+        (left ? left->displacement.right : 0.0) - (right ? right->displacement.left : 0.0);
+    if (closing <= c.gap) continue;
+    // Named at the body whose displacement closes it: the left one's if it moves right.
+    const bool at_left = left && (!right || left->displacement.right > 0.0);
+    const std::size_t b = static_cast<std::size_t>(at_left ? c.left_body : c.right_body);
+    return ParameterError{body_path(s, b) + ".displacement",
+                          displacement_text(s.bodies[b].displacement),
+                          "closes contact " + c.name + " past its gap at t = 0 (it closes " +
+                              format_value(closing) + " mm of a " + format_value(c.gap) +
+                              " mm gap): an initial state must keep every contact open or "
+                              "just closed"};
   }
   if (s.primary_contact) {
     const bool known = std::any_of(contacts.begin(), contacts.end(), [&](const SceneContact& c) {
@@ -245,7 +348,20 @@ std::optional<ParameterError> validate(const Scene& s) {
   }
   if (d.velocity_scale != 0.0 &&
       !(std::isnormal(d.initial_energy) && std::isnormal(d.velocity_scale * d.velocity_scale))) {
-    return ParameterError{"velocity", format_value(d.velocity_scale),
+    // Named by what sets the scale: a body's velocity or, failing that, a strained body's
+    // displacement.
+    std::string field = "velocity";
+    if (std::none_of(s.bodies.begin(), s.bodies.end(), [&](const Body& body) {
+          return std::abs(body.velocity) == d.velocity_scale;
+        })) {
+      for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+        if (initial_strain(s.bodies[b]) != 0.0) {
+          field = body_path(s, b) + ".displacement";
+          break;
+        }
+      }
+    }
+    return ParameterError{field, format_value(d.velocity_scale),
                           "gives an initial energy of " + format_value(d.initial_energy) +
                               " mJ outside the normal range of double"};
   }
@@ -264,6 +380,7 @@ SceneDerived derive(const Scene& s) {
   for (const Body& body : s.bodies) {
     d.nodes += 1;
     d.velocity_scale = std::max(d.velocity_scale, std::abs(body.velocity));
+    const double strain = initial_strain(body);
     for (const Segment& seg : body.segments) {
       d.nodes += seg.elements;
       const double c = wave_speed(seg);
@@ -274,6 +391,10 @@ SceneDerived derive(const Scene& s) {
         step_c = c;
       }
       d.initial_energy += 0.5 * seg.density * seg.area * seg.length * body.velocity * body.velocity;
+      if (strain != 0.0) {  // an unstrained scene's numbers stay those it always had
+        d.initial_energy += 0.5 * seg.youngs_modulus * seg.area * seg.length * strain * strain;
+        d.velocity_scale = std::max(d.velocity_scale, c * std::abs(strain));
+      }
     }
   }
   d.time_step = s.dt ? *s.dt : s.courant * step_h / step_c;

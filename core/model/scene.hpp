@@ -5,11 +5,21 @@
 //   [left wall] gap  body 0 (segments 0..)  gap  body 1  …  body m−1  gap  [right wall]
 //
 // Units: N, mm, s, t (tonne), as RodScene. Velocities are positive toward +x (to the right).
-// Every body moves rigidly with its own velocity until its first contact; displacements are
-// measured from the initial positions.
+// Displacements are measured from each node's reference position, the one the gaps are measured
+// at. A body starts at its own velocity and, by default, undisplaced (then it moves rigidly until
+// its first contact); it may start with a displacement field linear in x (Body::displacement), an
+// initial strain, and a wall may clamp its end node instead of being a contact (WallKind::clamped:
+// u = 0 for all time, the node removed from the assembled system, core/model/scene_assembly.hpp).
+// Such a scene is not one whose bodies start free (bodies_start_free), and what assumes they do
+// refuses it: the run's filled-in free flight (AssembledScene::rigid_flight), the rod's shorthand
+// (as_rod), the exact solution of the chain (core/reference/chain_exact.hpp) and the batched chain
+// kernel (core/batch/batched_chain.hpp). Doyen, Ern & Piperno's clamped bar released onto an
+// obstacle is such a scene, with an exact solution of its own (core/reference/scene_reference.hpp:
+// clamped_bar_params).
 //
 // Contacts, in this order (scene_contacts): the left wall's, one between each pair of
-// neighbouring bodies, the right wall's. Each is a Lagrange-multiplier constraint
+// neighbouring bodies, the right wall's (a clamped wall is no contact). Each is a
+// Lagrange-multiplier constraint
 //   left wall:    −u_first(0) − gap <= 0,            force +λ on the first node of body 0
 //   body pair:    u_last(i) − u_first(i+1) − gap <= 0, −λ on body i's last node, +λ on body
 //                                                      i+1's first node
@@ -44,18 +54,48 @@ struct Segment {
   bool operator==(const Segment&) const = default;
 };
 
+/// A body's initial displacement u(x, 0), linear in x along the whole body (through its
+/// segments): `left` at its first node, `right` at its last, u_j = left·(1 − x_j/L) +
+/// right·x_j/L at node j (x_j from the first node, L the body's length). [mm], finite. The default,
+/// zero, is an undisplaced body; right ≠ left is an initial strain (right − left)/L in every
+/// segment. A node's displacement counts from its reference position, so a wall or a neighbour's
+/// gap is to the undisplaced end: the initial state must keep every contact's constraint
+/// (validate()), and a clamped end must have zero displacement.
+struct LinearDisplacement {
+  double left = 0.0;   ///< u at the body's first node [mm]
+  double right = 0.0;  ///< u at its last node [mm]
+
+  bool is_zero() const { return left == 0.0 && right == 0.0; }
+  bool operator==(const LinearDisplacement&) const = default;
+};
+
 /// One rod: segments from left to right, welded together; its nodes are numbered left to right.
 struct Body {
-  std::string name;               ///< unique within the scene; letters, digits and '_'
-  double velocity = 0.0;          ///< initial velocity of every node [mm/s], +x positive, finite
-  double gap = 0.0;               ///< gap to the body (or the wall) on its left [mm], >= 0
-  std::vector<Segment> segments;  ///< at least one
+  std::string name;                 ///< unique within the scene; letters, digits and '_'
+  double velocity = 0.0;            ///< initial velocity of every node [mm/s], +x positive, finite
+  double gap = 0.0;                 ///< gap to the body (or the wall) on its left [mm], >= 0
+  std::vector<Segment> segments;    ///< at least one
+  LinearDisplacement displacement;  ///< initial displacement; default none
 
   bool operator==(const Body&) const = default;
 };
 
+/// What a wall does to the end node next to it.
+enum class WallKind {
+  /// A rigid obstacle: the unilateral contact of the header comment, at `gap`. The default.
+  contact,
+  /// The end node held at u = 0 for all time (a Dirichlet condition, exact: the node's DOF is
+  /// removed from the assembled system). Not a contact; its gap must be 0 and the node's initial
+  /// displacement 0. The body's initial velocity still applies to its other nodes.
+  clamped,
+};
+/// "contact", "clamped": the names of plan and scene files (`kind` of [scene.wall.<side>]).
+const char* to_string(WallKind kind);
+std::optional<WallKind> wall_kind_from_string(const std::string& name);
+
 struct Wall {
-  double gap = 0.0;  ///< gap between the wall and the end node next to it [mm], >= 0
+  WallKind kind = WallKind::contact;
+  double gap = 0.0;  ///< gap between the wall and the end node next to it [mm], >= 0; a contact's
 
   bool operator==(const Wall&) const = default;
 };
@@ -85,10 +125,20 @@ struct Scene {
 /// a left wall at far_gap; the body is named "rod" and the right wall is the primary contact.
 Scene to_scene(const RodScene& rod);
 
-/// The other way: the rod's shorthand of a scene in the paper's form (one body of one segment
-/// and a right wall, nothing else), with the scene's end time stated, whose run is the scene's
-/// bit for bit (the same matrices, step, time grid and free flight: core/model/scene_assembly.hpp).
-/// Sweeps run such scenes in the rod's batched kernel. Nothing for any other scene.
+/// Whether every body starts free and unstrained: no clamped wall and no initial displacement.
+/// Only then does each body fly rigidly (u = v0·t) until its first contact, which the run's
+/// filled-in free flight, the exact solution of the chain and the batched chain kernel assume.
+bool bodies_start_free(const Scene& scene);
+
+/// Whether the scene is in the paper's form: one body of one segment, starting free
+/// (bodies_start_free), and a contact wall on the right, nothing else.
+bool in_paper_form(const Scene& scene);
+
+/// The other way: the rod's shorthand of a scene in the paper's form (in_paper_form), with the
+/// scene's end time stated, whose run is the scene's bit for bit (the same matrices, step, time
+/// grid and free flight: core/model/scene_assembly.hpp). Sweeps run such scenes in the rod's
+/// batched kernel. Nothing for any other scene: a clamped end or an initial displacement, which
+/// RodScene cannot say, is never taken for the paper's rod.
 std::optional<RodScene> as_rod(const Scene& scene);
 
 enum class ContactKind { left_wall, bodies, right_wall };
@@ -101,13 +151,16 @@ struct SceneContact {
   int right_body;  ///< body on the right; −1 for the right wall
   double gap;      ///< [mm]
   double area;     ///< pressure = λ / area [mm²]
-  /// Time at which the gap closes if every body flew rigidly (+inf if it never does) [s].
+  /// Time at which the gap closes if every body flew rigidly from its initial position (+inf if
+  /// it never does) [s]: the gap less the initial displacements' closing of it (Body::
+  /// displacement), over the approach velocity.
   double rigid_closing_time;
 };
+/// The contacts of the scene; a clamped wall is none.
 std::vector<SceneContact> scene_contacts(const Scene& scene);
 
 /// First invalid field of the scene, named by its dotted path (`body.striker.segment.1.area`,
-/// `wall.left.gap`, `courant`), or nothing.
+/// `wall.left.gap`, `wall.right.kind`, `body.bar.displacement`, `courant`), or nothing.
 std::optional<ParameterError> validate(const Scene& scene);
 
 /// Quantities derived from a valid scene, computed in one place.
@@ -118,9 +171,14 @@ struct SceneDerived {
   int primary_contact;        ///< index into scene_contacts()
   double end_time;            ///< t_end [s]
   long step_count;            ///< N = ⌈t_end/Δt − 1e-9⌉; samples t_i = i·Δt, i = 1..N
-  double initial_energy;      ///< Σ ½·ρ·A·L·v² [mJ]
-  double velocity_scale;      ///< largest |v| of a body [mm/s]
-  long nodes;                 ///< Σ (elements + 1) over the bodies
+  /// Σ ½·ρ·A·L·v² + Σ ½·E·A·L·ε² over the segments, ε a body's initial strain [mJ]: the
+  /// continuum's kinetic and strain energy at t = 0, checked by validate() (a run's own is
+  /// ½vᵀMv + ½uᵀKu of the assembled system).
+  double initial_energy;
+  /// The largest of a body's |v0| and of c·|ε| over its segments (the particle velocity an
+  /// initial strain ε releases) [mm/s]: the scale of the scene's velocities.
+  double velocity_scale;
+  long nodes;  ///< Σ (elements + 1) over the bodies, clamped nodes included
 };
 SceneDerived derive(const Scene& scene);
 

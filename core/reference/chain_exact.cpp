@@ -383,6 +383,12 @@ ChainExact::ChainExact(const Scene& scene, double t_end, const ChainExactOptions
     throw std::invalid_argument("ChainExact: scene " + error->field + " = " + error->value + ": " +
                                 error->constraint);
   }
+  if (!bodies_start_free(scene)) {
+    throw std::invalid_argument(
+        "ChainExact: the scene has a clamped wall or an initial displacement: its bodies do not "
+        "start free and unstrained, as this solution assumes (core/reference/scene_reference.hpp "
+        "measures such a scene against its own exact solution or a converged one)");
+  }
   if (!(std::isfinite(t_end) && t_end >= 0.0)) {
     throw std::invalid_argument("ChainExact: t_end = " + format_value(t_end) +
                                 ": must be finite and >= 0");

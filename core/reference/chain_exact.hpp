@@ -15,7 +15,8 @@
 //   v = r + l,   N = Z·(l − r),
 // with r(x − ct) the right-going and l(x + ct) the left-going component. Bodies start unstressed
 // at their own velocity v0, so r = l = v0/2 in each of their segments, and both stay piecewise
-// constant in their characteristic coordinate. Energy and momentum per unit length separate,
+// constant in their characteristic coordinate. (A scene with an initial strain or a clamped end
+// is not solved here: the constructor refuses it.) Energy and momentum per unit length separate,
 //   ½ρA v² + N²/(2EA) = ρA·(r² + l²),   ρA v = ρA·(r + l),
 // because Z²/(EA) = ρA.
 //
@@ -99,7 +100,9 @@ struct ChainBalance {
 class ChainExact {
  public:
   /// Solves `scene` from t = 0 up to t_end [s] (finite, >= 0). Throws std::invalid_argument if
-  /// the scene fails validate() or an option or t_end is out of range, and std::runtime_error if
+  /// the scene fails validate(), its bodies do not start free and unstrained (bodies_start_free:
+  /// a clamped wall or an initial displacement, which the waves above leave out), or an option
+  /// or t_end is out of range, and std::runtime_error if
   /// more than options.max_events events occur. To sample at t_i = i·Δt, i = 1..N, pass
   /// t_end = N·Δt (SceneDerived::step_count can put t_N slightly past the scene's t_end).
   ChainExact(const Scene& scene, double t_end, const ChainExactOptions& options = {});

@@ -61,7 +61,28 @@ bool operator==(const ReferenceOptions& a, const ReferenceOptions& b) {
   return same_method_parameters(a.method, b.method);
 }
 
+std::optional<ClampedBarParams> clamped_bar_params(const Scene& scene) {
+  if (scene.bodies.size() != 1 || scene.bodies[0].segments.size() != 1) return std::nullopt;
+  const Body& body = scene.bodies[0];
+  const Segment& segment = body.segments[0];
+  const bool form = scene.left_wall && scene.left_wall->kind == WallKind::contact &&
+                    scene.left_wall->gap == 0.0 && scene.right_wall &&
+                    scene.right_wall->kind == WallKind::clamped && body.velocity == 0.0 &&
+                    body.displacement.right == 0.0 && body.displacement.left > 0.0 &&
+                    scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+  if (!form) return std::nullopt;
+  const ClampedBarParams params{.length = segment.length,
+                                .youngs_modulus = segment.youngs_modulus,
+                                .density = segment.density,
+                                .amplitude = body.displacement.left};
+  if (validate(params)) return std::nullopt;  // scales out of double's range
+  return params;
+}
+
 std::string SceneReference::description() const {
+  if (refinements == 0 && exact == SceneExact::clamped_bar) {
+    return "exact solution of the clamped bar (core/reference/clamped_bar_exact.hpp)";
+  }
   if (refinements == 0) return "exact solution of the chain (core/reference/chain_exact.hpp)";
   return std::string(converged ? "converged" : "not converged") + ": " +
          to_string(kind_of(options.method)) + " at h/" + std::to_string(1L << refinements) +
@@ -77,7 +98,22 @@ SceneReference scene_reference(const Scene& scene, const ReferenceOptions& optio
   r.scene = scene;
   r.options = options;
   const double dt = derived.time_step;
-  if (scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0) {
+  if (const std::optional<ClampedBarParams> bar = clamped_bar_params(scene)) {
+    // Its one contact is the left wall's, with the same signs as the solution's contact end.
+    const ClampedBarExact exact(*bar);
+    r.exact = SceneExact::clamped_bar;
+    r.contacts.resize(1);
+    ContactSamples& s = r.contacts[0];
+    for (long i = 1; i <= derived.step_count; ++i) {
+      // The sampling convention of RodImpactExact::at_sample: jumps within 1e-6·Δt averaged.
+      const ContactNodeValues e = exact.at(static_cast<double>(i) * dt, 1e-6 * dt);
+      s.pressure.push_back(e.pressure);
+      s.velocity.push_back(e.velocity);
+    }
+    return r;
+  }
+  if (scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0 && bodies_start_free(scene)) {
+    r.exact = SceneExact::chain;
     std::optional<ChainExact> solved;
     try {
       solved.emplace(scene, static_cast<double>(derived.step_count) * dt);

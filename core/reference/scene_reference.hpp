@@ -1,6 +1,13 @@
 // What a run of a scene of bodies is measured against, sampled at its samples t_i = i·Δt
-// (i = 1..N): the exact solution of the chain (core/reference/chain_exact.hpp) when the scene has
-// no damping, which that solution leaves out; otherwise a converged numerical solution (issue 18):
+// (i = 1..N), chosen in this order:
+//   - the exact solution of the clamped bar released onto an obstacle (Doyen, Ern & Piperno 2011,
+//     core/reference/clamped_bar_exact.hpp) when the scene is in that benchmark's form
+//     (clamped_bar_params below); its conventions are the scene's left wall's (+x away from the
+//     obstacle, the pressure compressive-positive), so its values are taken as they are;
+//   - the exact solution of the chain (core/reference/chain_exact.hpp) when the scene has no
+//     damping, which that solution leaves out, and its bodies start free and unstrained
+//     (bodies_start_free: no clamped end, no initial displacement, which it leaves out too);
+//   - otherwise a converged numerical solution (issue 18):
 // the scene run by a reference method with every segment's mesh and the step refined together,
 // h/2^k and Δt/2^k (the same Courant number), until the primary contact's pressure and velocity
 // change by less than a tolerance between two refinements, in the form of eq. 18
@@ -19,12 +26,14 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/common/run_record.hpp"
 #include "core/methods/method.hpp"
 #include "core/model/scene.hpp"
+#include "core/reference/clamped_bar_exact.hpp"
 #include "core/reference/reference_run.hpp"
 
 namespace impactid {
@@ -43,12 +52,28 @@ struct ReferenceOptions {
 /// Equal options give the same reference (methods compared by kind and coefficients).
 bool operator==(const ReferenceOptions& a, const ReferenceOptions& b);
 
+/// Which exact solution a reference is, if any.
+enum class SceneExact {
+  none,         ///< a converged numerical solution
+  chain,        ///< ChainExact (core/reference/chain_exact.hpp)
+  clamped_bar,  ///< ClampedBarExact (core/reference/clamped_bar_exact.hpp)
+};
+
+/// The clamped bar's parameters of a scene in the form of Doyen, Ern & Piperno's first benchmark:
+/// one body of one segment, a contact wall on the left at gap 0, a clamped right end, an initial
+/// displacement [a, 0] with a > 0, no initial velocity, no damping (any mass matrix, any step).
+/// L, E, ρ are the segment's and a the displacement's left value; the scene's one contact
+/// (wall_left) then has the solution's pressure and contact-end velocity. Nothing for any other
+/// scene.
+std::optional<ClampedBarParams> clamped_bar_params(const Scene& scene);
+
 struct SceneReference {
   Scene scene;                           ///< what it is the reference of (a cache key)
   ReferenceOptions options;              ///< and with which options
   std::vector<ContactSamples> contacts;  ///< scene_contacts() order
-  /// 0: the exact solution; k >= 1: the converged solution at h/2^k and Δt/2^k.
+  /// 0: an exact solution (`exact` says which); k >= 1: the converged solution at h/2^k and Δt/2^k.
   int refinements = 0;
+  SceneExact exact = SceneExact::none;
   /// The relative change at the last refinement (NaN for the exact solution).
   double change = std::numeric_limits<double>::quiet_NaN();
   /// False when max_refinements were used without reaching the tolerance, or a refined run
@@ -60,14 +85,16 @@ struct SceneReference {
   /// ok, or the exact solution could not be computed (more events than ChainExact allows).
   bool usable() const { return !contacts.empty(); }
 
-  /// "exact solution of the chain" or "converged: hht at h/2^k and dt/2^k, relative change …".
+  /// "exact solution of the chain (…)", "exact solution of the clamped bar (…)" or "converged: hht
+  /// at h/2^k and dt/2^k, relative change …".
   std::string description() const;
 };
 
 /// Σ|a − b| / Σ|a| (eq. 18's form) of two refinements' samples, 0 when both are zero.
 double relative_change(const std::vector<double>& a, const std::vector<double>& b);
 
-/// The reference of a valid scene. Exact when the scene is undamped; otherwise converged. Never
+/// The reference of a valid scene: exact when the scene is the clamped bar's or undamped with
+/// bodies that start free; otherwise converged. Never
 /// throws for a valid scene: a reference that cannot be had is !usable(), with the reason in
 /// `message`.
 /// `run` runs the refined scenes (core/run/references.hpp passes simulate()).

@@ -440,9 +440,13 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
       sparse ? sparse->energy(state.u, state.v) : system.energy(state.u, state.v);
   summary.final_energy = summary.initial_energy;
 
-  // Rigid free flight of every body, filled in (free_flight_samples).
-  const long skipped = free_flight_samples(scene.first_contact_time, dt, scene.step_count,
-                                           scene.rigid_flight, options);
+  // Rigid free flight of every body, filled in (free_flight_samples). The fill is u = v0·t from
+  // u = 0: a scene that starts otherwise (a clamped end, an initial displacement) is stepped from
+  // t = 0 whatever its rigid_flight says.
+  const bool rigid_flight =
+      scene.rigid_flight && scene.starts_free && scene.initial_displacement.size() == 0;
+  const long skipped =
+      free_flight_samples(scene.first_contact_time, dt, scene.step_count, rigid_flight, options);
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
   const bool main_penetration = !listed && !far_wall && options.contact.law != ContactLaw::lagrange;
   if (listed || far_wall || main_penetration) summary.max_penetration = -kInf;

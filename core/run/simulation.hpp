@@ -99,7 +99,10 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
 /// How many samples of a run are rigid free flight to be filled in rather than stepped: before
 /// the first contact every method computes u = v0·t, v = v0, a = 0 exactly (K·1 = 0 in each
 /// body), so the samples up to shortly before it are filled in when options.skip_free_flight is
-/// set and nothing slows a body in flight (rigid_flight). Central difference's λ at t_i looks
+/// set and nothing slows a body in flight (rigid_flight). prepare_run() passes rigid_flight false
+/// for a scene whose bodies do not start free and unstrained (AssembledScene::starts_free false
+/// or an initial displacement): a clamped end or an initial strain makes the flight anything but
+/// u = v0·t, so such a scene is stepped from t = 0. Central difference's λ at t_i looks
 /// ahead to t_{i+1}, hence one step of margin beyond the last sample before the contact.
 /// Shared by simulate() and the batched kernels, which must fill in the same samples.
 long free_flight_samples(double first_contact_time, double dt, long step_count, bool rigid_flight,

@@ -101,16 +101,19 @@ def scene_bodies(scene):
 
 def scene_contacts(scene):
     """The contacts of a scene of bodies, left to right, as core/model/scene.cpp names them:
-    [(name, gap, dotted keys of the gap)] with 'wall_left', '<left>-<right>' and 'wall_right'."""
+    [(name, gap, dotted keys of the gap)] with 'wall_left', '<left>-<right>' and 'wall_right'
+    (a clamped wall is none)."""
     bodies = scene_bodies(scene)
     walls = scene.get("wall", {})
     out = []
-    if "left" in walls and bodies:
+    # A clamped wall (kind = "clamped") holds its end node: it is no contact.
+    contact = {side: side in walls and walls[side].get("kind", "contact") == "contact" for side in ("left", "right")}
+    if contact["left"] and bodies:
         out.append(("wall_left", float(walls["left"].get("gap", bodies[0]["gap"])),
                     ("wall.left.gap", f"body.{bodies[0]['name']}.gap", "body.1.gap")))
     for k, (left, right) in enumerate(zip(bodies, bodies[1:])):
         out.append((f"{left['name']}-{right['name']}", right["gap"], (f"body.{right['name']}.gap", f"body.{k + 2}.gap")))
-    if "right" in walls:
+    if contact["right"]:
         out.append(("wall_right", float(walls["right"].get("gap", 0.0)), ("wall.right.gap",)))
     return out
 

@@ -99,7 +99,10 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
       exact[0].pressure.push_back(e.pressure);
       exact[0].velocity.push_back(e.velocity);
     }
-  } else if (bodies && bodies->rayleigh_mass == 0.0 && bodies->rayleigh_stiffness == 0.0) {
+  } else if (bodies && bodies->rayleigh_mass == 0.0 && bodies->rayleigh_stiffness == 0.0 &&
+             (bodies_start_free(*bodies) || clamped_bar_params(*bodies))) {
+    // An exact solution (of the chain, or of the clamped bar), never a converged one: a scene
+    // without either exports no reference.
     const SceneReference r = scene_reference(*bodies, ReferenceOptions{});
     if (r.usable() && r.refinements == 0) exact = r.contacts;
   }
@@ -119,6 +122,15 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
     for (Eigen::Index i = 0; i < v0.size(); ++i) text += number(v0[i]) + "\n";
     write_file(directory / "v0.mtx", text);
   }
+  // A scene of bodies' initial displacement (Body::displacement), at its DOFs (a clamped node is
+  // none: core/model/scene_assembly.hpp).
+  const Eigen::VectorXd& u0 = scene.initial_displacement;
+  if (u0.size() > 0) {
+    std::string text = "%%MatrixMarket matrix array real general\n% initial displacement [mm]\n" +
+                       std::to_string(u0.size()) + " 1\n";
+    for (Eigen::Index i = 0; i < u0.size(); ++i) text += number(u0[i]) + "\n";
+    write_file(directory / "u0.mtx", text);
+  }
 
   std::string toml =
       "# A built-in impactid scene exported as a user's model by `impactid export-model`:\n"
@@ -132,7 +144,8 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
       contacts[static_cast<std::size_t>(scene.primary)].name +
       "\"\n\n[scene.matrices]\n"
       "mass = \"M.mtx\"\nstiffness = \"K.mtx\"\n" +
-      (damped ? "damping = \"C.mtx\"\n" : "") + "\n[scene.initial]\nvelocity = " +
+      (damped ? "damping = \"C.mtx\"\n" : "") + "\n[scene.initial]\n" +
+      (u0.size() > 0 ? "displacement = \"u0.mtx\"\n" : "") + "velocity = " +
       (uniform ? "{ value = " + number(v0[0]) + ", dofs = \"all\" }" : std::string("\"v0.mtx\"")) +
       "\n";
   for (const ExportedContact& c : contacts) {

@@ -140,14 +140,26 @@ void write_json(const Simulation& sim, const Evaluation& e) {
 }
 
 // A scene of bodies: one line per body and wall, and the time grid.
+// A wall's line: its gap, or that it clamps its end node.
+void write_wall(const char* lead, const char* side, const Wall& wall) {
+  if (wall.kind == WallKind::clamped) {
+    std::printf("%s wall (%s), clamped: u = 0\n", lead, side);
+  } else {
+    std::printf("%s wall (%s), gap %g mm\n", lead, side, wall.gap);
+  }
+}
+
 void write_bodies(const Scene& scene) {
-  if (scene.left_wall) std::printf("scene       wall (left), gap %g mm\n", scene.left_wall->gap);
+  if (scene.left_wall) write_wall("scene      ", "left", *scene.left_wall);
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     std::printf("%s body %-10s v0 = %g mm/s",
                 b == 0 && !scene.left_wall ? "scene      " : "           ", body.name.c_str(),
                 body.velocity);
     if (b > 0) std::printf(", gap %g mm", body.gap);
+    if (!body.displacement.is_zero()) {
+      std::printf(", u0 = [%g, %g] mm", body.displacement.left, body.displacement.right);
+    }
     std::printf(":");
     for (const Segment& s : body.segments) {
       std::printf(" [L %g, n %d, E %g, rho %g, A %g]", s.length, s.elements, s.youngs_modulus,
@@ -155,7 +167,7 @@ void write_bodies(const Scene& scene) {
     }
     std::printf("\n");
   }
-  if (scene.right_wall) std::printf("            wall (right), gap %g mm\n", scene.right_wall->gap);
+  if (scene.right_wall) write_wall("           ", "right", *scene.right_wall);
   const SceneDerived d = derive(scene);
   std::printf(
       "time        dt = %.6g s (Courant %.4g of the smallest h/c), %ld steps to t_end = "
@@ -245,7 +257,7 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     for (const SceneContact& c : scene_contacts(*bodies)) names.push_back(c.name);
     write_contacts(names, derive(*bodies).primary_contact, false, e);
     if (e.reference_refinements == 0) {
-      std::printf("reference   the exact solution of the chain\n");
+      std::printf("reference   the %s\n", e.reference.c_str());
     } else {
       const long factor = 1L << static_cast<int>(e.reference_refinements);
       std::printf(

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/reference/chain_exact.hpp"
+#include "core/reference/clamped_bar_exact.hpp"
 #include "core/reference/exact_solution.hpp"
 #include "core/run/references.hpp"
 #include "study/formats/hdf5_file.hpp"
@@ -77,8 +78,14 @@ std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrac
     columns[5].values.push_back(exact.contacts[p].pressure[i]);
     columns[6].values.push_back(exact.contacts[p].velocity[i]);
   }
-  // The displacement of the exact solution of the chain (not of a converged reference).
-  if (exact.refinements == 0) {
+  // The displacement of an exact solution (not of a converged reference).
+  if (exact.refinements == 0 && exact.exact == SceneExact::clamped_bar) {
+    const ClampedBarExact bar(*clamped_bar_params(scene));
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = static_cast<double>(i + 1) * dt;
+      columns[7].values.push_back(bar.at(t, 1e-6 * dt).displacement);
+    }
+  } else if (exact.refinements == 0) {
     const ChainExact chain(scene, static_cast<double>(n) * dt);
     for (std::size_t i = 0; i < n; ++i) {
       const double t = static_cast<double>(i + 1) * dt;

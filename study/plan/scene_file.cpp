@@ -36,6 +36,40 @@ class Reader : public toml_reading::TableReader {
     return true;
   }
 
+  // [u at the first node, u at the last node] (core/model/scene.hpp: LinearDisplacement).
+  LinearDisplacement displacement(const toml::node& node, const std::string& path) const {
+    const auto* array = node.as_array();
+    if (!array || array->size() != 2) {
+      fail(node, path,
+           "must be an array of two numbers, [u at the body's first node, u at its last] in mm "
+           "(linear in between)");
+    }
+    return {.left = number(*array->get(0), path + "[0]"),
+            .right = number(*array->get(1), path + "[1]")};
+  }
+
+  Wall wall(const toml::table& t, const std::string& at) const {
+    Wall wall;
+    for (const auto& [key, value] : ordered(t)) {
+      if (key == "gap") {
+        wall.gap = number(*value, at + ".gap");
+      } else if (key == "kind") {
+        const std::string name = string(*value, at + ".kind");
+        const std::optional<WallKind> kind = wall_kind_from_string(name);
+        if (!kind) {
+          fail(*value, at + ".kind",
+               "\"" + name +
+                   "\" is not a kind of wall (\"contact\": a rigid obstacle, the default; "
+                   "\"clamped\": the end node held at u = 0)");
+        }
+        wall.kind = *kind;
+      } else {
+        fail(*value, at + "." + key, "unknown key (wall keys: kind, gap)");
+      }
+    }
+    return wall;
+  }
+
   Body body(const toml::table& t, std::size_t index, const std::string& prefix,
             std::optional<double>& first_gap, const toml::node*& first_gap_node) const {
     Body body;
@@ -59,6 +93,8 @@ class Reader : public toml_reading::TableReader {
         } else {
           body.gap = gap;
         }
+      } else if (key == "displacement") {
+        body.displacement = displacement(*node, path);
       } else if (key == "segment") {
         segments = node;
       } else if (segment_key(own, key, *node, path)) {
@@ -68,8 +104,8 @@ class Reader : public toml_reading::TableReader {
         }
       } else {
         fail(*node, path,
-             "unknown key (body keys: name, velocity, gap, segment, and for a body of one "
-             "segment its keys length, elements, youngs_modulus, density, area)");
+             "unknown key (body keys: name, velocity, gap, displacement, segment, and for a body "
+             "of one segment its keys length, elements, youngs_modulus, density, area)");
       }
     }
     if (segments && own_key) {
@@ -136,13 +172,8 @@ Scene read_scene_of_bodies(const toml::table& table, const std::string& prefix,
       if (side != "left" && side != "right") {
         r.fail(*node, at, "unknown key (walls: left, right)");
       }
-      const toml::table& t = r.table(*node, at, "must be a table with gap");
-      Wall wall;
-      for (const auto& [key, value] : ordered(t)) {
-        if (key != "gap") r.fail(*value, at + "." + key, "unknown key (wall keys: gap)");
-        wall.gap = r.number(*value, at + ".gap");
-      }
-      (side == "left" ? scene.left_wall : scene.right_wall) = wall;
+      const toml::table& t = r.table(*node, at, "must be a table (kind, gap)");
+      (side == "left" ? scene.left_wall : scene.right_wall) = r.wall(t, at);
     }
   }
   if (first_gap) {

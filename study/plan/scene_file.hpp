@@ -15,13 +15,19 @@
 //   [[scene.body]]
 //   name = "bar"
 //   gap = 0.01                     # mm, to the body (or wall) on the left; default 0
+//   displacement = [0.0, 0.0]      # mm: initial u at its first and last node, linear in
+//                                  # between (an initial strain); default none
 //   length = 60.0                  # a body of one segment may give its keys itself
 //   elements = 600
 //
-//   [scene.wall.right]             # optional rigid walls; their presence is the wall
+//   [scene.wall.right]             # optional walls; their presence is the wall
+//   kind = "contact"               # "contact" (default): a rigid obstacle at `gap`;
+//                                  # "clamped": the end node held at u = 0 (no gap, no contact)
 //   gap = 0.05                     # mm; default 0
 //
 // The first body's `gap` is its gap to the left wall (wall.left.gap says the same; give one).
+// Gaps count from the undisplaced ends: an initial displacement must keep every contact open or
+// just closed, and be 0 at a clamped end (core/model/scene.hpp says what such a scene turns off).
 // `primary_contact = "striker-bar"` chooses the contact whose indicators a sweep stores. The
 // whole-scene keys (mass, rayleigh_mass, rayleigh_stiffness, courant, dt, t_end) are the
 // ordinary [scene] parameters; the one-body keys (length, elements, …, gap, far_gap) belong to

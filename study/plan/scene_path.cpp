@@ -27,6 +27,10 @@ std::optional<std::size_t> position(std::string_view text) {
   return k;
 }
 
+constexpr const char* kDisplacementKeys =
+    "is not a key of the body's initial displacement (displacement.left: u at its first node, "
+    "displacement.right: at its last)";
+
 // The number a path points at, or an error naming the path.
 struct Target {
   double* real = nullptr;
@@ -39,6 +43,12 @@ Target find(Scene& scene, std::string_view path, const std::string& value) {
   const auto bad = [&](std::string why) { return Target{.error = ParameterError{p, value, why}}; };
   const std::vector<std::string_view> parts = split(path);
   if (parts[0] == "wall") {
+    if (parts.size() == 3 && parts[2] == "kind" && (parts[1] == "left" || parts[1] == "right")) {
+      return bad("is a wall's kind, a choice of the scene file ([scene.wall." +
+                 std::string(parts[1]) +
+                 "] kind = \"contact\" or \"clamped\"), not a number "
+                 "to vary or set");
+    }
     if (parts.size() != 3 || parts[2] != "gap" || (parts[1] != "left" && parts[1] != "right")) {
       return bad("is not a wall key (wall.left.gap, wall.right.gap)");
     }
@@ -51,7 +61,7 @@ Target find(Scene& scene, std::string_view path, const std::string& value) {
   if (parts[0] != "body" || parts.size() < 3) {
     return bad(
         "is not a scene key (body.<name>.<key>, body.<name>.segment.<k>.<key>, "
-        "wall.<left|right>.gap)");
+        "body.<name>.displacement.<left|right>, wall.<left|right>.gap)");
   }
   Body* body = nullptr;
   for (Body& b : scene.bodies) {
@@ -74,7 +84,13 @@ Target find(Scene& scene, std::string_view path, const std::string& value) {
       }
       return Target{.real = &body->gap};
     }
+    if (parts[2] == "displacement") return bad(kDisplacementKeys);
     return bad("is not a body key (velocity, gap, segment.<k>.<key>)");
+  }
+  if (parts[2] == "displacement") {
+    if (parts.size() == 4 && parts[3] == "left") return Target{.real = &body->displacement.left};
+    if (parts.size() == 4 && parts[3] == "right") return Target{.real = &body->displacement.right};
+    return bad(kDisplacementKeys);
   }
   if (parts[2] != "segment" || parts.size() != 5) {
     return bad("is not a body key (velocity, gap, segment.<k>.<key>)");
@@ -128,6 +144,7 @@ const char* scene_path_units(std::string_view path) {
   const std::string_view key = path.substr(path.rfind('.') + 1);
   if (key == "velocity") return "mm/s";
   if (key == "gap" || key == "length") return "mm";
+  if (path.find(".displacement.") != std::string_view::npos) return "mm";
   if (key == "youngs_modulus") return "MPa";
   if (key == "density") return "t/mm^3";
   if (key == "area") return "mm^2";

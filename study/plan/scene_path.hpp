@@ -1,11 +1,14 @@
 // The keys of a scene of bodies as dotted paths, the names a sweep axis, an optimisation
 // parameter or the command line gives them (issue 18):
 //   body.<body>.velocity, body.<body>.gap,
+//   body.<body>.displacement.left, body.<body>.displacement.right (the initial displacement at
+//     the body's first and last node, Body::displacement),
 //   body.<body>.segment.<k>.{length, elements, youngs_modulus, density, area},
 //   wall.left.gap, wall.right.gap, primary_contact,
 // where <body> is a body's name or its position (1 = the leftmost) and <k> counts a body's
 // segments from 1 (the leftmost). A body's gap is to its left neighbour; the first body's gap is
-// the left wall's (wall.left.gap), as in a scene file.
+// the left wall's (wall.left.gap), as in a scene file. A wall's kind (contact or clamped) is the
+// scene file's alone: its path, wall.<side>.kind, is refused with that reason.
 #pragma once
 
 #include <optional>

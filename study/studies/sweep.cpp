@@ -82,7 +82,8 @@ void add_reference_columns(const SimulationSettings& base, std::size_t size, Stu
   if (base.bodies) {
     r.indicators.push_back(
         {"reference_refinements", "1", "reference_refinements",
-         "0: the exact solution of the chain (core/reference/chain_exact.hpp); k >= 1: "
+         "0: an exact solution (of the chain, core/reference/chain_exact.hpp, or of the clamped "
+         "bar, core/reference/clamped_bar_exact.hpp); k >= 1: "
          "a converged numerical solution at h/2^k and dt/2^k (core/reference/scene_reference.hpp)",
          std::vector<double>(size, kNaN)});
     r.indicators.push_back({"reference_change", "1", "reference_change",
