@@ -41,27 +41,9 @@ struct alignas(LaneBlock) ChainBatch {
   Lanes penetration;  // each lane's largest violation so far (RunSummary::max_penetration)
 };
 
-// Writes the buffered samples [begin, through] into the traces of the lanes stepping now
-// (which stepped at every one of them: a lane starts or stops only at an event, and events
-// flush first).
+// Writes the buffered samples [begin, through] into the lanes' traces.
 void flush_chunk(ChainBatch& b, long begin, long through) {
-  const int m = b.arrays.m;
-  for (int l = 0; l < kLanes; ++l) {
-    LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
-    if (!run.stepping || through < begin) continue;
-    const auto primary = static_cast<std::size_t>(b.primary[static_cast<std::size_t>(l)]);
-    ContactTrace& trace = *run.trace;
-    for (long i = begin; i <= through; ++i) {
-      const Lanes* sample = b.chunk + 2 * m * (i - begin);
-      for (int k = 0; k < m; ++k) {
-        trace.contact_pressure[static_cast<std::size_t>(k)][i] = sample[k][l];
-        trace.contact_velocity[static_cast<std::size_t>(k)][i] = sample[m + k][l];
-      }
-      trace.pressure[i] = trace.contact_pressure[primary][i];
-      trace.velocity[i] = trace.contact_velocity[primary][i];
-    }
-    run.summary->steps = through + 1;
-  }
+  flush_contact_chunk(b.lanes, b.primary, b.chunk, b.arrays.m, begin, through);
 }
 
 // The samples from the first lane's start to the last lane's end, with run_steps' bookkeeping

@@ -112,26 +112,9 @@ struct alignas(LaneBlock) ModelBatch {
 // Samples buffered before they are written into the lanes' traces, as in the other kernels.
 constexpr long kChunk = 32;
 
-// Writes the buffered samples [begin, through] into the traces of the lanes stepping now (as the
-// chain kernel's flush_chunk, core/batch/chain_kernel.cpp).
+// Writes the buffered samples [begin, through] into the lanes' traces.
 void flush_chunk(ModelBatch& b, long begin, long through) {
-  const int m = b.m;
-  for (int l = 0; l < kLanes; ++l) {
-    LaneRun& run = b.lanes[static_cast<std::size_t>(l)];
-    if (!run.stepping || through < begin) continue;
-    const auto primary = static_cast<std::size_t>(b.primary[static_cast<std::size_t>(l)]);
-    ContactTrace& trace = *run.trace;
-    for (long i = begin; i <= through; ++i) {
-      const Lanes* sample = b.chunk + 2 * m * (i - begin);
-      for (int k = 0; k < m; ++k) {
-        trace.contact_pressure[static_cast<std::size_t>(k)][i] = sample[k][l];
-        trace.contact_velocity[static_cast<std::size_t>(k)][i] = sample[m + k][l];
-      }
-      trace.pressure[i] = trace.contact_pressure[primary][i];
-      trace.velocity[i] = trace.contact_velocity[primary][i];
-    }
-    run.summary->steps = through + 1;
-  }
+  flush_contact_chunk(b.lanes, b.primary, b.chunk, b.m, begin, through);
 }
 
 // The predictor in one pass over the unknowns, when M is stored as its diagonal alone and K is

@@ -308,6 +308,32 @@ inline void set_lane_state(Lanes* u, Lanes* v, Lanes* a, Eigen::Index n, int lan
   }
 }
 
+// Writes the buffered samples [begin, through] of a scene with a list of m contacts into the
+// traces of the lanes stepping now (which stepped at every one of them: a lane starts or stops
+// only at an event, and events flush first). `chunk` holds, sample after sample, the m contacts'
+// pressures and then their velocities; a lane's primary contact also fills its trace's main
+// columns, as run_listed_steps (core/run/simulation.cpp) records them.
+inline void flush_contact_chunk(std::array<LaneRun, kLanes>& lanes,
+                                const std::array<int, kLanes>& primary, const Lanes* chunk, int m,
+                                long begin, long through) {
+  for (int l = 0; l < kLanes; ++l) {
+    LaneRun& run = lanes[static_cast<std::size_t>(l)];
+    if (!run.stepping || through < begin) continue;
+    const auto main = static_cast<std::size_t>(primary[static_cast<std::size_t>(l)]);
+    ContactTrace& trace = *run.trace;
+    for (long i = begin; i <= through; ++i) {
+      const Lanes* sample = chunk + 2 * m * (i - begin);
+      for (int k = 0; k < m; ++k) {
+        trace.contact_pressure[static_cast<std::size_t>(k)][i] = sample[k][l];
+        trace.contact_velocity[static_cast<std::size_t>(k)][i] = sample[m + k][l];
+      }
+      trace.pressure[i] = trace.contact_pressure[main][i];
+      trace.velocity[i] = trace.contact_velocity[main][i];
+    }
+    run.summary->steps = through + 1;
+  }
+}
+
 inline void stop_unstable(LaneRun& run, std::string message) {
   run.summary->status = RunStatus::unstable;
   run.summary->message = std::move(message);

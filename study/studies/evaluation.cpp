@@ -96,22 +96,43 @@ Evaluation evaluate_model(const Simulation& sim, const ModelScene& scene,
   return measure_model(sim, scene, summary, workspace.trace, workspace);
 }
 
+// A batch's scenes assembled (by `assemble_one`, of each simulation) and its methods, as the
+// kernels take them.
+class AssembledBatch {
+ public:
+  template <class Assemble>
+  AssembledBatch(std::span<const Simulation> simulations, Assemble&& assemble_one)
+      : count_(simulations.size()) {
+    scenes_.reserve(count_);
+    for (std::size_t k = 0; k < count_; ++k) {
+      scenes_.push_back(assemble_one(simulations[k]));
+      pointers_[k] = &scenes_.back();
+      methods_[k] = simulations[k].method;
+    }
+  }
+  std::span<const AssembledScene* const> scenes() const {
+    return std::span(pointers_).first(count_);
+  }
+  std::span<const MethodParams> methods() const { return std::span(methods_).first(count_); }
+  const AssembledScene& operator[](std::size_t k) const { return scenes_[k]; }
+  AssembledBatch(const AssembledBatch&) = delete;  // pointers_ point into scenes_
+  AssembledBatch& operator=(const AssembledBatch&) = delete;
+
+ private:
+  std::size_t count_;
+  std::vector<AssembledScene> scenes_;
+  std::array<const AssembledScene*, kBatchLanes> pointers_{};
+  std::array<MethodParams, kBatchLanes> methods_;
+};
+
 // evaluate_batch of a user's model: one run of the model kernel, then each lane's indicators.
 void evaluate_models_batch(std::span<const Simulation> simulations,
                            BatchEvaluationWorkspace& workspace, std::span<Evaluation> out) {
   const std::size_t count = simulations.size();
-  std::vector<AssembledScene> scenes;
-  scenes.reserve(count);
-  std::array<const AssembledScene*, kBatchLanes> pointers;
-  std::array<MethodParams, kBatchLanes> methods;
+  AssembledBatch batch(simulations, [](const Simulation& s) { return assemble(*s.model()); });
   std::array<RunSummary, kBatchLanes> summaries;
-  for (std::size_t k = 0; k < count; ++k) {
-    scenes.push_back(assemble(*simulations[k].model()));
-    pointers[k] = &scenes.back();
-    methods[k] = simulations[k].method;
-  }
-  simulate_model_batch(std::span(pointers).first(count), std::span(methods).first(count),
-                       simulations[0].run, workspace.model, std::span(summaries).first(count));
+  simulate_model_batch(batch.scenes(), batch.methods(), simulations[0].run, workspace.model,
+                       std::span(summaries).first(count));
   for (std::size_t k = 0; k < count; ++k) {
     out[k] = measure_model(simulations[k], *simulations[k].model(), summaries[k],
                            workspace.model.traces[k], workspace.model_references);
@@ -122,24 +143,16 @@ void evaluate_models_batch(std::span<const Simulation> simulations,
 void evaluate_bodies_batch(std::span<const Simulation> simulations,
                            BatchEvaluationWorkspace& workspace, std::span<Evaluation> out) {
   const std::size_t count = simulations.size();
-  std::vector<AssembledScene> scenes;
-  scenes.reserve(count);
-  std::array<const AssembledScene*, kBatchLanes> pointers;
-  std::array<MethodParams, kBatchLanes> methods;
+  AssembledBatch batch(simulations, [](const Simulation& s) { return assemble(*s.bodies()); });
   std::array<RunSummary, kBatchLanes> summaries;
-  for (std::size_t k = 0; k < count; ++k) {
-    scenes.push_back(assemble(*simulations[k].bodies()));
-    pointers[k] = &scenes.back();
-    methods[k] = simulations[k].method;
-  }
   std::array<ContactTrace, kBatchLanes>* traces = &workspace.chain.traces;
   if (as_rod(*simulations[0].bodies())) {
     // The paper's form (batchable_together): the rod's kernel, whose trace then gets the one
     // contact's columns as simulate() gives them.
     std::array<RodScene, kBatchLanes> rods;
     for (std::size_t k = 0; k < count; ++k) rods[k] = *as_rod(*simulations[k].bodies());
-    simulate_batch(std::span(rods).first(count), std::span(methods).first(count),
-                   simulations[0].run, workspace.rod, std::span(summaries).first(count));
+    simulate_batch(std::span(rods).first(count), batch.methods(), simulations[0].run,
+                   workspace.rod, std::span(summaries).first(count));
     traces = &workspace.rod.traces;
     for (std::size_t k = 0; k < count; ++k) {
       ContactTrace& trace = workspace.rod.traces[k];
@@ -147,11 +160,11 @@ void evaluate_bodies_batch(std::span<const Simulation> simulations,
       trace.contact_velocity.assign(1, trace.velocity);
     }
   } else {
-    simulate_chain_batch(std::span(pointers).first(count), std::span(methods).first(count),
-                         simulations[0].run, workspace.chain, std::span(summaries).first(count));
+    simulate_chain_batch(batch.scenes(), batch.methods(), simulations[0].run, workspace.chain,
+                         std::span(summaries).first(count));
   }
   for (std::size_t k = 0; k < count; ++k) {
-    out[k] = evaluate_bodies(simulations[k], *simulations[k].bodies(), scenes[k], summaries[k],
+    out[k] = evaluate_bodies(simulations[k], *simulations[k].bodies(), batch[k], summaries[k],
                              (*traces)[k], workspace.reference);
   }
 }
