@@ -47,8 +47,14 @@ double open_gap(double gap, double closing) {
   return closing == 0.0 ? gap : gap - closing;
 }
 
+// Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "[" + std::string.
 std::string displacement_text(const LinearDisplacement& d) {
-  return "[" + format_value(d.left) + ", " + format_value(d.right) + "]";
+  std::string out = "[";
+  out += format_value(d.left);
+  out += ", ";
+  out += format_value(d.right);
+  out += "]";
+  return out;
 }
 
 bool clamped(const std::optional<Wall>& wall) {
