@@ -96,8 +96,10 @@ void check_not_ok_is_nan(const impactid::Evaluation& e) {
 }
 
 void simulate_if_tiny(const impactid::Simulation& simulation) {
-  const impactid::RodSceneDerived d = impactid::derive(simulation.scene);
-  const double dof_steps = (simulation.scene.elements + 1.0) * static_cast<double>(d.step_count);
+  const impactid::RodScene* rod = simulation.rod();  // settings from the command line: the rod
+  if (!rod) return;
+  const impactid::RodSceneDerived d = impactid::derive(*rod);
+  const double dof_steps = (rod->elements + 1.0) * static_cast<double>(d.step_count);
   if (!(dof_steps <= kMaxDofSteps)) return;
   impactid::SimulationWorkspace workspace;
   const impactid::Evaluation e = impactid::evaluate(simulation, workspace);
