@@ -32,8 +32,10 @@ SparseMatrix random_matrix(Eigen::Index n, int per_column, std::mt19937_64& rand
   for (Eigen::Index j = 0; j < n; ++j) {
     for (int e = 0; e < per_column; ++e) a.coeffRef(row(random), j) = value(random);
   }
-  a.coeffRef(0, 1) = 0.0;   // a stored zero
-  a.coeffRef(2, 3) = -0.0;  // a stored negative zero
+  if (n > 3) {
+    a.coeffRef(0, 1) = 0.0;   // a stored zero
+    a.coeffRef(2, 3) = -0.0;  // a stored negative zero
+  }
   if (compressed) a.makeCompressed();
   return a;
 }
