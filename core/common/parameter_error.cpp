@@ -1,5 +1,7 @@
 #include "core/common/parameter_error.hpp"
 
+#include <limits>
+
 #include <charconv>
 #include <cmath>
 
@@ -17,6 +19,11 @@ std::optional<ParameterError> require_in_range(const char* field, double value, 
                                                double hi, const char* constraint) {
   if (!(value >= lo && value <= hi)) return ParameterError{field, format_value(value), constraint};
   return std::nullopt;
+}
+
+std::optional<ParameterError> require_positive_finite(const char* field, double value) {
+  return require_in_range(field, value, std::numeric_limits<double>::min(),
+                          std::numeric_limits<double>::max(), "must be positive and finite");
 }
 
 }  // namespace impactid

@@ -19,5 +19,7 @@ std::string format_value(double value);
 /// Returns an error unless lo <= value <= hi (NaN always fails).
 std::optional<ParameterError> require_in_range(const char* field, double value, double lo,
                                                double hi, const char* constraint);
+/// require_in_range from the smallest normal double to the largest: "must be positive and finite".
+std::optional<ParameterError> require_positive_finite(const char* field, double value);
 
 }  // namespace impactid

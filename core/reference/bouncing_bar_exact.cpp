@@ -79,14 +79,11 @@ double impulse_until(const PeriodContact& contact, double end) {
 }  // namespace
 
 std::optional<ParameterError> validate(const BouncingBarParams& p) {
-  constexpr double tiny = std::numeric_limits<double>::min();
-  constexpr double huge = std::numeric_limits<double>::max();
   for (auto error : {
-           require_in_range("length", p.length, tiny, huge, "must be positive and finite"),
-           require_in_range("youngs_modulus", p.youngs_modulus, tiny, huge,
-                            "must be positive and finite"),
-           require_in_range("density", p.density, tiny, huge, "must be positive and finite"),
-           require_in_range("gravity", p.gravity, tiny, huge, "must be positive and finite"),
+           require_positive_finite("length", p.length),
+           require_positive_finite("youngs_modulus", p.youngs_modulus),
+           require_positive_finite("density", p.density),
+           require_positive_finite("gravity", p.gravity),
        }) {
     if (error) return error;
   }

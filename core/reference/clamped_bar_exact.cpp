@@ -36,14 +36,11 @@ double slope(double s, double tolerance) {
 }  // namespace
 
 std::optional<ParameterError> validate(const ClampedBarParams& p) {
-  constexpr double tiny = std::numeric_limits<double>::min();
-  constexpr double huge = std::numeric_limits<double>::max();
   for (auto error : {
-           require_in_range("length", p.length, tiny, huge, "must be positive and finite"),
-           require_in_range("youngs_modulus", p.youngs_modulus, tiny, huge,
-                            "must be positive and finite"),
-           require_in_range("density", p.density, tiny, huge, "must be positive and finite"),
-           require_in_range("amplitude", p.amplitude, tiny, huge, "must be positive and finite"),
+           require_positive_finite("length", p.length),
+           require_positive_finite("youngs_modulus", p.youngs_modulus),
+           require_positive_finite("density", p.density),
+           require_positive_finite("amplitude", p.amplitude),
        }) {
     if (error) return error;
   }
