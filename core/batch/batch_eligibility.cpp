@@ -13,6 +13,7 @@
 #include "core/batch/batched_kr_alpha.hpp"
 #include "core/batch/batched_model.hpp"
 #include "core/batch/batched_simulation.hpp"
+#include "core/methods/stepper_coefficients.hpp"
 
 namespace impactid {
 namespace {
@@ -51,9 +52,8 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   // (core/batch/batched_kr_alpha.hpp), with Lagrange multipliers (not the penalty or
   // augmented-Lagrangian contact laws).
   return (is_single_step_implicit(method) || is_composite(method) ||
-          std::holds_alternative<WilsonThetaParams>(method) ||
-          std::holds_alternative<HouboltParams>(method) || explicit_batchable(scene, method) ||
-          kr_alpha_batchable(scene, method)) &&
+          stepped_by<WilsonThetaCoefficients>(method) || stepped_by<HouboltCoefficients>(method) ||
+          explicit_batchable(scene, method) || kr_alpha_batchable(scene, method)) &&
          !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
 }
 
@@ -65,8 +65,7 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
   // An explicit method's batch (core/batch/batched_explicit.hpp) steps that method only.
   if (explicit_batch_kind(method_a) != explicit_batch_kind(method_b)) return false;
   // So does KR-α's (core/batch/batched_kr_alpha.hpp).
-  if (std::holds_alternative<KrAlphaParams>(method_a) !=
-      std::holds_alternative<KrAlphaParams>(method_b)) {
+  if (stepped_by<KrAlphaCoefficients>(method_a) != stepped_by<KrAlphaCoefficients>(method_b)) {
     return false;
   }
   // The rod's matrices (assemble_rod) and the time step must agree; gap, velocity and t_end
@@ -83,11 +82,14 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
 }
 
 ExplicitBatchKind explicit_batch_kind(const MethodParams& method) {
-  if (std::holds_alternative<CentralDifferenceParams>(method)) {
+  const StepperCoefficients stepper = stepper_coefficients(method);
+  if (std::holds_alternative<CentralDifferenceCoefficients>(stepper)) {
     return ExplicitBatchKind::central_difference;
   }
-  if (std::holds_alternative<NohBatheParams>(method)) return ExplicitBatchKind::noh_bathe;
-  if (std::holds_alternative<KimExplicitParams>(method)) return ExplicitBatchKind::kim_explicit;
+  if (std::holds_alternative<NohBatheCoefficients>(stepper)) return ExplicitBatchKind::noh_bathe;
+  if (std::holds_alternative<KimExplicitCoefficients>(stepper)) {
+    return ExplicitBatchKind::kim_explicit;
+  }
   return ExplicitBatchKind::none;
 }
 
@@ -112,7 +114,7 @@ bool explicit_batchable(const RodScene& scene, const MethodParams& method) {
 bool kr_alpha_batchable(const RodScene& scene, const MethodParams& method) {
   // Damping adds a product with C to each half of the right-hand side: damped runs go through
   // simulate().
-  return std::holds_alternative<KrAlphaParams>(method) && scene.rayleigh_mass == 0.0 &&
+  return stepped_by<KrAlphaCoefficients>(method) && scene.rayleigh_mass == 0.0 &&
          scene.rayleigh_stiffness == 0.0;
 }
 
@@ -165,7 +167,8 @@ bool same_chain_batch(const AssembledScene& a, const RunOptions& options_a, cons
 }
 
 bool model_kernel_method(const MethodParams& method) {
-  const auto* cdm = std::get_if<CentralDifferenceParams>(&method);
+  const StepperCoefficients stepper = stepper_coefficients(method);
+  const auto* cdm = std::get_if<CentralDifferenceCoefficients>(&stepper);
   return cdm && cdm->velocity == CdmVelocity::central;
 }
 

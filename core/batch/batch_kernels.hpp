@@ -17,6 +17,7 @@
 #include "core/methods/method.hpp"
 #include "core/methods/sparse_integrators.hpp"
 #include "core/model/rod_scene.hpp"
+#include "core/methods/stepper_coefficients.hpp"
 #include "core/model/scene_assembly.hpp"
 #include "core/model/sparse_system.hpp"
 #include "core/run/simulation.hpp"
@@ -31,9 +32,9 @@ enum class BatchStepKind {
   houbolt,       ///< Houbolt's predictors, then the single step from plain rows
 };
 inline BatchStepKind batch_step_kind(const MethodParams& method) {
-  if (is_composite(method)) return BatchStepKind::composite;
-  if (std::holds_alternative<WilsonThetaParams>(method)) return BatchStepKind::wilson_theta;
-  if (std::holds_alternative<HouboltParams>(method)) return BatchStepKind::houbolt;
+  if (stepped_by<CompositeCoefficients>(method)) return BatchStepKind::composite;
+  if (stepped_by<WilsonThetaCoefficients>(method)) return BatchStepKind::wilson_theta;
+  if (stepped_by<HouboltCoefficients>(method)) return BatchStepKind::houbolt;
   return BatchStepKind::single_step;
 }
 

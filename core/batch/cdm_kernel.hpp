@@ -311,7 +311,7 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   for (int l = 0; l < count; ++l) {
     const auto lane = static_cast<std::size_t>(l);
     const RodScene& scene = scenes[lane];
-    const auto& method = std::get<CentralDifferenceParams>(methods[lane]);
+    const auto method = std::get<CentralDifferenceCoefficients>(stepper_coefficients(methods[lane]));
     LaneRun& run = b.lanes[lane];
     if (!prepare_lane(system, scenes, l, options, dt, summaries, traces, starts, run)) {
       continue;

@@ -474,7 +474,7 @@ void simulate_kr_alpha_sub_batch(std::span<const RodScene> scenes,
     }
     // KrAlphaExplicit::initialize, by its expressions: the matrices D and E and their
     // factorisations.
-    const KrAlphaCoefficients c = kr_alpha_coefficients(std::get<KrAlphaParams>(methods[lane]));
+    const auto c = std::get<KrAlphaCoefficients>(stepper_coefficients(methods[lane]));
     system.gap = scenes[lane].gap;
     const double c_weight = c.gamma * dt, k_weight = c.beta * dt * dt;
     const Tridiagonal d_matrix = system.mass.combined(1.0, system.damping, c_weight)

@@ -362,7 +362,7 @@ void simulate_model_sub_batch(std::span<const AssembledScene* const> scenes,
     RunSummary& summary = summaries[lane];
     State& state = states[lane];
     if (!prepare_run(scene, options, traces[lane], state, summary)) continue;
-    const auto& cdm = std::get<CentralDifferenceParams>(methods[lane]);
+    const auto cdm = std::get<CentralDifferenceCoefficients>(stepper_coefficients(methods[lane]));
     SparseCentralDifference& stepper = steppers[lane];
     if (!stepper.initialize(system, cdm.velocity, scene.dt, state, contact)) {
       summary.status = RunStatus::failed;

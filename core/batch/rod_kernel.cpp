@@ -411,10 +411,10 @@ void simulate_implicit_sub_batch(std::span<const RodScene> scenes,
       b.weights.q0.set(l, cc.q0);
       b.weights.q1.set(l, cc.q1);
       b.weights.q2_minus_1_dt.set(l, (cc.q2 - 1.0) * dt);
-    } else if (const auto* wilson = std::get_if<WilsonThetaParams>(&method)) {
+    } else if (kind == StepKind::wilson_theta) {
       // WilsonTheta::initialize's extended step over θ·Δt; the sample's step Δt and the wall's
       // gap in k (the extended step's gap is set at every step); set_gap_offsets' constants.
-      const WilsonThetaCoefficients wc = wilson_theta_coefficients(*wilson);
+      const auto wc = std::get<WilsonThetaCoefficients>(stepper_coefficients(method));
       const double theta = wc.theta, tau = theta * dt;
       set_lane_coefficients(l, wc.extended, tau, scene.gap, first, first_weights);
       k.gap.set(l, scene.gap);
@@ -463,7 +463,7 @@ void simulate_rod_lanes(std::span<const RodScene> scenes, std::span<const Method
     simulate_explicit_lanes(scenes, methods, options, ws, summaries);
     return;
   }
-  if (std::holds_alternative<KrAlphaParams>(methods[0])) {
+  if (stepped_by<KrAlphaCoefficients>(methods[0])) {
     simulate_kr_alpha_lanes(scenes, methods, options, ws, summaries);
     return;
   }

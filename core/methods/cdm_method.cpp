@@ -55,6 +55,11 @@ double stability_limit(const MethodParams&) {
 const MethodSpectrum kSpectrum{2, amplification, eigenvalues, unbounded_high_frequency_radius,
                                stability_limit};
 
+// Its stepper: central difference (core/methods/central_difference.hpp).
+StepperCoefficients stepper(const MethodParams& params) {
+  return CentralDifferenceCoefficients{std::get<CentralDifferenceParams>(params).velocity};
+}
+
 }  // namespace
 
 MethodDescriptor cdm_method() {
@@ -73,6 +78,7 @@ MethodDescriptor cdm_method() {
       .same_parameters = same,
       .defaults = default_of<CentralDifferenceParams>,
       .validate = no_check,
+      .stepper = stepper,
   };
 }
 

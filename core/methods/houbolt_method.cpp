@@ -50,6 +50,11 @@ double high_frequency_radius(const MethodParams&) {
 const MethodSpectrum kSpectrum{3, amplification, eigenvalues, high_frequency_radius,
                                no_stability_limit};
 
+// Its stepper: Houbolt's (core/methods/houbolt.hpp), whose coefficients are fixed.
+StepperCoefficients stepper(const MethodParams&) {
+  return houbolt_coefficients();
+}
+
 }  // namespace
 
 HouboltCoefficients houbolt_coefficients() {
@@ -77,6 +82,7 @@ MethodDescriptor houbolt_method() {
       .same_parameters = always_same,
       .defaults = default_of<HouboltParams>,
       .validate = no_check,
+      .stepper = stepper,
   };
 }
 

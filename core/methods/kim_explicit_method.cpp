@@ -91,6 +91,11 @@ std::optional<ParameterError> check(const MethodParams& params) {
   return std::nullopt;
 }
 
+// Its stepper: Kim's scheme (core/methods/kim_explicit.hpp).
+StepperCoefficients stepper(const MethodParams& params) {
+  return kim_explicit_coefficients(std::get<KimExplicitParams>(params));
+}
+
 }  // namespace
 
 KimExplicitCoefficients kim_explicit_coefficients(const KimExplicitParams& params) {
@@ -147,6 +152,7 @@ MethodDescriptor kim_explicit_method() {
       .damping_families = kDampingFamilies,
       .defaults = default_of<KimExplicitParams>,
       .validate = check,
+      .stepper = stepper,
       .stable_step = "Omega_crit(p) over the bound on omega_max",
   };
 }

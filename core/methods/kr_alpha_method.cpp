@@ -98,6 +98,11 @@ std::optional<ParameterError> check(const MethodParams& params) {
   return require_in_range("rho_inf", p.rho_inf, 0.0, 1.0, "must lie in [0, 1]");
 }
 
+// Its stepper: KR-α's (core/methods/kr_alpha.hpp).
+StepperCoefficients stepper(const MethodParams& params) {
+  return kr_alpha_coefficients(std::get<KrAlphaParams>(params));
+}
+
 }  // namespace
 
 KrAlphaCoefficients kr_alpha_coefficients(const KrAlphaParams& params) {
@@ -124,6 +129,7 @@ MethodDescriptor kr_alpha_method() {
       .damping_families = kDampingFamilies,
       .defaults = default_of<KrAlphaParams>,
       .validate = check,
+      .stepper = stepper,
   };
 }
 

@@ -244,6 +244,7 @@ MethodKind register_method(MethodDescriptor method) {
   if (!method.implicit_coefficients == !method.composite_coefficients) {
     refuse("give exactly one of implicit_coefficients and composite_coefficients");
   }
+  if (method.stepper) refuse("a registered method is stepped by those coefficients, not `stepper`");
   // A damping family's params() could not carry the kind (stamped() cannot reach it).
   if (!method.damping_families.empty()) refuse("damping families are for built-in methods");
   if (registry.size() == registry.capacity()) refuse("the registry is full");
@@ -276,6 +277,13 @@ CompositeCoefficients composite_coefficients(const MethodParams& params) {
   const MethodDescriptor& method = descriptor(params);
   if (!method.composite_coefficients) return composite_step_coefficients(0.0, 0.5);  // Bathe's
   return method.composite_coefficients(params);
+}
+
+StepperCoefficients stepper_coefficients(const MethodParams& params) {
+  const MethodDescriptor& method = descriptor(params);
+  if (method.stepper) return method.stepper(params);
+  if (method.composite_coefficients) return method.composite_coefficients(params);
+  return implicit_coefficients(params);
 }
 
 std::optional<BetaGamma> reported_beta_gamma(const MethodParams& params) {

@@ -27,6 +27,7 @@
 
 #include "core/common/parameter_error.hpp"
 #include "core/methods/method.hpp"
+#include "core/methods/stepper_coefficients.hpp"
 
 namespace impactid {
 
@@ -120,6 +121,9 @@ struct MethodDescriptor {
   /// Its two sub-steps' coefficients as a composite scheme (core/methods/bathe_composite.hpp);
   /// null for the others.
   CompositeCoefficients (*composite_coefficients)(const MethodParams& params) = nullptr;
+  /// The stepper that runs it, with its coefficients (core/methods/stepper_coefficients.hpp); null
+  /// when implicit_coefficients or composite_coefficients say it (their families' steppers).
+  StepperCoefficients (*stepper)(const MethodParams& params) = nullptr;
   /// Whether reports show the β and γ of its implicit_coefficients (the Newmark family:
   /// Newmark, HHT, generalized-α).
   bool reports_beta_gamma = false;
@@ -151,7 +155,8 @@ std::string method_names();
 /// `parameters` are number keys of method_parameters(), at most
 /// RegisteredMethodParams::kMaxParameters; it is stepped as a member of the single-step implicit
 /// family or as a composite scheme, by the coefficients it gives (exactly one of
-/// implicit_coefficients and composite_coefficients); it has no damping families. The descriptor's
+/// implicit_coefficients and composite_coefficients; no `stepper`, since the other steppers take
+/// their own methods' parameters); it has no damping families. The descriptor's
 /// `kind` is ignored. Throws std::invalid_argument naming the method and what is missing.
 /// Register at start-up, before any thread reads the registry: registration is not synchronised
 /// with readers.

@@ -93,6 +93,11 @@ std::optional<ParameterError> check(const MethodParams& params) {
   return std::nullopt;
 }
 
+// Its stepper: the Noh–Bathe scheme (core/methods/noh_bathe.hpp).
+StepperCoefficients stepper(const MethodParams& params) {
+  return noh_bathe_coefficients(std::get<NohBatheParams>(params));
+}
+
 }  // namespace
 
 NohBatheCoefficients noh_bathe_coefficients(const NohBatheParams& params) {
@@ -134,6 +139,7 @@ MethodDescriptor noh_bathe_method() {
       .damping_families = kDampingFamilies,
       .defaults = default_of<NohBatheParams>,
       .validate = check,
+      .stepper = stepper,
       .stable_step = "Omega_crit(p) over the bound on omega_max",
   };
 }

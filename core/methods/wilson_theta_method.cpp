@@ -83,6 +83,11 @@ std::optional<ParameterError> check(const MethodParams& params) {
       "must be >= (1+sqrt(3))/2 = 1.3660254 (unconditional stability) and finite");
 }
 
+// Its stepper: Wilson-θ's extended step (core/methods/wilson_theta.hpp).
+StepperCoefficients stepper(const MethodParams& params) {
+  return wilson_theta_coefficients(std::get<WilsonThetaParams>(params));
+}
+
 }  // namespace
 
 WilsonThetaCoefficients wilson_theta_coefficients(const WilsonThetaParams& params) {
@@ -107,6 +112,7 @@ MethodDescriptor wilson_theta_method() {
       .damping_families = kDampingFamilies,
       .defaults = default_of<WilsonThetaParams>,
       .validate = check,
+      .stepper = stepper,
   };
 }
 

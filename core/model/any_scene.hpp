@@ -13,6 +13,7 @@
 
 #include <variant>
 
+#include "core/common/overloaded.hpp"  // for the visits of an AnyScene
 #include "core/model/model_scene.hpp"
 #include "core/model/rod_scene.hpp"
 #include "core/model/scene.hpp"
@@ -20,13 +21,5 @@
 namespace impactid {
 
 using AnyScene = std::variant<RodScene, Scene, ModelScene>;
-
-/// Builds an overload set from lambdas, for std::visit on an AnyScene.
-template <class... Visitors>
-struct Overloaded : Visitors... {
-  using Visitors::operator()...;
-};
-template <class... Visitors>
-Overloaded(Visitors...) -> Overloaded<Visitors...>;
 
 }  // namespace impactid

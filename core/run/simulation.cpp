@@ -7,8 +7,11 @@
 #include <limits>
 #include <string>
 
+#include "core/common/overloaded.hpp"
 #include "core/contact/constraint_list_law.hpp"
 #include "core/contact/stable_step_warning.hpp"
+#include "core/methods/method_registry.hpp"
+#include "core/methods/stepper_coefficients.hpp"
 #include "core/model/second_order_system.hpp"
 
 namespace impactid {
@@ -206,36 +209,6 @@ std::string first_failure(std::initializer_list<const Integrator*> integrators) 
   }
 }
 
-// Houbolt and Wilson-θ on either kind of system, with the workspace's steppers for it: true if
-// the method is one of them (the run done, or the summary failed when the stepper cannot start).
-template <class HouboltStepper, class WilsonStepper, SemiDiscreteSystem System, class Run>
-bool run_multistep(const System& system, const MethodParams& method, double dt,
-                   const ContactPenalties& contact, HouboltStepper& houbolt, WilsonStepper& wilson,
-                   RunSummary& summary, Run&& run) {
-  if (std::holds_alternative<HouboltParams>(method)) {
-    if (houbolt.initialize(system, dt, contact)) {
-      run(LoopStepper{[&](State& s) { houbolt.step(system, s); }, plain_energy(system)});
-      count_contact_iterations(houbolt, summary);
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = std::string("houbolt: ") +
-                        first_failure({&houbolt.first(), &houbolt.second(), &houbolt.steady()});
-    }
-    return true;
-  }
-  if (const auto* p = std::get_if<WilsonThetaParams>(&method)) {
-    if (wilson.initialize(system, wilson_theta_coefficients(*p), dt, contact)) {
-      run(LoopStepper{[&](State& s) { wilson.step(system, s); }, plain_energy(system)});
-      count_contact_iterations(wilson, summary);
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = std::string("wilson-theta: ") + first_failure({&wilson.extended()});
-    }
-    return true;
-  }
-  return false;
-}
-
 // Why an explicit stage scheme could not start: on a tridiagonal system only a singular M; on a
 // sparse model its stage contact names the pivot.
 template <class Stepper>
@@ -272,12 +245,13 @@ void run_two_stage_explicit(const System& system, const char* name, double p,
 // law (the penalty's springs solved with its forward increment), so there is no stable step to
 // report.
 template <SemiDiscreteSystem System, class Stepper, class Run>
-void run_kr_alpha(const System& system, const KrAlphaParams& params, double dt,
+void run_kr_alpha(const System& system, const std::string& name,
+                  const KrAlphaCoefficients& coefficients, double dt,
                   const ContactPenalties& contact, Stepper& stepper, State& state,
                   RunSummary& summary, Run&& run) {
-  if (!stepper.initialize(system, kr_alpha_coefficients(params), dt, state, contact)) {
+  if (!stepper.initialize(system, coefficients, dt, state, contact)) {
     summary.status = RunStatus::failed;
-    summary.message = "kr-alpha: " + stepper.failure();
+    summary.message = name + ": " + stepper.failure();
     return;
   }
   run(LoopStepper{[&](State& s) { stepper.step(system, s); },
@@ -301,68 +275,88 @@ void flag_penalty_step(const Stepper& stepper, double dt, const ContactPenalties
 }
 
 // Initialises the method's stepper on the system from `state` and hands run() a LoopStepper; a
-// stepper that cannot start marks the run failed. One dispatch for both systems: the workspace's
-// steppers for `System` (core/run/steppers.hpp).
+// stepper that cannot start marks the run failed. One dispatch for both systems (the workspace's
+// steppers for `System`: core/run/steppers.hpp), on the stepper the method's descriptor names by
+// its coefficients (core/methods/stepper_coefficients.hpp), not on the method.
 template <SemiDiscreteSystem System, class Run>
 void run_method(const System& system, const MethodParams& method, double dt,
                 const ContactPenalties& contact, SimulationWorkspace& ws, State& state,
                 RunSummary& summary, Run&& run) {
   Steppers<System>& steppers = ws.steppers<System>();
-  if (run_multistep(system, method, dt, contact, steppers.houbolt, steppers.wilson_theta, summary,
-                    run)) {
-    return;
-  }
-  if (const auto* noh_bathe = std::get_if<NohBatheParams>(&method)) {
-    run_two_stage_explicit(system, "noh-bathe", noh_bathe->p, noh_bathe_coefficients(*noh_bathe),
-                           noh_bathe_critical_omega(noh_bathe->p), dt, contact, steppers.noh_bathe,
-                           state, summary, run);
-    return;
-  }
-  if (const auto* kim = std::get_if<KimExplicitParams>(&method)) {
-    run_two_stage_explicit(system, "kim-explicit", kim->p, kim_explicit_coefficients(*kim),
-                           kim_explicit_critical_omega(kim->p), dt, contact, steppers.kim_explicit,
-                           state, summary, run);
-    return;
-  }
-  if (const auto* kr_alpha = std::get_if<KrAlphaParams>(&method)) {
-    run_kr_alpha(system, *kr_alpha, dt, contact, steppers.kr_alpha, state, summary, run);
-    return;
-  }
-  if (const auto* cdm = std::get_if<CentralDifferenceParams>(&method)) {
-    auto& stepper = steppers.central_difference;
-    if (stepper.initialize(system, cdm->velocity, dt, state, contact)) {
-      flag_penalty_step(stepper, dt, contact, summary);
-      stepper.step(system, state);  // the state at t_k: the initial state or a filled-in sample
-      run(LoopStepper{[&](State& s) { stepper.step(system, s); },
-                      [&](const State& s) { return stepper.energy(system, s); }});
-      count_contact_iterations(stepper, summary);
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message =
-          "central difference: " + start_failure(stepper, "singular left-hand matrix");
-    }
-  } else if (is_composite(method)) {
-    auto& stepper = steppers.composite;
-    if (stepper.initialize(system, composite_coefficients(method), dt, contact)) {
-      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
-      count_contact_iterations(stepper, summary);
-    } else {
-      const std::string first = start_failure(stepper.first(), "singular effective matrix");
-      summary.status = RunStatus::failed;
-      summary.message = std::string(to_string(kind_of(method))) + ": " +
-                        (first.empty() ? start_failure(stepper.second(), "") : first);
-    }
-  } else {
-    auto& stepper = steppers.implicit;
-    if (stepper.initialize(system, implicit_coefficients(method), dt, contact)) {
-      run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
-      count_contact_iterations(stepper, summary);
-    } else {
-      summary.status = RunStatus::failed;
-      summary.message = std::string(to_string(kind_of(method))) + ": " +
-                        start_failure(stepper, "singular effective matrix");
-    }
-  }
+  const std::string name = descriptor(method).name;
+  const auto fail = [&](const std::string& prefix, const std::string& why) {
+    summary.status = RunStatus::failed;
+    summary.message = prefix + ": " + why;
+  };
+  // The steppers that take the system's energy and report their contact iterations alike.
+  const auto run_plain = [&](auto& stepper) {
+    run(LoopStepper{[&](State& s) { stepper.step(system, s); }, plain_energy(system)});
+    count_contact_iterations(stepper, summary);
+  };
+  std::visit(
+      Overloaded{
+          [&](const ImplicitCoefficients& coefficients) {
+            auto& stepper = steppers.implicit;
+            if (stepper.initialize(system, coefficients, dt, contact)) {
+              run_plain(stepper);
+            } else {
+              fail(name, start_failure(stepper, "singular effective matrix"));
+            }
+          },
+          [&](const CompositeCoefficients& coefficients) {
+            auto& stepper = steppers.composite;
+            if (stepper.initialize(system, coefficients, dt, contact)) {
+              run_plain(stepper);
+            } else {
+              const std::string first = start_failure(stepper.first(), "singular effective matrix");
+              fail(name, first.empty() ? start_failure(stepper.second(), "") : first);
+            }
+          },
+          [&](const HouboltCoefficients&) {
+            auto& houbolt = steppers.houbolt;
+            if (houbolt.initialize(system, dt, contact)) {
+              run_plain(houbolt);
+            } else {
+              fail(name, first_failure({&houbolt.first(), &houbolt.second(), &houbolt.steady()}));
+            }
+          },
+          [&](const WilsonThetaCoefficients& coefficients) {
+            auto& wilson = steppers.wilson_theta;
+            if (wilson.initialize(system, coefficients, dt, contact)) {
+              run_plain(wilson);
+            } else {
+              fail(name, first_failure({&wilson.extended()}));
+            }
+          },
+          [&](const NohBatheCoefficients& coefficients) {
+            run_two_stage_explicit(system, name.c_str(), coefficients.p, coefficients,
+                                   noh_bathe_critical_omega(coefficients.p), dt, contact,
+                                   steppers.noh_bathe, state, summary, run);
+          },
+          [&](const KimExplicitCoefficients& coefficients) {
+            run_two_stage_explicit(system, name.c_str(), coefficients.p, coefficients,
+                                   kim_explicit_critical_omega(coefficients.p), dt, contact,
+                                   steppers.kim_explicit, state, summary, run);
+          },
+          [&](const KrAlphaCoefficients& coefficients) {
+            run_kr_alpha(system, name, coefficients, dt, contact, steppers.kr_alpha, state,
+                         summary, run);
+          },
+          [&](const CentralDifferenceCoefficients& coefficients) {
+            auto& stepper = steppers.central_difference;
+            if (stepper.initialize(system, coefficients.velocity, dt, state, contact)) {
+              flag_penalty_step(stepper, dt, contact, summary);
+              stepper.step(system, state);  // the state at t_k: the initial state or a filled-in
+                                            // sample
+              run(LoopStepper{[&](State& s) { stepper.step(system, s); },
+                              [&](const State& s) { return stepper.energy(system, s); }});
+              count_contact_iterations(stepper, summary);
+            } else {
+              fail("central difference", start_failure(stepper, "singular left-hand matrix"));
+            }
+          },
+      },
+      stepper_coefficients(method));
 }
 
 }  // namespace
