@@ -161,6 +161,39 @@ kind = "grid"
 alpha = {{ from = -0.5, to = 0.0, partitions = 5 }}
 delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
 {PRACTICAL}""",
+    # plans/clamped-bar.toml on 20 elements: a clamped end and an initial displacement field.
+    "clamped-bar": f"""
+name = "clamped-bar"
+description = "check_figures: clamped bar on an obstacle, HHT over delta x alpha, 20 elements"
+
+[scene]
+courant = 1.0
+t_end = 6.0
+[[scene.body]]
+name = "bar"
+length = 1.0
+elements = 20
+youngs_modulus = 1.0
+density = 1.0
+area = 1.0
+displacement = [0.5, 0.0]
+
+[scene.wall.left]
+gap = 0.0
+
+[scene.wall.right]
+kind = "clamped"
+
+[method]
+name = "hht"
+
+[study]
+kind = "grid"
+
+[study.axes]
+alpha = {{ from = -0.5, to = 0.0, partitions = 5 }}
+delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
+{PRACTICAL}""",
     "two-rods": f"""
 name = "two-rods"
 description = "check_figures: two equal rods, Newmark over delta, 40 + 40 elements"
@@ -382,6 +415,7 @@ FIGURES = {
     "fig3_newmark_delta.png": ["newmark-delta"],
     "fig4_hht_delta_alpha.png": ["hht-delta-alpha"],
     "fig_hopkinson.png": ["hopkinson"],
+    "fig_clamped_bar.png": ["clamped-bar"],
     "fig_two_rods.png": ["two-rods"],
     "fig_period_error_line.png": ["hht-period-error-line"],
     "fig5_pressure_history.png": ["identical-dissipation"],

@@ -173,12 +173,17 @@ def bodies_scene_text(scene, varying=()):
         else:
             names.append(f"{b['name']} (" + " | ".join(segment_text(g, True) for g in segs) + ")")
     line = " + ".join(names)
-    if "left" in walls and "right" in walls:
+    # A clamped wall (kind = "clamped") holds its end: no wall to hit, said as such.
+    clamped = [side for side in ("left", "right") if walls.get(side, {}).get("kind") == "clamped"]
+    rigid = [side for side in ("left", "right") if side in walls and side not in clamped]
+    if len(rigid) == 2:
         line = f"{line} between two walls"
-    elif "left" in walls:
+    elif rigid == ["left"]:
         line = f"left wall, {line}"
-    elif "right" in walls:
+    elif rigid == ["right"]:
         line = f"{line} on the right wall"
+    if clamped:
+        line = f"{line}, clamped at the {' and '.join(clamped)} end{'s' if len(clamped) == 2 else ''}"
     parts = [line]
     n = [num(seg["elements"]) for b in bodies for seg in b["segments"]]
     parts.append(f"n = {' + '.join(n)}")
