@@ -209,6 +209,12 @@ double largest_magnitude(const std::vector<double>& x) {
 
 }  // namespace
 
+double contact_pressure_scale(const Scene& scene, const SceneContact& c, double velocity_scale) {
+  const Body& body = scene.bodies[static_cast<std::size_t>(c.left_body >= 0 ? c.left_body : 0)];
+  const Segment& seg = c.left_body >= 0 ? body.segments.back() : body.segments.front();
+  return seg.density * std::sqrt(seg.youngs_modulus / seg.density) * velocity_scale;
+}
+
 Indicators evaluate_indicators(const Scene& scene, const SceneReference& reference,
                                const ContactTrace& trace, const RunSummary& summary,
                                const IndicatorOptions& options,
@@ -218,11 +224,7 @@ Indicators evaluate_indicators(const Scene& scene, const SceneReference& referen
   assert(contacts.size() == list.size() && trace.contact_pressure.size() == list.size());
   std::vector<double> pressure_scales(list.size()), velocity_scales(list.size());
   for (std::size_t k = 0; k < list.size(); ++k) {
-    const SceneContact& c = list[k];
-    const Body& body = scene.bodies[static_cast<std::size_t>(c.left_body >= 0 ? c.left_body : 0)];
-    const Segment& seg = c.left_body >= 0 ? body.segments.back() : body.segments.front();
-    pressure_scales[k] =
-        seg.density * std::sqrt(seg.youngs_modulus / seg.density) * derived.velocity_scale;
+    pressure_scales[k] = contact_pressure_scale(scene, list[k], derived.velocity_scale);
     velocity_scales[k] = derived.velocity_scale;
   }
   return contact_indicators(reference.contacts, pressure_scales, velocity_scales,

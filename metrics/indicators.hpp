@@ -83,6 +83,12 @@ Indicators evaluate_indicators(const Scene& scene, const SceneReference& referen
                                const IndicatorOptions& options,
                                std::span<ContactIndicators> contacts);
 
+/// The pressure scale of a contact of a scene of bodies (one of scene_contacts()): ρ·c of the
+/// contact's segment times `velocity_scale`, the largest initial |velocity| of a body
+/// (SceneDerived::velocity_scale): the scale of its peak prominence and p_max_ratio.
+double contact_pressure_scale(const Scene& scene, const SceneContact& contact,
+                              double velocity_scale);
+
 /// The same for a user's model (core/model/model_scene.hpp) against its reference samples
 /// (core/reference/model_reference.hpp; a contact without samples gets NaN), `primary` the primary
 /// contact's index. A model knows no ρ·c: a contact's pressure scale (peak prominence, p_max_ratio)

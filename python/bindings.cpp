@@ -182,6 +182,23 @@ py::dict run_dict(const Simulation& sim, const Evaluation& e,
   out["reference"] = e.reference;
   out["reference_trusted"] = e.reference_trusted;
   out["reference_error"] = finite_or_none(e.reference_error);
+  // The primary contact's episodes beside the reference's (metrics/episodes.hpp), as
+  // `impactid simulate --json` lists them; a time missing (no contact in a window) is None.
+  py::list episodes;
+  for (const EpisodeComparison& c : primary_episodes(sim, workspace, e.summary)) {
+    py::dict episode;
+    episode["start"] = finite_or_none(c.start);
+    episode["reference_start"] = c.reference_start;
+    episode["end"] = finite_or_none(c.end);
+    episode["reference_end"] = c.reference_end;
+    episode["impulse"] = c.impulse;
+    episode["reference_impulse"] = c.reference_impulse;
+    episode["peaks"] = c.peaks;
+    episode["contact_runs"] = c.contact_runs;
+    episode["energy_ratio"] = finite_or_none(c.energy_ratio);
+    episodes.append(episode);
+  }
+  out["episodes"] = episodes;
   py::list history;
   for (const HistoryColumn& c :
        history_columns(sim, workspace.trace, sim.model() ? &*workspace.model_reference : nullptr)) {

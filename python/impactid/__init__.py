@@ -109,7 +109,9 @@ class Run:
     contact; the indicators (eps_p, eps_v, nop_p, nop_v, p_max, p_max_ratio, contact_episodes,
     energy_ratio, and with a far wall far_contact_episodes, impacts, max_penetration) as
     attributes and in `indicators`. An indicator is None when the run did not finish ("ok")
-    or does not apply to the scene: a NaN is never given as a result.
+    or does not apply to the scene: a NaN is never given as a result. `episodes`: the primary
+    contact's episodes beside the reference's, a dict each (start, end, impulse, peaks,
+    contact_runs, energy_ratio and the reference's; metrics/episodes.hpp).
 
     The time histories are NumPy arrays by their column names: t, pressure, velocity,
     displacement, energy, and the reference's exact_pressure, exact_velocity,

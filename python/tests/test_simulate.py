@@ -54,6 +54,14 @@ def test_indicators_equal_the_commands_json(executable):
         assert getattr(run, name) == expected[name], name
     assert run.parameters["beta"] == expected["parameters"]["beta"]
     assert run.dt == expected["dt"] and run.steps == expected["steps"]
+    # The contact episodes likewise; the energy after one only with the histories, which the
+    # module records and the command (without --history) does not.
+    assert len(run.episodes) == len(expected["episodes"]) == 1
+    for mine, theirs in zip(run.episodes, expected["episodes"]):
+        for key in ("start", "reference_start", "end", "reference_end", "impulse",
+                    "reference_impulse", "peaks", "contact_runs"):
+            assert mine[key] == theirs[key], key
+        assert theirs["energy_ratio"] is None and 0.0 < mine["energy_ratio"] < 1.0
 
 
 def test_scene_of_bodies_from_a_dict_equals_the_scene_file(executable, tmp_path):

@@ -53,7 +53,8 @@ void write_contact_law(const Simulation& sim, const Evaluation& e) {
   if (!e.summary.warning.empty()) std::printf("warning     %s\n", e.summary.warning.c_str());
 }
 
-void write_json(const Simulation& sim, const Evaluation& e) {
+void write_json(const Simulation& sim, const Evaluation& e,
+                const std::vector<EpisodeComparison>& episodes) {
   const RodScene* rod = sim.rod();
   const Scene* bodies = sim.bodies();
   const ModelScene* model = sim.model();
@@ -134,9 +135,56 @@ void write_json(const Simulation& sim, const Evaluation& e) {
     }
     json.end_array();
   }
+  json.key("episodes").begin_array();
+  for (const EpisodeComparison& c : episodes) {
+    json.begin_object();
+    json.key("start").value(c.start);
+    json.key("reference_start").value(c.reference_start);
+    json.key("end").value(c.end);
+    json.key("reference_end").value(c.reference_end);
+    json.key("impulse").value(c.impulse);
+    json.key("reference_impulse").value(c.reference_impulse);
+    json.key("peaks").value(c.peaks);
+    json.key("contact_runs").value(c.contact_runs);
+    json.key("energy_ratio").value(c.energy_ratio);
+    json.end_object();
+  }
+  json.end_array();
   json.key("wall_time_s").value(e.summary.wall_time_s);
   json.end_object();
   std::cout << '\n';
+}
+
+// The primary contact's episodes beside the reference's (metrics/episodes.hpp), then the wall
+// time: the last lines of a finished run's report. A long run lists its first and last ten.
+void write_tail(const Evaluation& e, const std::vector<EpisodeComparison>& episodes) {
+  if (!episodes.empty()) {
+    std::printf(
+        "episodes    %zu in the reference, the run's beside the reference's (in brackets): "
+        "start and end [s], impulse sum p*dt\n",
+        episodes.size());
+    std::printf("               #  %23s  %23s  %23s  %5s  %4s  %s\n", "start", "end", "impulse",
+                "peaks", "runs", "E/E0 after");
+    for (std::size_t k = 0; k < episodes.size(); ++k) {
+      if (episodes.size() > 20 && k == 10) {
+        std::printf("            ... %zu more ...\n", episodes.size() - 20);
+        k = episodes.size() - 10;
+      }
+      const EpisodeComparison& c = episodes[k];
+      std::printf("            %4zu  %10.4g (%10.4g)  %10.4g (%10.4g)  %10.4g (%10.4g)  %5ld  %4ld",
+                  k + 1, c.start, c.reference_start, c.end, c.reference_end, c.impulse,
+                  c.reference_impulse, c.peaks, c.contact_runs);
+      if (std::isnan(c.energy_ratio)) {
+        std::printf("  %s\n", "-");
+      } else {
+        std::printf("  %.6g\n", c.energy_ratio);
+      }
+    }
+    if (std::isnan(episodes.front().energy_ratio)) {
+      std::printf("            (E/E0 after each episode: with --history, which records the energy)\n");
+    }
+  }
+  std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
 }
 
 // A scene of bodies: one line per body and wall, and the time grid.
@@ -190,7 +238,8 @@ void write_contacts(const std::vector<std::string>& names, int primary, bool mod
   std::printf("            (* the primary contact, whose indicators a sweep stores)\n");
 }
 
-void write_text(const Simulation& sim, const Evaluation& e) {
+void write_text(const Simulation& sim, const Evaluation& e,
+                const std::vector<EpisodeComparison>& episodes) {
   std::printf("method      %s%s\n", to_string(kind_of(sim.method)),
               method_values_text(sim.method).c_str());
   std::visit(
@@ -249,7 +298,7 @@ void write_text(const Simulation& sim, const Evaluation& e) {
           "contact holds its constraint at every sample)\n",
           e.indicators.energy_ratio);
     }
-    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    write_tail(e, episodes);
     return;
   }
   if (const Scene* bodies = sim.bodies()) {
@@ -267,7 +316,7 @@ void write_text(const Simulation& sim, const Evaluation& e) {
     }
     std::printf("energy      at t_end / initial = %.6g; largest penetration = %.3g mm\n",
                 e.indicators.energy_ratio, e.indicators.max_penetration);
-    std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+    write_tail(e, episodes);
     return;
   }
   const Indicators& i = e.indicators;
@@ -282,7 +331,7 @@ void write_text(const Simulation& sim, const Evaluation& e) {
         "penetration of a wall = %.3g mm\n",
         *rod.far_gap, i.far_contact_episodes, i.impacts, i.max_penetration);
   }
-  std::printf("wall time   %.3g ms\n", e.summary.wall_time_s * 1e3);
+  write_tail(e, episodes);
 }
 
 }  // namespace
@@ -341,10 +390,11 @@ std::function<int()> add_simulate_command(CLI::App& app) {
     Simulation run = *sim;
     run.run.record_history = !options->history.empty();
     const Evaluation e = evaluate(run, workspace);
+    const std::vector<EpisodeComparison> episodes = primary_episodes(run, workspace, e.summary);
     if (options->json) {
-      write_json(*sim, e);
+      write_json(*sim, e, episodes);
     } else {
-      write_text(*sim, e);
+      write_text(*sim, e, episodes);
     }
     if (!options->history.empty()) {
       try {

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <variant>
 #include <vector>
 
 #include "core/model/scene_assembly.hpp"
+#include "core/reference/exact_solution.hpp"
 #include "core/run/references.hpp"
 
 namespace impactid {
@@ -189,6 +191,47 @@ Evaluation evaluate(const Simulation& sim, SimulationWorkspace& workspace) {
                  },
                  [&](const ModelScene& model) { return evaluate_model(sim, model, workspace); }},
       sim.scene);
+}
+
+std::vector<EpisodeComparison> primary_episodes(const Simulation& sim,
+                                                const SimulationWorkspace& workspace,
+                                                const RunSummary& summary) {
+  if (summary.status != RunStatus::ok) return {};
+  const ContactTrace& trace = workspace.trace;
+  // The primary contact's reference pressure at the samples and its pressure scale, as the
+  // indicators take them (metrics/indicators.cpp).
+  std::vector<double> reference;
+  double scale = 0.0;
+  std::visit(
+      Overloaded{[&](const RodScene& rod) {
+                   const RodImpactExact exact(rod);
+                   for (long i = 0; i < trace.size(); ++i) {
+                     reference.push_back(exact.at_sample(i + 1).pressure);
+                   }
+                   scale = derive(rod).pressure_scale;
+                 },
+                 [&](const Scene& bodies) {
+                   const SceneDerived derived = derive(bodies);
+                   const auto primary = static_cast<std::size_t>(derived.primary_contact);
+                   if (!workspace.reference || !workspace.reference->usable()) return;
+                   reference = workspace.reference->contacts[primary].pressure;
+                   scale = contact_pressure_scale(bodies, scene_contacts(bodies)[primary],
+                                                  derived.velocity_scale);
+                 },
+                 [&](const ModelScene& model) {
+                   const auto primary = static_cast<std::size_t>(primary_contact_index(model));
+                   if (!workspace.model_reference ||
+                       primary >= workspace.model_reference->contacts.size()) {
+                     return;
+                   }
+                   reference = workspace.model_reference->contacts[primary].pressure;
+                   for (const double p : reference) scale = std::max(scale, std::abs(p));
+                 }},
+      sim.scene);
+  if (reference.size() != trace.pressure.size()) return {};
+  return compare_episodes(reference, trace.pressure, summary.dt,
+                          sim.indicators.peak_prominence * scale, trace.energy,
+                          summary.initial_energy);
 }
 
 bool batchable_together(const Simulation& first, const Simulation& next) {

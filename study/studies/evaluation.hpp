@@ -13,12 +13,21 @@
 #include "core/batch/batched_model.hpp"
 #include "core/batch/batched_simulation.hpp"
 #include "core/run/simulation.hpp"
+#include "metrics/episodes.hpp"
 #include "metrics/evaluation.hpp"
 #include "study/plan/simulation_settings.hpp"
 
 namespace impactid {
 
 Evaluation evaluate(const Simulation& simulation, SimulationWorkspace& workspace);
+
+/// The primary contact's episodes of the run evaluate() just made with `workspace`, each beside
+/// its reference's (metrics/episodes.hpp): the rod's exact solution, a scene of bodies' or a
+/// model's reference as evaluate() left it in the workspace. Empty when the run is not ok or the
+/// reference has no samples of the contact. `initial_energy` is the run's (RunSummary).
+std::vector<EpisodeComparison> primary_episodes(const Simulation& simulation,
+                                                const SimulationWorkspace& workspace,
+                                                const RunSummary& summary);
 
 /// What one thread reuses from batch to batch: each kernel's storage, and the reference of the
 /// last scene of bodies it evaluated (a sweep over method parameters keeps one scene, whose
