@@ -73,6 +73,12 @@ inline constexpr ImplicitCoefficients kLinearAcceleration{1.0 / 3.0, 1.0 / 6.0, 
 extern const MethodSpectrum kSingleStepImplicitSpectrum;
 bool same_implicit_coefficients(const MethodParams& a, const MethodParams& b);
 
+/// How the single-step implicit family steps a massless DOF (MethodDescriptor::massless_dofs).
+inline constexpr const char* kImplicitMasslessDofs =
+    "its effective matrix (1-alpha_m)*M + (1-alpha_f)*(b1*dt^2*K + ...) stays regular: a massless "
+    "DOF satisfies its static equation (alpha_f-weighted) with the contact at every step; its "
+    "initial acceleration is that of the static equation differentiated twice";
+
 /// The composite family: amplification of both sub-steps from composite_coefficients(), ρ∞
 /// evaluated at Ω = 1e8, parameters equal when both sub-steps' coefficients are.
 extern const MethodSpectrum kCompositeSpectrum;
