@@ -132,11 +132,12 @@ TEST(SimulationSettings, ParameterTheMethodDoesNotTakeIsAnError) {
 TEST(SimulationSettings, ModifiedMassIsRefusedByMethodsThatDoNotStepIt) {
   SimulationSettings s;
   ASSERT_FALSE(assign_text(s, "mass", "redistributed"));
-  s.method.kind = MethodKind::bathe;
+  s.method.kind = MethodKind::wilson_theta;
   ParameterError e = error_of(s);
   EXPECT_EQ(e.field, "mass");
   EXPECT_EQ(e.value, "redistributed");
-  EXPECT_EQ(e.constraint.rfind("method bathe does not step a mass matrix with massless contact "
+  EXPECT_EQ(e.constraint.rfind("method wilson-theta does not step a mass matrix with massless "
+                               "contact "
                                "DOFs (the methods that do: cdm|",
                                0),
             0u)

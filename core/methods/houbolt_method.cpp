@@ -77,6 +77,7 @@ MethodDescriptor houbolt_method() {
       .same_parameters = always_same,
       .defaults = default_of<HouboltParams>,
       .validate = no_check,
+      .massless_dofs = kHouboltMasslessDofs,
   };
 }
 

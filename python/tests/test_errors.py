@@ -110,9 +110,9 @@ def test_a_modified_mass_is_refused_by_a_method_that_does_not_step_it(executable
     assert run.status == "ok"
     assert run.pressure.min() >= 0.0
     with pytest.raises(impactid.ParameterError) as raised:
-        impactid.simulate(method="bathe", mass="singular")
+        impactid.simulate(method="wilson-theta", mass="singular")
     e = raised.value
     assert e.parameter == "mass" and e.value == "singular"
-    assert e.constraint.startswith("method bathe does not step a mass matrix with massless")
-    assert cli_error(executable, "simulate", "--method", "bathe", "--mass", "singular") == (
+    assert e.constraint.startswith("method wilson-theta does not step a mass matrix with massless")
+    assert cli_error(executable, "simulate", "--method", "wilson-theta", "--mass", "singular") == (
         f"impactid simulate: --mass = singular: {e.constraint}")
