@@ -348,9 +348,11 @@ TEST(PlanErrors, WrongTypes) {
   EXPECT_EQ(error_of("[scene]\nelements = 2.5\n"),
             "bad.toml:2:12: scene.elements = 2.5: must be an integer below 2e9");
   EXPECT_EQ(error_of("[scene]\nmass = true\n"),
-            "bad.toml:2:8: scene.mass = true: must be a string, one of lumped|consistent");
+            "bad.toml:2:8: scene.mass = true: must be a string, one of "
+            "lumped|consistent|redistributed|singular");
   EXPECT_EQ(error_of("[scene]\nmass = 'heavy'\n"),
-            "bad.toml:2:8: scene.mass = 'heavy': must be one of lumped|consistent");
+            "bad.toml:2:8: scene.mass = 'heavy': must be one of "
+            "lumped|consistent|redistributed|singular");
   EXPECT_EQ(error_of("[method]\nname = \"rk4\"\n"),
             "bad.toml:2:8: method.name = \"rk4\": must be one of "
             "cdm|backward-euler|newmark|hht|generalized-alpha|bathe|rho-bathe|tr-bdf2|houbolt|"
@@ -607,7 +609,8 @@ TEST(PlanErrors, GridAxisRules) {
             "bad.toml:6:9: study.axes.delta = { values = [0.1] }: is also set as method.delta: a "
             "parameter is either fixed or a grid axis");
   EXPECT_EQ(error_of(head + "mass = { values = [1] }\n"),
-            "bad.toml:4:20: study.axes.mass.values[0] = 1: must be a word (lumped|consistent)");
+            "bad.toml:4:20: study.axes.mass.values[0] = 1: must be a word "
+            "(lumped|consistent|redistributed|singular)");
   EXPECT_STARTS_WITH(error_of(head + "beta2 = { values = [1] }\n"),
                      "bad.toml:4:9: study.axes.beta2 = { values = [1] }: is not a parameter "
                      "(numeric parameters: length, elements,");

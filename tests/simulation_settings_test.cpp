@@ -81,7 +81,8 @@ TEST(SimulationSettings, TextIsParsedStrictly) {
   EXPECT_EQ(assign_text(s, "elements", "2.5")->constraint, "must be an integer below 2e9");
   EXPECT_EQ(assign_text(s, "elements", "1e10")->constraint, "must be an integer below 2e9");
   EXPECT_EQ(assign_text(s, "bogus", "1")->constraint, "is not a parameter");
-  EXPECT_EQ(assign_text(s, "mass", "heavy")->constraint, "must be one of lumped|consistent");
+  EXPECT_EQ(assign_text(s, "mass", "heavy")->constraint,
+            "must be one of lumped|consistent|redistributed|singular");
   ASSERT_FALSE(assign_text(s, "elements", "50"));
   EXPECT_EQ(s.scene.elements, 50);
 }
@@ -122,6 +123,51 @@ TEST(SimulationSettings, ParameterTheMethodDoesNotTakeIsAnError) {
   EXPECT_EQ(e.field, "delta");
   EXPECT_EQ(e.value, "0.3");
   EXPECT_NE(e.constraint.find("cdm"), std::string::npos);
+}
+
+// A modified mass (mass = redistributed|singular) leaves the contact DOF massless: a method whose
+// descriptor does not say how it steps one is refused before the run, naming the key, its value
+// and the method; central difference takes it only without stiffness-proportional damping; a
+// scene of bodies does not take it yet.
+TEST(SimulationSettings, ModifiedMassIsRefusedByMethodsThatDoNotStepIt) {
+  SimulationSettings s;
+  ASSERT_FALSE(assign_text(s, "mass", "redistributed"));
+  s.method.kind = MethodKind::wilson_theta;
+  ParameterError e = error_of(s);
+  EXPECT_EQ(e.field, "mass");
+  EXPECT_EQ(e.value, "redistributed");
+  EXPECT_EQ(e.constraint.rfind("method wilson-theta does not step a mass matrix with massless "
+                               "contact "
+                               "DOFs (the methods that do: cdm|",
+                               0),
+            0u)
+      << e.constraint;
+  for (const MethodKind kind :
+       {MethodKind::central_difference, MethodKind::hht, MethodKind::newmark,
+        MethodKind::generalized_alpha, MethodKind::backward_euler}) {
+    s.method.kind = kind;
+    built(s);
+  }
+  ASSERT_FALSE(assign_text(s, "mass", "singular"));
+  ASSERT_FALSE(assign_text(s, "rayleigh_stiffness", "1e-8"));
+  built(s);  // HHT with stiffness damping
+  s.method.kind = MethodKind::central_difference;
+  e = error_of(s);
+  EXPECT_EQ(e.field, "mass");
+  EXPECT_EQ(e.value, "singular");
+  EXPECT_EQ(e.constraint,
+            "method cdm steps massless contact DOFs only without stiffness-proportional damping "
+            "(rayleigh_stiffness = 1e-08)");
+  SimulationSettings bodies;
+  ASSERT_FALSE(assign_text(bodies, "mass", "redistributed"));
+  Scene scene;
+  scene.bodies = {Body{.name = "a", .velocity = 1.0, .segments = {Segment{}}},
+                  Body{.name = "b", .gap = 0.1, .segments = {Segment{}}}};
+  bodies.bodies = scene;
+  e = error_of(bodies);
+  EXPECT_EQ(e.field, "mass");
+  EXPECT_EQ(e.constraint,
+            "is the one-body rod's only, so far: a scene of bodies takes lumped|consistent");
 }
 
 TEST(SimulationSettings, NewmarkTakesDeltaOrBothBetaAndGamma) {

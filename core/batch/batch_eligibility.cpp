@@ -54,7 +54,10 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   return (is_single_step_implicit(method) || is_composite(method) ||
           stepped_by<WilsonThetaCoefficients>(method) || stepped_by<HouboltCoefficients>(method) ||
           explicit_batchable(scene, method) || kr_alpha_batchable(scene, method)) &&
-         !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange;
+         !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange &&
+         // The kernels' steps assume a regular mass: a modified mass's massless contact DOF
+         // (redistributed, singular) runs through simulate().
+         !has_massless_dofs(scene.mass);
 }
 
 bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOptions& options_a,

@@ -54,6 +54,12 @@ double single_contact_force(double p, double d, double compliance,
   return mu;
 }
 
+double massless_contact_force(double p, double stiffness, double spring,
+                              const ContactPenalties& penalties, ContactIterations& iterations) {
+  if (penalties.lagrange()) return stiffness * p;
+  return single_contact_force(p, 1.0 / stiffness, 1.0 / spring, penalties, iterations);
+}
+
 TwoWallForces two_wall_contact_forces(double p_main, double p_far, double d_main, double d_far,
                                       double c_main_far, double c_far_main, double main_compliance,
                                       double far_compliance, const ContactPenalties& penalties,

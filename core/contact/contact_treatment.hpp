@@ -81,6 +81,15 @@ ContactPenalties resolve_contact(const ContactTreatment& treatment, const Sparse
 double single_contact_force(double p, double d, double compliance,
                             const ContactPenalties& penalties, ContactIterations& iterations);
 
+/// The force on a massless contact DOF (a modified mass, core/model/rod_scene.hpp) that its static
+/// equation K_cc·u_c + Σ K_cj·u_j ± λ = 0 gives under the law, from the penetration p > 0 of its
+/// contact-free static position and its stiffness K_cc, with the wall's spring k (penalty and
+/// augmented Lagrangian): Lagrange's λ = K_cc·p puts it on the wall; the laws with a spring solve
+/// it with the spring in the same static equation (single_contact_force with d = 1/K_cc), the
+/// only form that stays stable as k grows, since a DOF without mass cannot take an explicit force.
+double massless_contact_force(double p, double stiffness, double spring,
+                              const ContactPenalties& penalties, ContactIterations& iterations);
+
 /// The two walls' problem (core/algebra/two_wall_contact.hpp) under a law other than Lagrange's,
 /// with each wall's compliance added to its diagonal.
 TwoWallForces two_wall_contact_forces(double p_main, double p_far, double d_main, double d_far,

@@ -26,6 +26,7 @@ MethodDescriptor backward_euler_method() {
       .defaults = default_of<BackwardEulerParams>,
       .validate = no_check,
       .implicit_coefficients = implicit,
+      .massless_dofs = kImplicitMasslessDofs,
   };
 }
 

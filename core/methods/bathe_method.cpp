@@ -36,6 +36,7 @@ MethodDescriptor bathe_method() {
       .defaults = default_of<BatheParams>,
       .validate = no_check,
       .composite_coefficients = composite,
+      .massless_dofs = kCompositeMasslessDofs,
   };
 }
 

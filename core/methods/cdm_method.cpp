@@ -79,6 +79,10 @@ MethodDescriptor cdm_method() {
       .defaults = default_of<CentralDifferenceParams>,
       .validate = no_check,
       .stepper = stepper,
+      .massless_dofs =
+          "solved from its static equation K_c*u + lambda = 0 at t + dt within the step, with "
+          "the contact (its force reported with the next sample); not with rayleigh_stiffness > 0",
+      .massless_dofs_undamped = true,
   };
 }
 

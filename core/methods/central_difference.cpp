@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "core/algebra/contact_lcp.hpp"
@@ -14,13 +15,28 @@ namespace impactid {
 bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity velocity, double dt,
                                    const State& initial, const ContactPenalties& contact) {
   contact_ = contact;
+  failure_.clear();
   const double bound = highest_frequency_squared_bound(system, contact);
   within_limit_ = within_explicit_limit(dt, bound);
   stable_step_ = std::isfinite(bound) ? 2.0 / std::sqrt(bound) : 0.0;
   const double damping_weight =
       (velocity == CdmVelocity::central && system.has_damping()) ? 0.5 / dt : 0.0;
-  const Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, damping_weight);
-  if (!factorization_.factor(lhs)) return false;
+  Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, damping_weight);
+  massless_main_ = system.has_contact() && massless(system.mass, system.contact_dof);
+  massless_far_ = system.has_far_contact() && massless(system.mass, system.far_contact_dof);
+  if (massless_main_ || massless_far_) {
+    failure_ = massless_failure(system);
+    if (!failure_.empty()) return false;
+    // A unit row: the recurrence's value there is overwritten by the static solve.
+    if (massless_main_) lhs.diag[system.contact_dof] = 1.0;
+    if (massless_far_) lhs.diag[system.far_contact_dof] = 1.0;
+    next_lambda_ = initial.lambda;
+    next_far_lambda_ = initial.far_lambda;
+  }
+  if (!factorization_.factor(lhs)) {
+    failure_ = "singular left-hand matrix";
+    return false;
+  }
 
   contact_influence_ = factorization_.inverse_column(system.contact_dof);
   if (system.has_far_contact()) {
@@ -39,7 +55,74 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   return true;
 }
 
+std::string CentralDifference::massless_failure(const SecondOrderSystem& system) {
+  const Eigen::Index n = system.size();
+  if (system.has_constraint_list()) {
+    return "a massless DOF on a scene of bodies is not supported (its constraints are a list)";
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!massless(system.mass, i)) continue;
+    const bool wall = (system.has_contact() && i == system.contact_dof) ||
+                      (system.has_far_contact() && i == system.far_contact_dof);
+    if (!wall) return "DOF " + std::to_string(i) + " is massless but carries no contact";
+    const Tridiagonal& c = system.damping;
+    if (c.diag[i] != 0.0 || (i > 0 && c.lower[i] != 0.0) || (i + 1 < n && c.upper[i] != 0.0)) {
+      return "stiffness-proportional damping (rayleigh_stiffness > 0) on the massless contact "
+             "DOF " +
+             std::to_string(i) + " is not supported: its static equation would need its velocity";
+    }
+    if (!(system.stiffness.diag[i] > 0.0)) {
+      return "the massless DOF " + std::to_string(i) + " has no stiffness";
+    }
+  }
+  if (system.has_far_contact() && system.has_contact() &&
+      massless(system.mass, system.contact_dof) != massless(system.mass, system.far_contact_dof)) {
+    return "one wall's contact DOF is massless and the other's is not";
+  }
+  // The two static equations must not couple: node 0 and the contact node are not neighbours.
+  if (system.has_far_contact() && std::abs(system.contact_dof - system.far_contact_dof) < 2) {
+    return "the two massless contact DOFs are neighbours";
+  }
+  return "";
+}
+
+bool CentralDifference::step_massless(const SecondOrderSystem& system, State& at_t) {
+  recurrence_.predict(system, factorization_);
+  Eigen::VectorXd& u_next = recurrence_.u_next;
+  const Tridiagonal& k = system.stiffness;
+  const Eigen::Index n = system.size();
+  // The static position of DOF i at t + Δt from its neighbours' (its row of K without its own
+  // term), put back onto its wall (side +1: u <= gap; −1: −u <= gap) by the law's force.
+  const auto solve_static = [&](Eigen::Index i, double side, double gap, double spring) {
+    double coupled = 0.0;
+    if (i > 0) coupled += k.lower[i] * u_next[i - 1];
+    if (i + 1 < n) coupled += k.upper[i] * u_next[i + 1];
+    const double free = -coupled / k.diag[i];
+    const double p = side * free - gap;
+    double force = 0.0;
+    if (p > 0.0) {
+      ContactIterations iterations;
+      force = massless_contact_force(p, k.diag[i], spring, contact_, iterations);
+      list_law_.count(iterations);
+    }
+    u_next[i] = free - side * force / k.diag[i];
+    if (force > 0.0 && contact_.lagrange()) u_next[i] = side * gap;  // exact on the wall
+    return force;
+  };
+  const double lambda = next_lambda_, far_lambda = next_far_lambda_;
+  if (massless_main_)
+    next_lambda_ = solve_static(system.contact_dof, 1.0, system.gap, contact_.main);
+  if (massless_far_) {
+    next_far_lambda_ = solve_static(system.far_contact_dof, -1.0, system.far_gap, contact_.far);
+  }
+  at_t.lambda = lambda;
+  if (system.has_far_contact()) at_t.far_lambda = far_lambda;
+  recurrence_.finish(at_t);
+  return lambda > 0.0;
+}
+
 bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
+  if (massless_main_ || massless_far_) return step_massless(system, at_t);
   recurrence_.predict(system, factorization_);
   Eigen::VectorXd& u_next = recurrence_.u_next;
   const Eigen::VectorXd& u = recurrence_.u;

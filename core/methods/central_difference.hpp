@@ -21,6 +21,17 @@
 // the left-hand matrix's columns A⁻¹·G_kᵀ factored in initialize(): the constraints hold at t + Δt
 // and their multipliers are reported at t, as for the single wall.
 //
+// With a modified mass (core/model/rod_scene.hpp: redistributed, singular) the rod's contact DOFs
+// carry no mass, and M/Δt² has a zero row there. Such a DOF is solved from its static equation
+// within the step instead (GetFEM's demo_dynamic_contact_1D does the same for its explicit
+// Newmark): the massive DOFs take the recurrence as always (the left-hand matrix gets a unit row
+// at the massless DOF, which nothing couples to), then K_c·u_{t+Δt} ± λ_{t+Δt} = 0 gives the
+// contact DOF at t + Δt from its neighbour's new position, on the wall with λ > 0 when its free
+// static position would penetrate (core/contact/contact_treatment.hpp: massless_contact_force).
+// That λ is the force at t + Δt, reported with the next sample, so the pressure at t_i is still
+// the multiplier at t_i. Damping on such a DOF is refused (its static equation would need its
+// velocity): massless_failure().
+//
 // Written once with the sparse stepper (SparseCentralDifference, core/methods/
 // sparse_integrators.hpp): the start, the contact-free update, the sample and the energy
 // (core/methods/central_difference_recurrence.hpp, over any core/model/semi_discrete_system.hpp).
@@ -32,6 +43,7 @@
 // Thread safety: one object per thread.
 #pragma once
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -78,8 +90,15 @@ class CentralDifference {
   /// As ImplicitIntegrator's: augmented-Lagrangian iterations, and steps that hit the cap.
   long contact_iterations() const { return list_law_.iterations(); }
   long unconverged_contact_steps() const { return list_law_.unconverged(); }
+  /// Why initialize() failed: a singular left-hand matrix, or a massless DOF it cannot step.
+  const std::string& failure() const { return failure_; }
 
  private:
+  /// step() on a rod whose contact DOFs are massless (above).
+  bool step_massless(const SecondOrderSystem& system, State& at_t);
+  /// Why a system with massless DOFs cannot be stepped, or "" if it can.
+  static std::string massless_failure(const SecondOrderSystem& system);
+
   CentralDifferenceRecurrence recurrence_;  // the update formulas, u₋, u and u₊
   bool within_limit_ = false;
   TridiagonalFactorization factorization_;
@@ -93,6 +112,11 @@ class CentralDifference {
   ContactPenalties contact_;
   ConstraintListLaw list_law_;  // the list's law; counts every solve's Uzawa iterations
   double stable_step_ = 0.0;
+  // Massless contact DOFs (a modified mass): whether the main and the far wall's DOF are, and the
+  // forces their static equations gave at t + Δt, reported with the next sample.
+  bool massless_main_ = false, massless_far_ = false;
+  double next_lambda_ = 0.0, next_far_lambda_ = 0.0;
+  std::string failure_;
 };
 
 }  // namespace impactid

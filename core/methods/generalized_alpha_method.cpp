@@ -65,6 +65,7 @@ MethodDescriptor generalized_alpha_method() {
       .validate = check,
       .implicit_coefficients = implicit,
       .reports_beta_gamma = true,
+      .massless_dofs = kImplicitMasslessDofs,
   };
 }
 

@@ -81,6 +81,7 @@ MethodDescriptor hht_method() {
       .validate = check,
       .implicit_coefficients = implicit,
       .reports_beta_gamma = true,
+      .massless_dofs = kImplicitMasslessDofs,
   };
 }
 

@@ -83,6 +83,7 @@ MethodDescriptor houbolt_method() {
       .defaults = default_of<HouboltParams>,
       .validate = no_check,
       .stepper = stepper,
+      .massless_dofs = kHouboltMasslessDofs,
   };
 }
 

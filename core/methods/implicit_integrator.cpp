@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include "core/algebra/contact_lcp.hpp"
 #include "core/algebra/two_wall_contact.hpp"
@@ -47,7 +48,33 @@ bool ImplicitIntegrator::initialize(const SecondOrderSystem& system,
     far_compliance_ = 1.0 / (w * contact_.far);
   }
   gap_offsets_.setZero(std::max<Eigen::Index>(m, 2));
+  massless_.clear();
+  const Tridiagonal& damping = system.damping;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!massless(system.mass, i)) continue;
+    const bool damped = damping.diag[i] != 0.0 || (i > 0 && damping.lower[i] != 0.0) ||
+                        (i + 1 < n && damping.upper[i] != 0.0);
+    if (!damped) massless_.push_back(i);
+  }
+  massless_u_.assign(massless_.size(), 0.0);
+  massless_v_.assign(massless_.size(), 0.0);
   return true;
+}
+
+void ImplicitIntegrator::remember_massless(const State& s) {
+  for (std::size_t k = 0; k < massless_.size(); ++k) {
+    massless_u_[k] = s.u[massless_[k]];
+    massless_v_[k] = s.v[massless_[k]];
+  }
+}
+
+void ImplicitIntegrator::report_massless(State& s) const {
+  for (std::size_t k = 0; k < massless_.size(); ++k) {
+    const Eigen::Index c = massless_[k];
+    const double v = (s.u[c] - massless_u_[k]) / dt_;
+    s.a[c] = (v - massless_v_[k]) / dt_;
+    s.v[c] = v;
+  }
 }
 
 void ImplicitIntegrator::predict(const SecondOrderSystem& system, State& s) {
@@ -76,6 +103,7 @@ void ImplicitIntegrator::update(State& s) const {
 bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   if (system.has_constraint_list()) return step_constraints(system, s);
   if (system.has_far_contact()) return step_two_walls(system, s);
+  if (!massless_.empty()) remember_massless(s);
   predict(system, s);
   Eigen::VectorXd& rhs = formulas_.rhs;
   const Eigen::VectorXd& u_predicted = formulas_.u_predicted;
@@ -111,6 +139,7 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
   update(s);
   // Round-off would leave the node a few ulps off the wall; the constraint is exact.
   if (lambda > 0.0 && contact_.lagrange()) s.u[contact] = gap;
+  if (!massless_.empty()) report_massless(s);
   list_law_.count(iterations);
   s.lambda = lambda;
   s.t += dt;
@@ -118,6 +147,7 @@ bool ImplicitIntegrator::step(const SecondOrderSystem& system, State& s) {
 }
 
 bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& s) {
+  if (!massless_.empty()) remember_massless(s);
   predict(system, s);
   Eigen::VectorXd& rhs = formulas_.rhs;
   const Eigen::VectorXd& u_predicted = formulas_.u_predicted;
@@ -157,6 +187,7 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
   update(s);
   if (forces.main > 0.0 && contact_.lagrange()) s.u[contact] = gap;
   if (forces.far > 0.0 && contact_.lagrange()) s.u[far] = -far_gap;
+  if (!massless_.empty()) report_massless(s);
   s.lambda = forces.main / c_.contact_weight;
   s.far_lambda = forces.far / c_.contact_weight;
   s.t += dt;
@@ -205,9 +236,36 @@ Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const S
     if (system.constraints[k].plus >= 0) rhs[system.constraints[k].plus] -= force;
     if (system.constraints[k].minus >= 0) rhs[system.constraints[k].minus] += force;
   }
+  const Eigen::Index n = system.size();
+  std::vector<Eigen::Index> massless_dofs;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (massless(system.mass, i)) massless_dofs.push_back(i);
+  }
   TridiagonalFactorization mass;
-  if (!mass.factor(system.mass)) return Eigen::VectorXd::Constant(system.size(), NAN);
+  if (massless_dofs.empty()) {
+    if (!mass.factor(system.mass)) return Eigen::VectorXd::Constant(n, NAN);
+    mass.solve_in_place(rhs);
+    return rhs;
+  }
+  // A modified mass (core/model/rod_scene.hpp): a massless DOF's row of M is zero and nothing
+  // couples it to the others, so a unit pivot there leaves the massive DOFs' solve as it is. Its
+  // own acceleration then comes from its static equation K_c·u + (contact force) = 0 differentiated
+  // twice in time, the contact force taken as constant: K_c·a = 0, a_c = −Σ_{j≠c} K_cj·a_j / K_cc,
+  // the acceleration that keeps it on its static position as its neighbours move.
+  Tridiagonal regular = system.mass;
+  for (Eigen::Index c : massless_dofs) {
+    regular.diag[c] = 1.0;
+    rhs[c] = 0.0;
+  }
+  if (!mass.factor(regular)) return Eigen::VectorXd::Constant(n, NAN);
   mass.solve_in_place(rhs);
+  const Tridiagonal& k = system.stiffness;
+  for (Eigen::Index c : massless_dofs) {
+    double coupled = 0.0;
+    if (c > 0) coupled += k.lower[c] * rhs[c - 1];
+    if (c + 1 < n) coupled += k.upper[c] * rhs[c + 1];
+    rhs[c] = -coupled / k.diag[c];
+  }
   return rhs;
 }
 

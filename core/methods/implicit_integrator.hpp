@@ -37,6 +37,17 @@
 // other's changes the bits of its runs, which the batched kernels (core/batch/rod_kernel.cpp,
 // chain_kernel.cpp) and every results file hold fixed.
 //
+// A modified mass (core/model/rod_scene.hpp: redistributed, singular) leaves the contact DOF
+// without mass; the effective matrix keeps its stiffness term there and stays regular, so the
+// step is unchanged: the massless DOF meets its static equation, α_f-weighted, with the contact,
+// at every step. Only the initial acceleration needs a rule (consistent_acceleration). Its
+// velocity and acceleration from the Newmark update feed nothing back without damping (the
+// displacement at t + Δt is the static equation's whatever the predictor), and that velocity is
+// the method's for an algebraic unknown: the trapezoidal rule's v₊ = 2(u₊ − u)/Δt − v alternates
+// ±v for ever once the node stops on the wall. The step reports instead the differences
+// v₊ = (u₊ − u)/Δt and a₊ = (v₊ − v)/Δt, as GetFEM's demo_dynamic_contact_1D does; with damping
+// at the DOF (its velocity then in its equation) the method's own values are kept.
+//
 // Thread safety: one object per thread (it holds scratch vectors).
 #pragma once
 
@@ -124,10 +135,19 @@ class ImplicitIntegrator {
   double main_compliance_ = 0.0, far_compliance_ = 0.0;
   ConstraintListLaw list_law_;
   Eigen::VectorXd gap_offsets_;  // gap_offsets()
+  // Massless DOFs without damping (a modified mass), whose velocity and acceleration the step
+  // reports by differences (remember_massless, report_massless), and their values at t.
+  std::vector<Eigen::Index> massless_;
+  std::vector<double> massless_u_, massless_v_;
+  void remember_massless(const State& state);
+  void report_massless(State& state) const;
 };
 
 /// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with
-/// the equation of motion.
+/// the equation of motion. A massless DOF (a modified mass, core/model/rod_scene.hpp: its row of
+/// M zero) has no such equation: its acceleration is that of its static equation differentiated
+/// twice, a_c = −Σ_{j≠c} K_cj·a_j / K_cc, the contact force held constant (zero for the rod, which
+/// starts unstrained).
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state);
 
 }  // namespace impactid

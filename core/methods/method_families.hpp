@@ -73,6 +73,24 @@ inline constexpr ImplicitCoefficients kLinearAcceleration{1.0 / 3.0, 1.0 / 6.0, 
 extern const MethodSpectrum kSingleStepImplicitSpectrum;
 bool same_implicit_coefficients(const MethodParams& a, const MethodParams& b);
 
+/// How the single-step implicit family steps a massless DOF (MethodDescriptor::massless_dofs).
+inline constexpr const char* kImplicitMasslessDofs =
+    "its effective matrix (1-alpha_m)*M + (1-alpha_f)*(b1*dt^2*K + ...) stays regular: a massless "
+    "DOF satisfies its static equation (alpha_f-weighted) with the contact at every step; its "
+    "initial acceleration is that of the static equation differentiated twice";
+
+/// How the composite family and Houbolt step a massless DOF: each of their solves is an
+/// ImplicitIntegrator's, whose effective matrix keeps the DOF's stiffness. (Wilson-θ is refused:
+/// with the DOF's static equation at t + θΔt and the contact at t + Δt its runs on the rod grow
+/// unstable.)
+inline constexpr const char* kCompositeMasslessDofs =
+    "each sub-step's effective matrix keeps its stiffness and stays regular: a massless DOF "
+    "satisfies its static equation with the contact at every sub-step (the single-step family's "
+    "rule for its initial acceleration)";
+inline constexpr const char* kHouboltMasslessDofs =
+    "its start and its steady step solve effective matrices that keep its stiffness: a massless "
+    "DOF satisfies its static equation with the contact at every step";
+
 /// The composite family: amplification of both sub-steps from composite_coefficients(), ρ∞
 /// evaluated at Ω = 1e8, parameters equal when both sub-steps' coefficients are.
 extern const MethodSpectrum kCompositeSpectrum;

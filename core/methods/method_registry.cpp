@@ -198,6 +198,26 @@ std::string method_names() {
   return join(methods(), [](const MethodDescriptor& m) { return m.name; });
 }
 
+std::optional<std::string> massless_refusal(const MethodDescriptor& method,
+                                            double rayleigh_stiffness) {
+  std::string takers;
+  for (const MethodDescriptor& m : methods()) {
+    if (m.massless_dofs) takers += (takers.empty() ? "" : "|") + std::string(m.name);
+  }
+  if (!method.massless_dofs) {
+    return std::string("method ") + method.name +
+           " does not step a mass matrix with massless contact DOFs (the methods that do: " +
+           takers + ")";
+  }
+  if (method.massless_dofs_undamped && rayleigh_stiffness != 0.0) {
+    return std::string("method ") + method.name +
+           " steps massless contact DOFs only without stiffness-proportional damping "
+           "(rayleigh_stiffness = " +
+           format_value(rayleigh_stiffness) + ")";
+  }
+  return std::nullopt;
+}
+
 std::variant<MethodParams, ParameterError> build_method(MethodKind kind,
                                                         const MethodArguments& given) {
   const MethodDescriptor& method = descriptor(kind);

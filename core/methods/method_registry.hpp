@@ -131,7 +131,20 @@ struct MethodDescriptor {
   /// omega_max"), for `simulate`'s report; null when its runs certify none. The certificate
   /// needs a diagonal mass.
   const char* stable_step = nullptr;
+  /// How it steps a DOF without mass (the contact DOFs of mass = redistributed|singular,
+  /// core/model/rod_scene.hpp), one line for `impactid methods`; null (the default) when it does
+  /// not, and a run of it on such a mass is refused by name before it starts (study/plan/
+  /// simulation_settings.cpp: build(); simulate() too, as a failed run).
+  const char* massless_dofs = nullptr;
+  /// It steps massless DOFs only without stiffness-proportional damping (rayleigh_stiffness = 0),
+  /// which would put their velocity into their static equation.
+  bool massless_dofs_undamped = false;
 };
+
+/// Why `method` does not step a mass matrix with massless DOFs under the given stiffness-
+/// proportional damping (its descriptor's massless_dofs), or nothing if it does.
+std::optional<std::string> massless_refusal(const MethodDescriptor& method,
+                                            double rayleigh_stiffness);
 
 /// Every method parameter's key, in the order --help and plan errors list them.
 std::span<const MethodParameter> method_parameters();

@@ -78,6 +78,7 @@ MethodDescriptor newmark_method() {
       .validate = check,
       .implicit_coefficients = implicit,
       .reports_beta_gamma = true,
+      .massless_dofs = kImplicitMasslessDofs,
   };
 }
 

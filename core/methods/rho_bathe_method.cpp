@@ -68,6 +68,7 @@ MethodDescriptor rho_bathe_method() {
       .defaults = default_of<RhoBatheParams>,
       .validate = check,
       .composite_coefficients = composite,
+      .massless_dofs = kCompositeMasslessDofs,
   };
 }
 

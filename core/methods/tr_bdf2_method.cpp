@@ -35,6 +35,7 @@ MethodDescriptor tr_bdf2_method() {
       .defaults = default_of<TrBdf2Params>,
       .validate = no_check,
       .composite_coefficients = composite,
+      .massless_dofs = kCompositeMasslessDofs,
   };
 }
 

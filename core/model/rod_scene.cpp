@@ -7,13 +7,49 @@
 namespace impactid {
 
 const char* to_string(MassMatrix kind) {
-  return kind == MassMatrix::lumped ? "lumped" : "consistent";
+  switch (kind) {
+    case MassMatrix::lumped:
+      return "lumped";
+    case MassMatrix::consistent:
+      return "consistent";
+    case MassMatrix::redistributed:
+      return "redistributed";
+    case MassMatrix::singular:
+      return "singular";
+  }
+  return "unknown";
 }
 
 std::optional<MassMatrix> mass_matrix_from_string(const std::string& name) {
-  if (name == "lumped") return MassMatrix::lumped;
-  if (name == "consistent") return MassMatrix::consistent;
+  for (MassMatrix kind : kMassMatrices) {
+    if (name == to_string(kind)) return kind;
+  }
   return std::nullopt;
+}
+
+const char* mass_matrix_description(MassMatrix kind) {
+  switch (kind) {
+    case MassMatrix::lumped:
+      return "row-sum lumped, rho*A*h/2 at each node of an element (the default)";
+    case MassMatrix::consistent:
+      return "consistent, rho*A*h/6*[2 1; 1 2] per element";
+    case MassMatrix::redistributed:
+      return "lumped with the contact node's mass moved onto its neighbour: the contact node "
+             "massless, total mass kept (Khenous, Laborde & Renard 2008); the rod only";
+    case MassMatrix::singular:
+      return "consistent with the contact node's row and column removed and its neighbour's "
+             "diagonal 7*rho*A*h/12 (Renard 2010's singular dynamic mass, as GetFEM builds it "
+             "for P1); 3*rho*A*h/4 of mass lost; the rod only";
+  }
+  return "";
+}
+
+const char* mass_matrix_names() {
+  return "lumped|consistent|redistributed|singular";
+}
+
+bool has_massless_dofs(MassMatrix kind) {
+  return kind == MassMatrix::redistributed || kind == MassMatrix::singular;
 }
 
 long step_count(double end_time, double time_step) {
@@ -124,6 +160,13 @@ std::optional<ParameterError> validate(const RodScene& s) {
   constexpr long max_elements = 10'000'000;
   if (s.elements > max_elements) {
     return ParameterError{"elements", std::to_string(s.elements), "must be at most 1e7"};
+  }
+  // With two walls and one element both nodes would be contact nodes, and a modified mass would
+  // leave the rod without any.
+  if (has_massless_dofs(s.mass) && s.far_gap && s.elements < 2) {
+    return ParameterError{"mass", to_string(s.mass),
+                          "needs at least 2 elements with a far wall (both nodes of a single "
+                          "element would be massless contact nodes)"};
   }
   const RodSceneDerived d = derive(s);
   if (auto e = validate_time_grid(

@@ -19,12 +19,44 @@
 
 namespace impactid {
 
+/// The mass treatment (plan and CLI key `mass`). The last two are the modified masses of the
+/// contact literature: the contact node (the node at the wall, and node 0 too with a far wall)
+/// carries no mass, so that its equation is static within each step and the contact pressure
+/// loses the spurious oscillation the node's own inertia drives. Their matrices, and why
+/// (assembled in core/model/second_order_system.cpp: apply_contact_mass):
+///   redistributed  the lumped mass with the contact node's ρAh/2 moved onto its neighbour (which
+///                  then holds 3ρAh/2): Khenous, Laborde & Renard 2008, "Mass redistribution
+///                  method for finite element contact problems in elastodynamics", Eur. J. Mech.
+///                  A/Solids 27. Total mass kept, diagonal.
+///   singular       the consistent mass with the contact node's row and column removed and the
+///                  neighbour's diagonal set to 7ρAh/12: the singular dynamic mass of Renard 2010
+///                  ("The singular dynamic method for constrained second order hyperbolic
+///                  equations", J. Comput. Appl. Math. 234) as GetFEM's
+///                  demo_dynamic_contact_1D builds it for P1 (mass_matrix_type = 2). 7h/12 =
+///                  h/3 + h/4: the neighbour keeps its consistent h/3 from the inner element, and
+///                  the contact element's kinetic energy is taken at its midpoint (one-point
+///                  Gauss rule, exact for constants) with the contact node's velocity left out,
+///                  ½·ρAh·(v_nb/2)². It is not mass-preserving: the contact element weighs ρAh/4
+///                  instead of ρAh, 3ρAh/4 lost, which vanishes with h.
+/// A massless DOF is taken only by methods that say how they step it
+/// (core/methods/method_registry.hpp: MethodDescriptor::massless_dofs).
 enum class MassMatrix {
   lumped,      ///< row-sum lumped (ρAh/2 at each node of an element); the default for every method
   consistent,  ///< ρAh/6·[2 1; 1 2] per element
+  redistributed,  ///< lumped, the contact node's mass moved onto its neighbour (above)
+  singular,       ///< consistent, the contact node massless, its neighbour's diagonal 7ρAh/12
 };
 const char* to_string(MassMatrix kind);
 std::optional<MassMatrix> mass_matrix_from_string(const std::string& name);
+/// Every mass treatment's name, as "lumped|consistent|redistributed|singular".
+const char* mass_matrix_names();
+/// One line on the treatment, for `impactid methods`.
+const char* mass_matrix_description(MassMatrix kind);
+/// Every treatment, in the order of mass_matrix_names().
+inline constexpr MassMatrix kMassMatrices[] = {MassMatrix::lumped, MassMatrix::consistent,
+                                               MassMatrix::redistributed, MassMatrix::singular};
+/// Whether the treatment leaves the contact DOFs without mass (redistributed, singular).
+bool has_massless_dofs(MassMatrix kind);
 
 /// Every parameter of the scene, with the defaults that reproduce the paper's qualitative
 /// results. The paper leaves gap, area, time step and end time unstated; they are chosen here.

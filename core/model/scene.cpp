@@ -285,6 +285,13 @@ std::optional<ParameterError> validate(const Scene& s) {
                                 (left ? "first" : "last") + " node at u = 0)"};
     }
   }
+  // The modified masses are assembled on the rod's named walls only (assemble_rod); a scene of
+  // bodies' contact nodes would need them on each constraint's nodes.
+  if (has_massless_dofs(s.mass)) {
+    return ParameterError{"mass", to_string(s.mass),
+                          "is the one-body rod's only, so far: a scene of bodies takes "
+                          "lumped|consistent"};
+  }
   for (auto error : {
            require_in_range("rayleigh_mass", s.rayleigh_mass, 0.0, kMax, "must be >= 0 and finite"),
            require_in_range("rayleigh_stiffness", s.rayleigh_stiffness, 0.0, kMax,

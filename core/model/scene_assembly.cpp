@@ -118,6 +118,7 @@ AssembledScene assemble(const RodScene& rod) {
   out.probes = {{rod.area, out.system.contact_dof}};
   out.primary = 0;
   out.contact_columns = false;
+  out.mass = rod.mass;
   return out;
 }
 

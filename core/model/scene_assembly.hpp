@@ -64,6 +64,10 @@ struct AssembledScene {
   /// shorthand does not: its contact is the trace's pressure and velocity, its far wall's
   /// pressure far_pressure, as they always were.
   bool contact_columns = true;
+  /// The mass treatment it was assembled with (core/model/rod_scene.hpp); a model's is its file's,
+  /// lumped here. With massless DOFs (redistributed, singular) simulate() runs only the methods
+  /// that step them (MethodDescriptor::massless_dofs).
+  MassMatrix mass = MassMatrix::lumped;
 };
 
 /// The scene must be valid (validate()).

@@ -74,6 +74,16 @@ void add_truss_elements(SecondOrderSystem& system, Eigen::Index first_node, int 
                         double length, double youngs_modulus, double density, double area,
                         MassMatrix mass);
 
+/// A modified mass (MassMatrix::redistributed or singular, core/model/rod_scene.hpp) at one
+/// contact node: `mass` assembled with its base (lumped or consistent), the contact node and its
+/// neighbour in the same element of mass ρAh = element_mass. The contact node's row and column
+/// become zero. Nothing for lumped or consistent.
+void apply_contact_mass(Tridiagonal& mass, Eigen::Index contact, Eigen::Index neighbour,
+                        double element_mass, MassMatrix kind);
+
+/// Whether DOF i has no mass: its row of M is zero (the contact DOFs of a modified mass).
+bool massless(const Tridiagonal& mass, Eigen::Index i);
+
 /// The rod of the scene: n elements, n+1 nodes, contact at node n, Rayleigh damping
 /// C = a0·M + a1·K, and the far wall at node 0 when the scene has one. The scene must be valid.
 SecondOrderSystem assemble_rod(const RodScene& scene);

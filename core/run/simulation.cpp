@@ -493,6 +493,13 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
   RunSummary summary;
   State& state = ws.state;
   if (!prepare_run(scene, options, ws.trace, state, summary)) return summary;
+  if (has_massless_dofs(scene.mass)) {
+    if (auto refusal = massless_refusal(descriptor(method), 0.0)) {
+      summary.status = RunStatus::failed;
+      summary.message = std::string("mass = ") + to_string(scene.mass) + ": " + *refusal;
+      return summary;
+    }
+  }
   const long skipped = summary.skipped_steps;
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
 

@@ -259,7 +259,11 @@ double stability_limit_omega(const MethodParams& params) {
 
 double rod_max_omega_dt(MassMatrix mass, double courant) {
   if (!(courant > 0.0 && std::isfinite(courant))) return kNaN;
-  return (mass == MassMatrix::lumped ? 2.0 : 2.0 * std::sqrt(3.0)) * courant;
+  // A modified mass is its base's away from the contact element (core/model/rod_scene.hpp), and
+  // its massless contact DOF, solved statically, only adds mass (or takes away stiffness) at the
+  // neighbour once condensed: the bound is the base's.
+  const bool lumped_base = mass == MassMatrix::lumped || mass == MassMatrix::redistributed;
+  return (lumped_base ? 2.0 : 2.0 * std::sqrt(3.0)) * courant;
 }
 
 }  // namespace impactid

@@ -176,8 +176,11 @@ double stability_limit_omega(const MethodParams& params);
 
 /// Largest Ω = ω_max·Δt of the free rod of uniform elements at Courant number C = c·Δt/h:
 /// 2·C for the lumped mass (ω_max = 2c/h) and 2·√3·C for the consistent mass (ω_max =
-/// 2√3·c/h), the zig-zag mode of the free-free chain. Contact and supports only lower it. NaN if
-/// C is not positive and finite.
+/// 2√3·c/h), the zig-zag mode of the free-free chain. Contact and supports only lower it. The
+/// modified masses take their base's: redistributed the lumped one's, singular the consistent
+/// one's (their massless contact DOF has no frequency: condensed out by its static equation, it
+/// leaves its neighbour with more mass per stiffness than the interior). NaN if C is not positive
+/// and finite.
 double rod_max_omega_dt(MassMatrix mass, double courant);
 
 }  // namespace impactid

@@ -101,3 +101,18 @@ def test_spectral_arguments():
         impactid.spectral("hht", omega_max=10, courant=1)
     with pytest.raises(ValueError, match="needs exactly one omega_dt"):
         impactid.spectral(match_damping=0.1, omega_dt=[1, 2])
+
+
+def test_a_modified_mass_is_refused_by_a_method_that_does_not_step_it(executable):
+    """mass = redistributed|singular leave the rod's contact node massless (docs/remedies.md):
+    the methods that step it run, the others are refused by name, as on the command line."""
+    run = impactid.simulate("hht", mass="redistributed")
+    assert run.status == "ok"
+    assert run.pressure.min() >= 0.0
+    with pytest.raises(impactid.ParameterError) as raised:
+        impactid.simulate(method="wilson-theta", mass="singular")
+    e = raised.value
+    assert e.parameter == "mass" and e.value == "singular"
+    assert e.constraint.startswith("method wilson-theta does not step a mass matrix with massless")
+    assert cli_error(executable, "simulate", "--method", "wilson-theta", "--mass", "singular") == (
+        f"impactid simulate: --mass = singular: {e.constraint}")

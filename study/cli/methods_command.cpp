@@ -6,8 +6,10 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/methods/method_registry.hpp"
+#include "core/model/rod_scene.hpp"
 #include "study/formats/json_writer.hpp"
 
 namespace impactid {
@@ -50,10 +52,27 @@ void write_text() {
       if (v.derived) derived += std::string(derived.empty() ? "" : ", ") + v.name;
     }
     if (!derived.empty()) std::printf("  derived: %s\n", derived.c_str());
+    if (m.massless_dofs) {
+      std::printf("  massless contact DOFs (mass = redistributed|singular): %s\n", m.massless_dofs);
+    } else {
+      std::printf("  mass: lumped|consistent only (refuses redistributed|singular)\n");
+    }
   }
   std::printf(
       "\nOn the command line --delta; in a plan delta = 0.3 under [method] or as a sweep "
-      "axis.\n");
+      "axis.\n\nMass treatments (--mass, plan key mass, a sweep axis too):\n");
+  for (const MassMatrix mass : kMassMatrices) {
+    std::printf("  %-14s %s\n", to_string(mass), mass_matrix_description(mass));
+  }
+}
+
+// The mass treatments a method takes: every one if it steps massless DOFs, else those without.
+std::vector<const char*> masses_taken(const MethodDescriptor& method) {
+  std::vector<const char*> out;
+  for (const MassMatrix mass : kMassMatrices) {
+    if (method.massless_dofs || !has_massless_dofs(mass)) out.push_back(to_string(mass));
+  }
+  return out;
 }
 
 }  // namespace
@@ -99,6 +118,15 @@ void write_methods_json(std::ostream& out) {
       if (v.derived) json.value(v.name);
     }
     json.end_array();
+    // The mass treatments (plan key `mass`) it takes, and how it steps a massless contact DOF.
+    json.key("masses").begin_array();
+    for (const char* mass : masses_taken(m)) json.value(mass);
+    json.end_array();
+    if (m.massless_dofs) {
+      json.key("massless_dofs").value(m.massless_dofs);
+    } else {
+      json.key("massless_dofs").null();
+    }
     json.end_object();
   }
   json.end_array();

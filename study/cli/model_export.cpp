@@ -66,6 +66,13 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
   }
   const Scene* bodies = sim.bodies();
   const RodScene* rod = sim.rod();
+  // A model of matrices does not step a massless DOF (core/model/rod_scene.hpp): its M would
+  // have a zero row that the sparse steppers cannot start from.
+  if (rod && has_massless_dofs(rod->mass)) {
+    throw std::runtime_error(std::string("mass = ") + to_string(rod->mass) +
+                             ": a model of matrices takes no massless DOF yet; export "
+                             "lumped|consistent");
+  }
   const AssembledScene scene = bodies ? assemble(*bodies) : assemble(*rod);
   const SecondOrderSystem& system = scene.system;
   const double t_end = bodies ? derive(*bodies).end_time : derive(*rod).end_time;

@@ -36,7 +36,10 @@ constexpr ParameterInfo kSceneParameters[] = {
      "gap between node 0 and a second rigid wall behind the rod, for repeated impacts (default "
      "none: the paper's single wall; >= 0)",
      "", ""},
-    {"mass", G::scene, K::choice, "", "mass matrix (default lumped)", "lumped|consistent", ""},
+    {"mass", G::scene, K::choice, "",
+     "mass matrix (default lumped); redistributed and singular leave the rod's contact nodes "
+     "massless (docs/remedies.md), taken by the methods `impactid methods` says step them",
+     "lumped|consistent|redistributed|singular", ""},
     {"rayleigh_mass", G::scene, K::real, "1/s", "Rayleigh a0 in C = a0*M + a1*K (default 0)", "",
      ""},
     {"rayleigh_stiffness", G::scene, K::real, "s", "Rayleigh a1 in C = a0*M + a1*K (default 0)", "",
@@ -372,6 +375,12 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
     return *e;
   }
   if (auto e = validate(out.method)) return *e;
+  if (has_massless_dofs(s.scene.mass)) {
+    // Whether the method steps a contact DOF without mass is its descriptor's to say.
+    if (auto refusal = massless_refusal(descriptor(out.method), s.scene.rayleigh_stiffness)) {
+      return ParameterError{"mass", to_string(s.scene.mass), *refusal};
+    }
+  }
   if (!(out.indicators.peak_prominence > 0.0 && std::isfinite(out.indicators.peak_prominence))) {
     return ParameterError{"peak_prominence", format_value(out.indicators.peak_prominence),
                           "must be positive and finite"};
