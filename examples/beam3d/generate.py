@@ -17,7 +17,8 @@ towards a rigid wall 2 mm ahead of its end face. The reference is the 1D wave
 of the constrained modulus E_c = E (1 - nu) / ((1 + nu)(1 - 2 nu)): speed
 c_p = sqrt(E_c / rho), contact pressure rho c_p v0 for 2 L / c_p after the
 first contact at gap / v0, the struck face at rest meanwhile, then rebounding
-at -v0. Written at the run's samples as reference.csv.
+at -v0. Written at the run's samples as reference.csv, from t = 0 to four
+steps past t_end so that runs at other steps (a sweep over dt) stay inside it.
 
 Model
 -----
@@ -241,7 +242,9 @@ def main():
         f.write(f"# the 1D wave of the constrained modulus at the run's samples t = i dt: pressure "
                 f"rho c_p v0 = {pressure:.6e} Pa for 2L/c_p = {duration:.6e} s from gap/v0\n")
         f.write(f"t,{primary}.pressure,{primary}.velocity\n")
-        for i in range(1, steps + 1):
+        # From t = 0 to four steps past the run's last sample, so that a sweep over dt (a run's
+        # samples linearly interpolated in this history) stays inside it up to 4x the step.
+        for i in range(0, steps + 5):
             t = i * dt
             jumps = [s for s in (t_contact, t_contact + duration) if abs(t - s) <= jump]
             if jumps:
