@@ -101,6 +101,15 @@ with tempfile.TemporaryDirectory() as scratch:
         check(same, f"{method}: the beam's indicators are the rod's: eps_p {beam.get('eps_p')} "
               f"vs {rod.get('eps_p')}, NoP_p {beam.get('nop_p')} vs {rod.get('nop_p')}")
 
+    # 1b. The reference covers a sweep over dt: a step 1.13 and 0.9 times the default one still
+    # has the reference at every sample (it reaches four steps past t_end, from t = 0).
+    for factor in (1.13, 0.9):
+        other = simulate("--scene", str(fixed / "scene.toml"), "--method", "cdm", "--set",
+                         f"dt={dt * factor!r}")
+        check(other.get("status") == "ok" and math.isfinite(other.get("eps_p", math.nan)),
+              f"cdm at dt x {factor}: {other.get('status')} ({other.get('message')}), "
+              f"eps_p {other.get('eps_p')}")
+
     # 2. Under refinement along the beam, central difference converges to the 1D wave.
     eps = []
     for nx in (20, 40, 80):
