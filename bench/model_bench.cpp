@@ -22,6 +22,7 @@
 #include "core/model/sparse_factorization.hpp"
 #include "core/run/simulation.hpp"
 #include "study/plan/plan.hpp"
+#include "tests/grid_model.hpp"
 #include "study/plan/simulation_settings.hpp"
 
 #ifdef IMPACTID_HAVE_CHOLMOD
@@ -37,27 +38,7 @@ constexpr long kSteps = 200;
 // lumped mass per element shared by its nodes, every node at v = −1 toward the wall, 41 wall
 // contacts (u >= −gap) spread over the first row, closing at step 100.
 std::shared_ptr<const Model> grid_model(int side) {
-  const int n = side * side;
-  const double ke[4][4] = {{4, -1, -2, -1}, {-1, 4, -1, -2}, {-2, -1, 4, -1}, {-1, -2, -1, 4}};
-  std::vector<Eigen::Triplet<double>> k, m;
-  for (int i = 0; i + 1 < side; ++i) {
-    for (int j = 0; j + 1 < side; ++j) {
-      const int nodes[4] = {i * side + j, i * side + j + 1, (i + 1) * side + j + 1,
-                            (i + 1) * side + j};
-      for (int a = 0; a < 4; ++a) {
-        m.emplace_back(nodes[a], nodes[a], 0.25);
-        for (int b = 0; b < 4; ++b) k.emplace_back(nodes[a], nodes[b], ke[a][b] / 6.0);
-      }
-    }
-  }
-  auto model = std::make_shared<Model>();
-  model->mass.resize(n, n);
-  model->mass.setFromTriplets(m.begin(), m.end());
-  model->stiffness.resize(n, n);
-  model->stiffness.setFromTriplets(k.begin(), k.end());
-  model->initial_displacement = Eigen::VectorXd::Zero(n);
-  model->initial_velocity = Eigen::VectorXd::Constant(n, -1.0);
-  model->omega_bound = gershgorin_omega(model->mass, model->stiffness);
+  const std::shared_ptr<Model> model = testing::grid_membrane(side);
   const double dt = 1.0 / model->omega_bound;  // Courant 0.5
   for (int c = 0; c < 41; ++c) {
     const Eigen::Index dof = static_cast<Eigen::Index>(c) * (side - 1) / 40;

@@ -16,6 +16,7 @@
 
 #include "core/common/kernel_level.hpp"
 #include "core/model/model_scene.hpp"
+#include "grid_model.hpp"
 #include "same_run.hpp"
 #include "study/plan/plan.hpp"
 #include "study/plan/simulation_settings.hpp"
@@ -29,27 +30,7 @@ using testing::expect_same_run;
 // a wall at v = −1 along `contacts` nodes of its first row: a 2D model whose M and Delassus matrix
 // are diagonal (each contact its own node), as the kernel needs.
 std::shared_ptr<const Model> grid_model(int side, int contacts) {
-  const int n = side * side;
-  const double ke[4][4] = {{4, -1, -2, -1}, {-1, 4, -1, -2}, {-2, -1, 4, -1}, {-1, -2, -1, 4}};
-  std::vector<Eigen::Triplet<double>> k, m;
-  for (int i = 0; i + 1 < side; ++i) {
-    for (int j = 0; j + 1 < side; ++j) {
-      const int nodes[4] = {i * side + j, i * side + j + 1, (i + 1) * side + j + 1,
-                            (i + 1) * side + j};
-      for (int a = 0; a < 4; ++a) {
-        m.emplace_back(nodes[a], nodes[a], 0.25);
-        for (int b = 0; b < 4; ++b) k.emplace_back(nodes[a], nodes[b], ke[a][b] / 6.0);
-      }
-    }
-  }
-  auto model = std::make_shared<Model>();
-  model->mass.resize(n, n);
-  model->mass.setFromTriplets(m.begin(), m.end());
-  model->stiffness.resize(n, n);
-  model->stiffness.setFromTriplets(k.begin(), k.end());
-  model->initial_displacement = Eigen::VectorXd::Zero(n);
-  model->initial_velocity = Eigen::VectorXd::Constant(n, -1.0);
-  model->omega_bound = gershgorin_omega(model->mass, model->stiffness);
+  const std::shared_ptr<Model> model = testing::grid_membrane(side);
   for (int c = 0; c < contacts; ++c) {
     const Eigen::Index dof = static_cast<Eigen::Index>(c) * (side - 1) / (contacts - 1);
     model->contacts.push_back({"c" + std::to_string(c), -1, dof, 3.0 + 0.5 * c, 2.0, dof});
