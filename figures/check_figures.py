@@ -194,6 +194,36 @@ kind = "grid"
 alpha = {{ from = -0.5, to = 0.0, partitions = 5 }}
 delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
 {PRACTICAL}""",
+    # plans/bouncing-bar.toml on 20 elements over one period: gravity.
+    "bouncing-bar": f"""
+name = "bouncing-bar"
+description = "check_figures: bouncing bar under gravity, HHT over delta x alpha, 20 elements"
+
+[scene]
+courant = 1.0
+t_end = 5.333333333333333
+gravity = -10.0
+[[scene.body]]
+name = "bar"
+length = 10.0
+elements = 20
+youngs_modulus = 900.0
+density = 1.0
+area = 1.0
+
+[scene.wall.left]
+gap = 5.0
+
+[method]
+name = "hht"
+
+[study]
+kind = "grid"
+
+[study.axes]
+alpha = {{ from = -0.5, to = 0.0, partitions = 5 }}
+delta = {{ from = 0.0, to = 1.0, partitions = 10 }}
+{PRACTICAL}""",
     "two-rods": f"""
 name = "two-rods"
 description = "check_figures: two equal rods, Newmark over delta, 40 + 40 elements"
@@ -416,6 +446,7 @@ FIGURES = {
     "fig4_hht_delta_alpha.png": ["hht-delta-alpha"],
     "fig_hopkinson.png": ["hopkinson"],
     "fig_clamped_bar.png": ["clamped-bar"],
+    "fig_bouncing_bar.png": ["bouncing-bar"],
     "fig_two_rods.png": ["two-rods"],
     "fig_period_error_line.png": ["hht-period-error-line"],
     "fig5_pressure_history.png": ["identical-dissipation"],

@@ -35,6 +35,7 @@ FIGURES = [
     ("fig4_hht_delta_alpha.png", hht_maps.fig4),
     ("fig_hopkinson.png", hht_maps.fig_hopkinson),
     ("fig_clamped_bar.png", hht_maps.fig_clamped_bar),
+    ("fig_bouncing_bar.png", hht_maps.fig_bouncing_bar),
     ("block-hht-delta-alpha.png", hht_maps.fig_block_hht),
     ("fig_period_error_line.png", sweeps_1d.fig_period_error_line),
     ("fig5_pressure_history.png", time_histories.fig5),

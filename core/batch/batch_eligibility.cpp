@@ -124,10 +124,11 @@ bool kr_alpha_batchable(const RodScene& scene, const MethodParams& method) {
 bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
                      const RunOptions& options) {
   const SecondOrderSystem& system = scene.system;
-  // A clamped end or an initial displacement (AssembledScene::starts_free false) runs through
-  // simulate(): the kernel's lanes have not been held bit for bit to it on such a scene
-  // (tests/batched_chain_test.cpp covers bodies that start free and unstrained).
-  if (!scene.starts_free) return false;
+  // A clamped end, an initial displacement or gravity (AssembledScene::starts_free false) runs
+  // through simulate(): the kernel's lanes have not been held bit for bit to it on such a scene
+  // (tests/batched_chain_test.cpp covers bodies that start free and unstrained), and its step has
+  // no load term.
+  if (!scene.starts_free || scene.system.load.active()) return false;
   if (!is_single_step_implicit(method) || options.record_history ||
       options.contact.law != ContactLaw::lagrange || !system.has_constraint_list() ||
       system.has_contact() || system.has_far_contact() || !scene.contact_columns ||
@@ -177,11 +178,11 @@ bool model_kernel_method(const MethodParams& method) {
 
 bool model_batchable(const AssembledScene& scene, const MethodParams& method,
                      const RunOptions& options) {
-  // Damping adds a product with C to the step (and C/(2Δt) to the left-hand matrix), the
-  // penalty laws their springs or iterations, the backward velocity another finish: those runs go
-  // through simulate().
-  return scene.sparse && model_kernel_method(method) &&
-         !scene.sparse->has_damping() && !scene.sparse->constraints.empty() &&
+  // Damping adds a product with C to the step (and C/(2Δt) to the left-hand matrix), a load its
+  // term, the penalty laws their springs or iterations, the backward velocity another finish:
+  // those runs go through simulate().
+  return scene.sparse && model_kernel_method(method) && !scene.sparse->has_damping() &&
+         !scene.sparse->load.active() && !scene.sparse->constraints.empty() &&
          scene.probes.size() == scene.sparse->constraints.size() && scene.contact_columns &&
          !options.record_history && options.contact.law == ContactLaw::lagrange;
 }

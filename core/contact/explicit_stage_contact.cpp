@@ -51,7 +51,11 @@ void ExplicitStageContact::solve_acceleration(const SecondOrderSystem& system,
                                               const Eigen::VectorXd& u,
                                               const Eigen::VectorXd& v_predicted,
                                               Eigen::VectorXd& a) const {
-  a.setZero();
+  if (system.load.active()) {
+    a = system.load.force;  // the same size: no allocation
+  } else {
+    a.setZero();
+  }
   system.stiffness.multiply_add(-1.0, u, a);
   if (system.has_damping()) system.damping.multiply_add(-1.0, v_predicted, a);
   mass_.solve_in_place(a);

@@ -40,6 +40,7 @@ void SparseExplicitStageContact::solve_acceleration(const SparseSystem& system,
                                                     Eigen::VectorXd& a) const {
   multiply(system.stiffness, u, a);
   a = -a;
+  if (system.load.active()) a += system.load.force;
   if (system.has_damping()) multiply_add(system.damping, -1.0, v_predicted, a);
   mass_.solve_in_place(a);
 }

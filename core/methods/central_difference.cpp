@@ -60,6 +60,9 @@ std::string CentralDifference::massless_failure(const SecondOrderSystem& system)
   if (system.has_constraint_list()) {
     return "a massless DOF on a scene of bodies is not supported (its constraints are a list)";
   }
+  if (system.load.active()) {
+    return "a massless DOF under a load is not supported (its static equation leaves the load out)";
+  }
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!massless(system.mass, i)) continue;
     const bool wall = (system.has_contact() && i == system.contact_dof) ||

@@ -6,7 +6,8 @@
 //   start():    u₋ = u₀ − Δt·v₀ + ½Δt²·a₀ (Taylor, second order);
 //   predict():  (M/Δt² + C/(2Δt))·u₊ = M·(2u − u₋)/Δt² − K·u + C·u₋/(2Δt) for the central velocity,
 //               M/Δt²·u₊ = M·(2u − u₋)/Δt² − K·u − C·(u − u₋)/Δt for the backward one, solved with
-//               the caller's factorisation of the left-hand matrix;
+//               the caller's factorisation of the left-hand matrix; a system's constant load f
+//               (core/model/constant_load.hpp) is added to either right-hand side;
 //   finish():   the state at t (u, the variant's velocity, a = (u₊ − 2u + u₋)/Δt², t), then the
 //               recurrence moves on to t + Δt;
 //   energy():   the method's own energy at t + Δt/2 (central_difference_energy).
@@ -86,6 +87,7 @@ struct CentralDifferenceRecurrence {
           }
           u_next[i] = sum;
         }
+        if (system.load.active()) u_next += system.load.force;
         lhs.solve_in_place(u_next);
         return;
       }
@@ -102,6 +104,7 @@ struct CentralDifferenceRecurrence {
         multiply_add(system.damping, -1.0, scratch, u_next);
       }
     }
+    if (system.load.active()) u_next += system.load.force;
     lhs.solve_in_place(u_next);
   }
 
@@ -123,14 +126,16 @@ struct CentralDifferenceRecurrence {
   }
 
   /// The method's own energy at t + Δt/2 after finish(): u_previous = u_t, u = u_{t+Δt}; scratch
-  /// and u_next are free until the next predict().
+  /// and u_next are free until the next predict(). With a load f, its potential at the midpoint m
+  /// is added: the scheme M·(u₊ − 2u + u₋)/Δt² + K·u = f conserves E − fᵀ·m exactly.
   template <SemiDiscreteSystem System>
   double energy(const System& system) {
     scratch = (u - u_previous) / dt;
     u_next = 0.5 * (u + u_previous);
-    return central_difference_energy(quadratic_form(system.mass, scratch),
-                                     quadratic_form(system.stiffness, scratch),
-                                     quadratic_form(system.stiffness, u_next), dt);
+    const double e = central_difference_energy(quadratic_form(system.mass, scratch),
+                                               quadratic_form(system.stiffness, scratch),
+                                               quadratic_form(system.stiffness, u_next), dt);
+    return system.load.active() ? e + system.load.potential(u_next) : e;
   }
 };
 

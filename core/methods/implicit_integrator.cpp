@@ -226,6 +226,7 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
 
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state) {
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(system.size());
+  if (system.load.active()) rhs = system.load.force;
   system.stiffness.multiply_add(-1.0, state.u, rhs);
   system.damping.multiply_add(-1.0, state.v, rhs);
   rhs[system.contact_dof] -= state.lambda;

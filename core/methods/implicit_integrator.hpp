@@ -143,8 +143,8 @@ class ImplicitIntegrator {
   void report_massless(State& state) const;
 };
 
-/// a solving M·a = −K·u − C·v − G^T·λ (+ λ_0 at the far dof): the acceleration consistent with
-/// the equation of motion. A massless DOF (a modified mass, core/model/rod_scene.hpp: its row of
+/// a solving M·a = f − K·u − C·v − G^T·λ (+ λ_0 at the far dof; f the system's load, if any): the
+/// acceleration consistent with the equation of motion. A massless DOF (a modified mass, core/model/rod_scene.hpp: its row of
 /// M zero) has no such equation: its acceleration is that of its static equation differentiated
 /// twice, a_c = −Σ_{j≠c} K_cj·a_j / K_cc, the contact force held constant (zero for the rod, which
 /// starts unstrained).

@@ -7,7 +7,9 @@
 //   predict():  u* = u + Δt·v + b0·Δt²·a,  v* = v + g0·Δt·a,
 //               u and v overwritten by the α_f-weighted arguments (1−α_f)·u* + α_f·u and
 //               (1−α_f)·v* + α_f·v, formed as u* − α_f·(u* − u) (one multiply fewer, and exactly
-//               u* for Newmark, α_f = 0), then rhs = −K·u_α − C·v_α − α_m·M·a;
+//               u* for Newmark, α_f = 0), then rhs = −K·u_α − C·v_α − α_m·M·a (+ f, the system's
+//               constant load when it has one: core/model/constant_load.hpp; its α-weighting is
+//               f itself);
 //   update():   a = rhs (the solved acceleration), u = u* + b1·Δt²·a, v = v* + g1·Δt·a.
 // A multiply whose product is only added is fused with the add (std::fma, correctly rounded: the
 // same bits on every machine); the batched kernel (core/batch/rod_kernel.cpp) repeats exactly
@@ -54,6 +56,7 @@ struct ImplicitUpdate {
     rhs = -rhs;
     if (system.has_damping()) multiply_add(system.damping, -1.0, s.v, rhs);
     if (c.alpha_m != 0.0) multiply_add(system.mass, -c.alpha_m, s.a, rhs);
+    if (system.load.active()) rhs += system.load.force;
   }
 
   /// a, u and v of the step's end from the solved acceleration in rhs, every dof.

@@ -60,9 +60,13 @@ struct KrAlphaRecurrence {
     const double af = c.alpha_f;
     const bool damped = system.has_damping();
 
-    // r = −K·u_{1−α_f} − C·v_{1−α_f}: the α_f parts at t first, while the state still holds
-    // them.
-    r.setZero();
+    // r = f − K·u_{1−α_f} − C·v_{1−α_f} (f: the system's load, if any): the α_f parts at t
+    // first, while the state still holds them.
+    if (system.load.active()) {
+      r = system.load.force;  // the same size: no allocation
+    } else {
+      r.setZero();
+    }
     multiply_add(system.stiffness, -af, state.u, r);
     if (damped) multiply_add(system.damping, -af, v_hat, r);
     // The explicit u₁ (fixed, with its contact, by the last equilibrium) and v̂₁ = v̂₀ + Δt·α1·a₀.
@@ -92,7 +96,8 @@ struct KrAlphaRecurrence {
   }
 
   /// KrAlphaExplicit::energy's half-step energy ½·wᵀM·w + ½·mᵀK·m, w = (u_next − u)/Δt,
-  /// m = (u + u_next)/2, after step() returned `state`. Uses the scratch vectors.
+  /// m = (u + u_next)/2 (and a load's potential at m), after step() returned `state`. Uses the
+  /// scratch vectors.
   template <SemiDiscreteSystem System>
   double energy(const System& system, const State& state) {
     const Eigen::Index n = system.size();
@@ -100,7 +105,8 @@ struct KrAlphaRecurrence {
       r[i] = (u_next[i] - state.u[i]) / dt;
       y[i] = 0.5 * (state.u[i] + u_next[i]);
     }
-    return 0.5 * quadratic_form(system.mass, r) + 0.5 * quadratic_form(system.stiffness, y);
+    const double e = 0.5 * quadratic_form(system.mass, r) + 0.5 * quadratic_form(system.stiffness, y);
+    return system.load.active() ? e + system.load.potential(y) : e;
   }
 };
 

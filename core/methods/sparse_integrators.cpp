@@ -157,6 +157,7 @@ double SparseCentralDifference::energy(const SparseSystem& system, const State& 
 Eigen::VectorXd consistent_acceleration(const SparseSystem& system, const State& state) {
   const Eigen::Index n = system.size();
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  if (system.load.active()) rhs = system.load.force;
   multiply_add(system.stiffness, -1.0, state.u, rhs);
   if (system.has_damping()) multiply_add(system.damping, -1.0, state.v, rhs);
   if (state.multipliers.size() > 0) {

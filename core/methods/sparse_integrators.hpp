@@ -129,7 +129,7 @@ class SparseCentralDifference {
   std::string failure_;
 };
 
-/// a solving M·a = −K·u − C·v − Gᵀ·λ (λ = state.multipliers, when set): the acceleration
+/// a solving M·a = f − K·u − C·v − Gᵀ·λ (λ = state.multipliers, when set; f the load, if any): the acceleration
 /// consistent with the equation of motion; NaN when M cannot be factored.
 Eigen::VectorXd consistent_acceleration(const SparseSystem& system, const State& state);
 

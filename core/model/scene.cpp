@@ -24,6 +24,24 @@ double closing_time(double gap, double approach) {
   return approach > 0.0 ? gap / approach : kInf;
 }
 
+// The same under a constant acceleration `toward` the wall [mm/s²] (gravity; 0 keeps the line
+// above, bit for bit): the first root of gap = approach·t + toward·t²/2, in the form without
+// cancellation, 2·gap/(approach + √(approach² + 2·toward·gap)).
+double closing_time(double gap, double approach, double toward) {
+  if (toward == 0.0) return closing_time(gap, approach);
+  if (gap <= 0.0) return approach > 0.0 || (approach == 0.0 && toward > 0.0) ? 0.0 : kInf;
+  const double discriminant = approach * approach + 2.0 * toward * gap;
+  if (discriminant < 0.0) return kInf;
+  const double denominator = approach + std::sqrt(discriminant);
+  return denominator > 0.0 ? 2.0 * gap / denominator : kInf;
+}
+
+// The speed at which that gap closes (0 if it never does) [mm/s].
+double closing_speed(double gap, double approach, double toward) {
+  if (!std::isfinite(closing_time(gap, approach, toward))) return 0.0;
+  return std::sqrt(std::max(0.0, approach * approach + 2.0 * toward * std::max(0.0, gap)));
+}
+
 std::string body_path(const Scene& scene, std::size_t b) {
   const std::string& name = scene.bodies[b].name;
   return "body." + (name.empty() ? std::to_string(b + 1) : name);
@@ -66,6 +84,11 @@ bool valid_name(const std::string& name) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
   });
 }
+
+// Under gravity: the continuum's potential energy at t = 0, ρ·A·|g|·∫ (height − u·sign g) over
+// every segment (linear in x on a segment, so its midpoint's value times its length), and the
+// speed at which a body strikes the wall it falls toward, added to the velocity scale.
+void add_gravity(const Scene& s, SceneDerived& d);
 
 }  // namespace
 
@@ -113,6 +136,7 @@ std::optional<WallKind> wall_kind_from_string(const std::string& name) {
 
 bool bodies_start_free(const Scene& scene) {
   if (clamped(scene.left_wall) || clamped(scene.right_wall)) return false;
+  if (scene.gravity != 0.0) return false;
   return std::all_of(scene.bodies.begin(), scene.bodies.end(),
                      [](const Body& body) { return body.displacement.is_zero(); });
 }
@@ -160,6 +184,22 @@ std::vector<long> body_first_nodes(const Scene& scene) {
   return first;
 }
 
+std::vector<double> body_positions(const Scene& scene) {
+  std::vector<double> x;
+  double at = scene.left_wall ? scene.left_wall->gap : 0.0;
+  for (const Body& body : scene.bodies) {
+    if (!x.empty()) at += body.gap;
+    x.push_back(at);
+    at += body_length(body);
+  }
+  x.push_back(scene.right_wall ? at + scene.right_wall->gap : at);
+  return x;
+}
+
+double height_above_wall(const Scene& scene, const std::vector<double>& positions, double x) {
+  return scene.gravity < 0.0 ? x : positions.back() - x;
+}
+
 std::vector<SceneContact> scene_contacts(const Scene& scene) {
   std::vector<SceneContact> contacts;
   const auto& bodies = scene.bodies;
@@ -171,7 +211,8 @@ std::vector<SceneContact> scene_contacts(const Scene& scene) {
     contacts.push_back(
         {"wall_left", ContactKind::left_wall, -1, 0, scene.left_wall->gap,
          first.segments.empty() ? 1.0 : first.segments.front().area,
-         closing_time(open_gap(scene.left_wall->gap, -first.displacement.left), -first.velocity)});
+         closing_time(open_gap(scene.left_wall->gap, -first.displacement.left), -first.velocity,
+                      -scene.gravity)});
   }
   for (std::size_t b = 0; b + 1 < bodies.size(); ++b) {
     const Body& left = bodies[b];
@@ -188,7 +229,8 @@ std::vector<SceneContact> scene_contacts(const Scene& scene) {
     contacts.push_back(
         {"wall_right", ContactKind::right_wall, static_cast<int>(bodies.size()) - 1, -1,
          scene.right_wall->gap, last.segments.empty() ? 1.0 : last.segments.back().area,
-         closing_time(open_gap(scene.right_wall->gap, last.displacement.right), last.velocity)});
+         closing_time(open_gap(scene.right_wall->gap, last.displacement.right), last.velocity,
+                      scene.gravity)});
   }
   return contacts;
 }
@@ -291,6 +333,15 @@ std::optional<ParameterError> validate(const Scene& s) {
     return ParameterError{"mass", to_string(s.mass),
                           "is the one-body rod's only, so far: a scene of bodies takes "
                           "lumped|consistent"};
+  }
+  if (auto e = require_in_range("gravity", s.gravity, -kMax, kMax, "must be finite"); e) return e;
+  if (s.gravity != 0.0 && !(s.gravity < 0.0 ? s.left_wall : s.right_wall)) {
+    return ParameterError{"gravity", format_value(s.gravity),
+                          std::string("points toward the ") + (s.gravity < 0.0 ? "left" : "right") +
+                              " end, and the scene has no wall there (wall." +
+                              (s.gravity < 0.0 ? "left" : "right") +
+                              "): gravity must point toward a wall, the zero of its potential "
+                              "energy"};
   }
   for (auto error : {
            require_in_range("rayleigh_mass", s.rayleigh_mass, 0.0, kMax, "must be >= 0 and finite"),
@@ -411,6 +462,7 @@ SceneDerived derive(const Scene& s) {
     }
   }
   d.time_step = s.dt ? *s.dt : s.courant * step_h / step_c;
+  if (s.gravity != 0.0) add_gravity(s, d);
 
   const std::vector<SceneContact> contacts = scene_contacts(s);
   d.first_contact_time = kInf;
@@ -444,5 +496,38 @@ SceneDerived derive(const Scene& s) {
   d.step_count = step_count(d.end_time, d.time_step);
   return d;
 }
+
+namespace {
+
+void add_gravity(const Scene& s, SceneDerived& d) {
+  const std::vector<double> x = body_positions(s);
+  const double g = std::abs(s.gravity);
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    const Body& body = s.bodies[b];
+    const double length = body_length(body);
+    double start = 0.0;  // x of the segment's first node, from the body's first
+    for (const Segment& seg : body.segments) {
+      const double mid = start + 0.5 * seg.length;
+      const LinearDisplacement& u = body.displacement;
+      const double u_mid = u.left + (u.right - u.left) * (mid / length);
+      const double height = height_above_wall(s, x, x[b] + mid) + (s.gravity < 0.0 ? u_mid : -u_mid);
+      d.initial_energy += seg.density * seg.area * seg.length * g * height;
+      start += seg.length;
+    }
+  }
+  const SceneContact* wall = nullptr;
+  const std::vector<SceneContact> contacts = scene_contacts(s);
+  for (const SceneContact& c : contacts) {
+    if (c.kind == (s.gravity < 0.0 ? ContactKind::left_wall : ContactKind::right_wall)) wall = &c;
+  }
+  if (!wall) return;  // a clamp below: nothing falls
+  const Body& body = s.gravity < 0.0 ? s.bodies.front() : s.bodies.back();
+  const double approach = s.gravity < 0.0 ? -body.velocity : body.velocity;
+  const double closing = s.gravity < 0.0 ? -body.displacement.left : body.displacement.right;
+  d.velocity_scale =
+      std::max(d.velocity_scale, closing_speed(open_gap(wall->gap, closing), approach, g));
+}
+
+}  // namespace
 
 }  // namespace impactid

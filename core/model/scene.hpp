@@ -28,6 +28,13 @@
 // of the left body's end segment (for the left wall, body 0's first segment); its velocity and
 // displacement are those of the left body's end node (for the left wall, body 0's first node).
 //
+// Gravity (Scene::gravity) is a uniform acceleration g of every body along x, a body force ρ·g per
+// unit volume; it must point toward a wall (g < 0: the left one, g > 0: the right one), above
+// which the potential energy ρ·|g|·height is counted (core/model/constant_load.hpp). Under it no
+// body flies as u = v0·t, so a scene with gravity is not one whose bodies start free
+// (bodies_start_free). Doyen, Ern & Piperno's bouncing bar is such a scene, with an exact
+// solution of its own (core/reference/scene_reference.hpp: bouncing_bar_params).
+//
 // The paper's scene is one body of one segment with a right wall; RodScene is that shorthand
 // (with a second wall behind the rod when far_gap is set), and to_scene() converts it.
 //
@@ -106,6 +113,10 @@ struct Scene {
   /// file's `gap` on its first body is the left wall's gap, and the parser puts it there).
   std::optional<Wall> left_wall, right_wall;
   MassMatrix mass = MassMatrix::lumped;
+  /// g: the x-component of a uniform acceleration of every body (gravity) [mm/s²], finite; 0 (the
+  /// default) is none. Non-zero, it must point toward a wall: g < 0 toward wall.left, g > 0
+  /// toward wall.right (a contact or a clamp), the zero of the potential energy.
+  double gravity = 0.0;
   double rayleigh_mass = 0.0;       ///< a0 in C = a0·M + a1·K [1/s], >= 0
   double rayleigh_stiffness = 0.0;  ///< a1 in C = a0·M + a1·K [s], >= 0
   /// Courant number c·Δt/h of the segment with the smallest h/c; used when dt is not given. > 0.
@@ -125,9 +136,10 @@ struct Scene {
 /// a left wall at far_gap; the body is named "rod" and the right wall is the primary contact.
 Scene to_scene(const RodScene& rod);
 
-/// Whether every body starts free and unstrained: no clamped wall and no initial displacement.
-/// Only then does each body fly rigidly (u = v0·t) until its first contact, which the run's
-/// filled-in free flight, the exact solution of the chain and the batched chain kernel assume.
+/// Whether every body starts free and unstrained and nothing but contact acts on it: no clamped
+/// wall, no initial displacement, no gravity. Only then does each body fly rigidly (u = v0·t)
+/// until its first contact, which the run's filled-in free flight, the exact solution of the
+/// chain and the batched chain kernel assume.
 bool bodies_start_free(const Scene& scene);
 
 /// Whether the scene is in the paper's form: one body of one segment, starting free
@@ -153,7 +165,8 @@ struct SceneContact {
   double area;     ///< pressure = λ / area [mm²]
   /// Time at which the gap closes if every body flew rigidly from its initial position (+inf if
   /// it never does) [s]: the gap less the initial displacements' closing of it (Body::
-  /// displacement), over the approach velocity.
+  /// displacement), over the approach velocity; for a wall under gravity, the time of the fall
+  /// (or rise) at constant acceleration that closes it.
   double rigid_closing_time;
 };
 /// The contacts of the scene; a clamped wall is none.
@@ -171,12 +184,13 @@ struct SceneDerived {
   int primary_contact;        ///< index into scene_contacts()
   double end_time;            ///< t_end [s]
   long step_count;            ///< N = ⌈t_end/Δt − 1e-9⌉; samples t_i = i·Δt, i = 1..N
-  /// Σ ½·ρ·A·L·v² + Σ ½·E·A·L·ε² over the segments, ε a body's initial strain [mJ]: the
-  /// continuum's kinetic and strain energy at t = 0, checked by validate() (a run's own is
-  /// ½vᵀMv + ½uᵀKu of the assembled system).
+  /// Σ ½·ρ·A·L·v² + Σ ½·E·A·L·ε² over the segments, ε a body's initial strain, and under gravity
+  /// the potential Σ ρ·A·|g|·∫ height [mJ]: the continuum's energy at t = 0, checked by validate()
+  /// (a run's own is ½vᵀMv + ½uᵀKu + V₀ − fᵀu of the assembled system).
   double initial_energy;
-  /// The largest of a body's |v0| and of c·|ε| over its segments (the particle velocity an
-  /// initial strain ε releases) [mm/s]: the scale of the scene's velocities.
+  /// The largest of a body's |v0|, of c·|ε| over its segments (the particle velocity an
+  /// initial strain ε releases) and, under gravity, of the speed a body strikes the wall it falls
+  /// toward [mm/s]: the scale of the scene's velocities.
   double velocity_scale;
   long nodes;  ///< Σ (elements + 1) over the bodies, clamped nodes included
 };
@@ -186,5 +200,12 @@ SceneDerived derive(const Scene& scene);
 double transit_time(const Body& body);
 /// First node index of each body in the assembled system, and one past the last.
 std::vector<long> body_first_nodes(const Scene& scene);
+/// The reference position x of each body's first node [mm], from the left wall (or, without one,
+/// from body 0's first node), and last the right wall's (the last body's end plus its gap; the
+/// last body's end without a right wall).
+std::vector<double> body_positions(const Scene& scene);
+/// The height of the reference position x above the wall gravity points to [mm]: x for g < 0,
+/// the right wall's position less x for g > 0 (`positions`: body_positions(scene)).
+double height_above_wall(const Scene& scene, const std::vector<double>& positions, double x);
 
 }  // namespace impactid

@@ -38,6 +38,37 @@ void set_linear_displacement(const Body& body, Eigen::Ref<Eigen::VectorXd> u) {
   u[node] = d.right;
 }
 
+// Gravity's load (core/model/constant_load.hpp) on DOFs [first_dof, first_dof + dofs) of the
+// nodes: each element's weight ρ·A·h·g halved onto its two nodes, the consistent load of a uniform
+// body force on linear elements (whatever the mass matrix), and its potential at rest,
+// Σ |f_i|·height_i above the wall gravity points to. A clamped node (outside the range) gives its
+// weight to the clamp; it does not move, so its constant potential is left out.
+ConstantLoad gravity_load(const Scene& scene, Eigen::Index nodes, Eigen::Index first_dof,
+                          Eigen::Index dofs) {
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(nodes), height(nodes);
+  const std::vector<double> x = body_positions(scene);
+  const std::vector<long> first = body_first_nodes(scene);
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    Eigen::Index node = first[b];
+    double start = x[b];
+    for (const Segment& seg : scene.bodies[b].segments) {
+      const double h = seg.length / seg.elements;
+      const double half_weight = 0.5 * seg.density * seg.area * h * scene.gravity;
+      for (int e = 0; e < seg.elements; ++e, ++node) {
+        force[node] += half_weight;
+        force[node + 1] += half_weight;
+        height[node] = height_above_wall(scene, x, start + e * h);
+      }
+      start += seg.length;
+    }
+    height[node] = height_above_wall(scene, x, start);
+  }
+  ConstantLoad load;
+  load.force = force.segment(first_dof, dofs);
+  load.rest_potential = load.force.cwiseAbs().dot(height.segment(first_dof, dofs));
+  return load;
+}
+
 }  // namespace
 
 AssembledScene assemble(const Scene& scene) {
@@ -80,6 +111,7 @@ AssembledScene assemble(const Scene& scene) {
     out.initial_velocity = std::move(velocity);
   }
   if (displaced) out.initial_displacement = displacement.segment(offset, dofs);
+  if (scene.gravity != 0.0) sys.load = gravity_load(scene, nodes, offset, dofs);
   sys.damping = sys.mass.combined(scene.rayleigh_mass, sys.stiffness, scene.rayleigh_stiffness);
 
   const std::vector<SceneContact> contacts = scene_contacts(scene);

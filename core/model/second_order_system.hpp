@@ -1,6 +1,7 @@
 // The semi-discrete equation of motion with one unilateral contact constraint,
-//   M·ü + C·u̇ + K·u + G^T·λ = 0,  g = u_c − gap <= 0,  λ >= 0,  λ·g = 0
-// (eqs 16–17 of the paper), with G = e_c selecting the contact degree of freedom c.
+//   M·ü + C·u̇ + K·u + G^T·λ = f,  g = u_c − gap <= 0,  λ >= 0,  λ·g = 0
+// (eqs 16–17 of the paper), with G = e_c selecting the contact degree of freedom c and f a
+// constant load, absent (zero) but for a scene of bodies under gravity (`load`).
 // All three matrices are tridiagonal, so every integrator step is O(n).
 //
 // An optional second constraint acts on far_contact_dof from the other side:
@@ -25,6 +26,7 @@
 #include <vector>
 
 #include "core/algebra/tridiagonal.hpp"
+#include "core/model/constant_load.hpp"
 #include "core/model/rod_scene.hpp"
 
 namespace impactid {
@@ -55,15 +57,19 @@ struct SecondOrderSystem {
 
   /// The general constraints (see above); empty for the named-constraint form.
   std::vector<Constraint> constraints;
+  /// A constant external force f on the right-hand side (core/model/constant_load.hpp: gravity on
+  /// a scene of bodies); empty for the rod and every scene without one.
+  ConstantLoad load;
 
   Eigen::Index size() const { return mass.size(); }
   bool has_constraint_list() const { return !constraints.empty(); }
   bool has_contact() const { return gap < std::numeric_limits<double>::infinity(); }
   bool has_far_contact() const { return far_gap < std::numeric_limits<double>::infinity(); }
   bool has_damping() const { return !damping.is_zero(); }
-  /// ½·v^T·M·v + ½·u^T·K·u
+  /// ½·v^T·M·v + ½·u^T·K·u, and the load's potential V₀ − fᵀ·u when there is one
   double energy(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
-    return 0.5 * mass.quadratic_form(v) + 0.5 * stiffness.quadratic_form(u);
+    const double e = 0.5 * mass.quadratic_form(v) + 0.5 * stiffness.quadratic_form(u);
+    return load.active() ? e + load.potential(u) : e;
   }
 };
 

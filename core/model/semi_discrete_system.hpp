@@ -1,9 +1,10 @@
 // What a stepper needs of the system it steps: the semi-discrete equation of motion
-//   M·ü + C·u̇ + K·u + Gᵀ·λ = 0,   g_k = u[plus_k] − u[minus_k] − gap_k <= 0,  λ >= 0,  λ·g = 0
+//   M·ü + C·u̇ + K·u + Gᵀ·λ = f,   g_k = u[plus_k] − u[minus_k] − gap_k <= 0,  λ >= 0,  λ·g = 0
 // as an interface, the way Project Chrono's ChTimestepperHHT talks to ChIntegrableIIorder and
 // MFEM's ODE solvers to a TimeDependentOperator: its size, its three matrices of one `Matrix`
 // type with the products the steppers form (y = A·x, y += s·A·x, xᵀ·A·x, as free functions found
-// by argument-dependent lookup), whether C is present, the energy ½vᵀMv + ½uᵀKu, the constraint
+// by argument-dependent lookup), whether C is present, the constant load f (core/model/
+// constant_load.hpp, often none), the energy ½vᵀMv + ½uᵀKu (+ the load's potential), the constraint
 // rows, and the `Factorization` of the matrices a stepper builds from M, C and K (factor once per
 // run, solve in place every step, both without allocation after the first).
 //
@@ -24,6 +25,7 @@
 #include <concepts>
 #include <vector>
 
+#include "core/model/constant_load.hpp"
 #include "core/model/second_order_system.hpp"
 #include "core/model/sparse_factorization.hpp"
 #include "core/model/sparse_system.hpp"
@@ -42,6 +44,7 @@ concept SemiDiscreteSystem = requires(const System& system, const typename Syste
   { system.damping } -> std::convertible_to<const typename System::Matrix&>;
   { system.stiffness } -> std::convertible_to<const typename System::Matrix&>;
   { system.constraints } -> std::convertible_to<const std::vector<Constraint>&>;
+  { system.load } -> std::convertible_to<const ConstantLoad&>;
   multiply(matrix, x, y);
   multiply_add(matrix, s, x, y);
   { quadratic_form(matrix, x) } -> std::same_as<double>;

@@ -5,7 +5,8 @@
 namespace impactid {
 
 double SparseSystem::energy(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const {
-  return 0.5 * quadratic_form(mass, v) + 0.5 * quadratic_form(stiffness, u);
+  const double e = 0.5 * quadratic_form(mass, v) + 0.5 * quadratic_form(stiffness, u);
+  return load.active() ? e + load.potential(u) : e;
 }
 
 void multiply(const SparseMatrix& a, const Eigen::VectorXd& x, Eigen::VectorXd& y) {

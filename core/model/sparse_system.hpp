@@ -1,7 +1,8 @@
 // The semi-discrete model of a user's finite element model (issue 20), of any sparsity:
-//   M·ü + C·u̇ + K·u + Gᵀ·λ = 0,   g_k = u[plus_k] − u[minus_k] − gap_k <= 0,  λ >= 0,  λ·g = 0,
+//   M·ü + C·u̇ + K·u + Gᵀ·λ = f,   g_k = u[plus_k] − u[minus_k] − gap_k <= 0,  λ >= 0,  λ·g = 0,
 // the form of SecondOrderSystem's constraint list (core/model/second_order_system.hpp) with M, C
-// and K sparse instead of tridiagonal. M is symmetric positive definite, K symmetric positive
+// and K sparse instead of tridiagonal, and f the constant load (`load`, empty so far: a model
+// file gives none). M is symmetric positive definite, K symmetric positive
 // semi-definite (rigid-body modes allowed), C symmetric (or absent).
 //
 // A model whose three matrices are tridiagonal (every 1D chain, the paper's rod exported as
@@ -37,10 +38,12 @@ struct SparseSystem {
   SparseMatrix damping;  ///< no stored non-zero (or 0×0): no damping; integrators skip C terms
   SparseMatrix stiffness;
   std::vector<Constraint> constraints;
+  /// A constant external force f (core/model/constant_load.hpp); empty: none.
+  ConstantLoad load;
 
   Eigen::Index size() const { return mass.rows(); }
   bool has_damping() const { return damping.nonZeros() > 0; }
-  /// ½·vᵀ·M·v + ½·uᵀ·K·u
+  /// ½·vᵀ·M·v + ½·uᵀ·K·u, and the load's potential V₀ − fᵀ·u when there is one
   double energy(const Eigen::VectorXd& u, const Eigen::VectorXd& v) const;
 };
 

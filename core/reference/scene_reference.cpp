@@ -79,9 +79,31 @@ std::optional<ClampedBarParams> clamped_bar_params(const Scene& scene) {
   return params;
 }
 
+std::optional<BouncingBarParams> bouncing_bar_params(const Scene& scene) {
+  if (scene.bodies.size() != 1 || scene.bodies[0].segments.size() != 1) return std::nullopt;
+  const Body& body = scene.bodies[0];
+  const Segment& segment = body.segments[0];
+  const bool form = scene.gravity < 0.0 && scene.left_wall &&
+                    scene.left_wall->kind == WallKind::contact && !scene.right_wall &&
+                    body.velocity == 0.0 && body.displacement.is_zero() &&
+                    scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0;
+  if (!form) return std::nullopt;
+  const BouncingBarParams params{.length = segment.length,
+                                 .youngs_modulus = segment.youngs_modulus,
+                                 .density = segment.density,
+                                 .gravity = -scene.gravity};
+  if (validate(params)) return std::nullopt;  // scales out of double's range
+  const double drop = BouncingBarExact(params).initial_gap();
+  if (!(std::abs(scene.left_wall->gap - drop) <= 1e-9 * drop)) return std::nullopt;
+  return params;
+}
+
 std::string SceneReference::description() const {
   if (refinements == 0 && exact == SceneExact::clamped_bar) {
     return "exact solution of the clamped bar (core/reference/clamped_bar_exact.hpp)";
+  }
+  if (refinements == 0 && exact == SceneExact::bouncing_bar) {
+    return "exact solution of the bouncing bar (core/reference/bouncing_bar_exact.hpp)";
   }
   if (refinements == 0) return "exact solution of the chain (core/reference/chain_exact.hpp)";
   return std::string(converged ? "converged" : "not converged") + ": " +
@@ -98,18 +120,24 @@ SceneReference scene_reference(const Scene& scene, const ReferenceOptions& optio
   r.scene = scene;
   r.options = options;
   const double dt = derived.time_step;
-  if (const std::optional<ClampedBarParams> bar = clamped_bar_params(scene)) {
-    // Its one contact is the left wall's, with the same signs as the solution's contact end.
-    const ClampedBarExact exact(*bar);
-    r.exact = SceneExact::clamped_bar;
+  // The two bars' one contact is the left wall's, with the same signs as the solution's contact
+  // end; sampled by the convention of RodImpactExact::at_sample: jumps within 1e-6·Δt averaged.
+  const auto sample_bar = [&](const auto& exact, SceneExact which) {
+    r.exact = which;
     r.contacts.resize(1);
     ContactSamples& s = r.contacts[0];
     for (long i = 1; i <= derived.step_count; ++i) {
-      // The sampling convention of RodImpactExact::at_sample: jumps within 1e-6·Δt averaged.
       const ContactNodeValues e = exact.at(static_cast<double>(i) * dt, 1e-6 * dt);
       s.pressure.push_back(e.pressure);
       s.velocity.push_back(e.velocity);
     }
+  };
+  if (const std::optional<ClampedBarParams> bar = clamped_bar_params(scene)) {
+    sample_bar(ClampedBarExact(*bar), SceneExact::clamped_bar);
+    return r;
+  }
+  if (const std::optional<BouncingBarParams> bar = bouncing_bar_params(scene)) {
+    sample_bar(BouncingBarExact(*bar), SceneExact::bouncing_bar);
     return r;
   }
   if (scene.rayleigh_mass == 0.0 && scene.rayleigh_stiffness == 0.0 && bodies_start_free(scene)) {

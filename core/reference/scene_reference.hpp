@@ -4,6 +4,9 @@
 //     core/reference/clamped_bar_exact.hpp) when the scene is in that benchmark's form
 //     (clamped_bar_params below); its conventions are the scene's left wall's (+x away from the
 //     obstacle, the pressure compressive-positive), so its values are taken as they are;
+//   - the exact solution of the bouncing bar (Doyen, Ern & Piperno 2011,
+//     core/reference/bouncing_bar_exact.hpp) when the scene is in that benchmark's form
+//     (bouncing_bar_params below), with the same conventions;
 //   - the exact solution of the chain (core/reference/chain_exact.hpp) when the scene has no
 //     damping, which that solution leaves out, and its bodies start free and unstrained
 //     (bodies_start_free: no clamped end, no initial displacement, which it leaves out too);
@@ -33,6 +36,7 @@
 #include "core/common/run_record.hpp"
 #include "core/methods/method.hpp"
 #include "core/model/scene.hpp"
+#include "core/reference/bouncing_bar_exact.hpp"
 #include "core/reference/clamped_bar_exact.hpp"
 #include "core/reference/reference_run.hpp"
 
@@ -57,6 +61,7 @@ enum class SceneExact {
   none,         ///< a converged numerical solution
   chain,        ///< ChainExact (core/reference/chain_exact.hpp)
   clamped_bar,  ///< ClampedBarExact (core/reference/clamped_bar_exact.hpp)
+  bouncing_bar,  ///< BouncingBarExact (core/reference/bouncing_bar_exact.hpp)
 };
 
 /// The clamped bar's parameters of a scene in the form of Doyen, Ern & Piperno's first benchmark:
@@ -66,6 +71,15 @@ enum class SceneExact {
 /// (wall_left) then has the solution's pressure and contact-end velocity. Nothing for any other
 /// scene.
 std::optional<ClampedBarParams> clamped_bar_params(const Scene& scene);
+
+/// The bouncing bar's parameters of a scene in the form of Doyen, Ern & Piperno's second
+/// benchmark: one body of one segment at rest and undisplaced, gravity toward a contact wall on
+/// the left (Scene::gravity = −g < 0) whose gap is the benchmark's drop d = g·(3L/c)²/2 (within a
+/// relative 1e-9), no right wall, no damping (any mass matrix, any step). L, E, ρ are the
+/// segment's; the scene's one contact (wall_left) then has the solution's pressure and lower-end
+/// velocity (+x up, away from the ground). Nothing for any other scene, a drop of another height
+/// included (another ratio t_f·c/L is another solution, which BouncingBarExact does not cover).
+std::optional<BouncingBarParams> bouncing_bar_params(const Scene& scene);
 
 struct SceneReference {
   Scene scene;                           ///< what it is the reference of (a cache key)

@@ -115,6 +115,15 @@ def fig_clamped_bar(results_dir, out_dir):
         chatter_where="on the obstacle")
 
 
+def fig_bouncing_bar(results_dir, out_dir):
+    return hht_maps_figure(
+        results_dir, out_dir, "bouncing-bar", "fig_bouncing_bar.png",
+        "Bouncing bar under gravity (Doyen, Ern & Piperno 2011) — HHT-α over (δ, α), "
+        "against its exact solution", scene_sep="\n",
+        paper_stage_label="paper's practical stage (on the rod) α ∈ [−0.5, −0.3] on eq. 19",
+        chatter_where="on the ground")
+
+
 def hht_maps_figure(results_dir, out_dir, name, png, heading, where="", scene_sep="; ", paper_stage_label=None,
                     chatter_where="on the wall"):
     """Fig. 4's layout for the results file `name`.h5 (HHT over δ × α): maps of ε_p and NoP_p.

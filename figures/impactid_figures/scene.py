@@ -185,6 +185,9 @@ def bodies_scene_text(scene, varying=()):
     if clamped:
         line = f"{line}, clamped at the {' and '.join(clamped)} end{'s' if len(clamped) == 2 else ''}"
     parts = [line]
+    gravity = float(scene.get("gravity", 0.0))
+    if gravity != 0.0 and "gravity" not in varying:
+        parts.append(f"g = {num(abs(gravity))} toward the {'left' if gravity < 0 else 'right'} wall")
     n = [num(seg["elements"]) for b in bodies for seg in b["segments"]]
     parts.append(f"n = {' + '.join(n)}")
     gaps = [(name, g) for name, g, keys in scene_contacts(scene) if not any(k in varying for k in keys)]

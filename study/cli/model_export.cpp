@@ -73,6 +73,12 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
                              ": a model of matrices takes no massless DOF yet; export "
                              "lumped|consistent");
   }
+  // A model file has no load vector yet: the exported model would fall without its gravity.
+  if (bodies && bodies->gravity != 0.0) {
+    throw std::runtime_error("gravity = " + format_value(bodies->gravity) +
+                             ": a model of matrices takes no load yet; export the scene without "
+                             "gravity");
+  }
   const AssembledScene scene = bodies ? assemble(*bodies) : assemble(*rod);
   const SecondOrderSystem& system = scene.system;
   const double t_end = bodies ? derive(*bodies).end_time : derive(*rod).end_time;

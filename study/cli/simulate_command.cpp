@@ -216,6 +216,10 @@ void write_bodies(const Scene& scene) {
     std::printf("\n");
   }
   if (scene.right_wall) write_wall("           ", "right", *scene.right_wall);
+  if (scene.gravity != 0.0) {
+    std::printf("            gravity g = %g mm/s^2, toward the %s wall\n", scene.gravity,
+                scene.gravity < 0.0 ? "left" : "right");
+  }
   const SceneDerived d = derive(scene);
   std::printf(
       "time        dt = %.6g s (Courant %.4g of the smallest h/c), %ld steps to t_end = "

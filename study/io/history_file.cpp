@@ -79,12 +79,16 @@ std::vector<Column> bodies_history_columns(const Scene& scene, const ContactTrac
     columns[6].values.push_back(exact.contacts[p].velocity[i]);
   }
   // The displacement of an exact solution (not of a converged reference).
-  if (exact.refinements == 0 && exact.exact == SceneExact::clamped_bar) {
-    const ClampedBarExact bar(*clamped_bar_params(scene));
+  const auto bar_displacement = [&](const auto& bar) {
     for (std::size_t i = 0; i < n; ++i) {
       const double t = static_cast<double>(i + 1) * dt;
       columns[7].values.push_back(bar.at(t, 1e-6 * dt).displacement);
     }
+  };
+  if (exact.refinements == 0 && exact.exact == SceneExact::clamped_bar) {
+    bar_displacement(ClampedBarExact(*clamped_bar_params(scene)));
+  } else if (exact.refinements == 0 && exact.exact == SceneExact::bouncing_bar) {
+    bar_displacement(BouncingBarExact(*bouncing_bar_params(scene)));
   } else if (exact.refinements == 0) {
     const ChainExact chain(scene, static_cast<double>(n) * dt);
     for (std::size_t i = 0; i < n; ++i) {

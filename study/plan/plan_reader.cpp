@@ -256,6 +256,13 @@ void PlanReader::read_parameters(const toml::table& section, ParameterGroup grou
     if (group == ParameterGroup::scene && plan_->base.model && is_model_scene_key(e.key)) {
       continue;  // read by read_model_scene
     }
+    if (group == ParameterGroup::scene && is_scene_of_bodies_key(e.key)) {
+      fail(*e.node, key,
+           plan_->base.model
+               ? "is a key of scenes of bodies ([[scene.body]]), not of a model of matrices"
+               : "is a key of scenes of bodies ([[scene.body]]); this scene is the one-body rod "
+                 "(length, elements, velocity, gap, ...): write it as a body to give it");
+    }
     const ParameterInfo* info = find_parameter(e.key);
     if (!info || info->group != group) {
       fail_unknown(*e.node, key, name + " keys"s, parameter_names(group));

@@ -140,7 +140,7 @@ class Reader : public toml_reading::TableReader {
 }  // namespace
 
 bool is_scene_of_bodies_key(const std::string& key) {
-  return key == "body" || key == "wall" || key == "primary_contact";
+  return key == "body" || key == "wall" || key == "primary_contact" || key == "gravity";
 }
 
 bool is_scene_of_bodies(const toml::table& scene) {
@@ -191,6 +191,9 @@ Scene read_scene_of_bodies(const toml::table& table, const std::string& prefix,
   }
   if (const toml::node* primary = table.get("primary_contact")) {
     scene.primary_contact = r.string(*primary, prefix + ".primary_contact");
+  }
+  if (const toml::node* gravity = table.get("gravity")) {
+    scene.gravity = r.number(*gravity, prefix + ".gravity");
   }
   std::vector<std::string> names;
   for (const SceneContact& c : scene_contacts(scene)) names.push_back(c.name);

@@ -28,7 +28,9 @@
 // The first body's `gap` is its gap to the left wall (wall.left.gap says the same; give one).
 // Gaps count from the undisplaced ends: an initial displacement must keep every contact open or
 // just closed, and be 0 at a clamped end (core/model/scene.hpp says what such a scene turns off).
-// `primary_contact = "striker-bar"` chooses the contact whose indicators a sweep stores. The
+// `primary_contact = "striker-bar"` chooses the contact whose indicators a sweep stores;
+// `gravity = -9810.0` (mm/s², along x; default 0) accelerates every body toward the wall it
+// points to (negative: the left one), which must exist (core/model/scene.hpp: Scene::gravity). The
 // whole-scene keys (mass, rayleigh_mass, rayleigh_stiffness, courant, dt, t_end) are the
 // ordinary [scene] parameters; the one-body keys (length, elements, …, gap, far_gap) belong to
 // bodies and segments here and are refused at the [scene] level.
@@ -47,10 +49,10 @@ namespace impactid {
 bool is_scene_of_bodies(const toml::table& scene);
 
 /// Whether `key` of a [scene] table belongs to the bodies' description (body, wall,
-/// primary_contact) rather than to the whole-scene parameters.
+/// primary_contact, gravity) rather than to the whole-scene parameters.
 bool is_scene_of_bodies_key(const std::string& key);
 
-/// Reads the bodies, walls and primary contact of a [scene] table; `prefix` is the table's
+/// Reads the bodies, walls, primary contact and gravity of a [scene] table; `prefix` is the table's
 /// dotted key for messages ("scene"). Keys it does not own are left to the caller. Range checks
 /// are validate()'s; this checks structure and types. `fail` must throw.
 Scene read_scene_of_bodies(const toml::table& scene, const std::string& prefix,

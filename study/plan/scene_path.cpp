@@ -113,7 +113,8 @@ Target find(Scene& scene, std::string_view path, const std::string& value) {
 }  // namespace
 
 bool is_scene_path(std::string_view name) {
-  return name.starts_with("body.") || name.starts_with("wall.") || name == "primary_contact";
+  return name.starts_with("body.") || name.starts_with("wall.") || name == "primary_contact" ||
+         name == "gravity";
 }
 
 std::optional<ParameterError> assign_scene_path(Scene& scene, std::string_view path,
@@ -124,6 +125,11 @@ std::optional<ParameterError> assign_scene_path(Scene& scene, std::string_view p
   if (path == "primary_contact") {
     if (number) return ParameterError{"primary_contact", text, "must be a contact's name"};
     scene.primary_contact = std::get<std::string>(value);
+    return std::nullopt;
+  }
+  if (path == "gravity") {
+    if (!number) return ParameterError{"gravity", text, "must be a number (mm/s^2, along x)"};
+    scene.gravity = *number;
     return std::nullopt;
   }
   Target target = find(scene, path, text);
@@ -141,6 +147,7 @@ std::optional<ParameterError> assign_scene_path(Scene& scene, std::string_view p
 }
 
 const char* scene_path_units(std::string_view path) {
+  if (path == "gravity") return "mm/s^2";
   const std::string_view key = path.substr(path.rfind('.') + 1);
   if (key == "velocity") return "mm/s";
   if (key == "gap" || key == "length") return "mm";
@@ -152,6 +159,7 @@ const char* scene_path_units(std::string_view path) {
 }
 
 std::optional<double> scene_path_value(const Scene& scene, std::string_view path) {
+  if (path == "gravity") return scene.gravity;
   Scene copy = scene;  // find() hands out pointers into a scene it may change
   const Target target = find(copy, path, "");
   if (target.real) return *target.real;

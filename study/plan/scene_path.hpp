@@ -4,7 +4,7 @@
 //   body.<body>.displacement.left, body.<body>.displacement.right (the initial displacement at
 //     the body's first and last node, Body::displacement),
 //   body.<body>.segment.<k>.{length, elements, youngs_modulus, density, area},
-//   wall.left.gap, wall.right.gap, primary_contact,
+//   wall.left.gap, wall.right.gap, primary_contact, gravity (Scene::gravity, mm/s² along x),
 // where <body> is a body's name or its position (1 = the leftmost) and <k> counts a body's
 // segments from 1 (the leftmost). A body's gap is to its left neighbour; the first body's gap is
 // the left wall's (wall.left.gap), as in a scene file. A wall's kind (contact or clamped) is the
