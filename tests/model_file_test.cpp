@@ -328,6 +328,41 @@ TEST(ModelExport, TheExportedRodRunsTheBuiltInRodBitForBit) {
   }
 }
 
+// The bouncing bar under gravity exported as a model: its load and potential as f.mtx and
+// [scene.load], its exact solution as the reference; the model runs the scene bit for bit (the
+// model of tridiagonal matrices takes the scene's own system and load), with the same indicators.
+TEST(ModelExport, TheExportedBouncingBarFallsAndBouncesAsTheScene) {
+  SimulationSettings settings = load_scene_file(fs::path(IMPACTID_SOURCE_DIR) / "plans/bouncing-bar.toml");
+  ASSERT_TRUE(settings.bodies.has_value());
+  settings.bodies->bodies[0].segments[0].elements = 40;
+  settings.bodies->t_end = 6.0;
+  const Simulation scene = std::get<Simulation>(build(settings));
+  const fs::path dir = scratch_path("model_export", "bouncing");
+  export_model(scene, dir);
+  ASSERT_TRUE(fs::exists(dir / "f.mtx"));
+  const SimulationSettings model_settings = load_scene_file(dir / "scene.toml");
+  ASSERT_TRUE(model_settings.model.has_value());
+  EXPECT_NEAR(model_settings.model->model->load.rest_potential, 1000.0, 1e-9);
+  EXPECT_NEAR(model_settings.model->model->load.force.sum(), -100.0, 1e-12);
+  for (const MethodParams& method :
+       {MethodParams{HhtParams{.alpha = -0.3}}, MethodParams{CentralDifferenceParams{}},
+        MethodParams{KimExplicitParams{}}}) {
+    const std::string name = to_string(kind_of(method));
+    Simulation a = scene, b = std::get<Simulation>(build(model_settings));
+    a.method = b.method = method;
+    SimulationWorkspace wa, wb;
+    const Evaluation ea = evaluate(a, wa), eb = evaluate(b, wb);
+    ASSERT_EQ(ea.summary.status, RunStatus::ok) << name << ": " << ea.summary.message;
+    EXPECT_EQ(eb.summary.status, RunStatus::ok) << name << ": " << eb.summary.message;
+    testing::expect_same_samples(wb.trace.pressure, wa.trace.pressure, name + " pressure");
+    testing::expect_same_samples(wb.trace.velocity, wa.trace.velocity, name + " velocity");
+    EXPECT_TRUE(testing::same(ea.summary.final_energy, eb.summary.final_energy)) << name;
+    EXPECT_TRUE(testing::same(ea.indicators.eps_p, eb.indicators.eps_p)) << name;
+    EXPECT_TRUE(testing::same(ea.indicators.nop_p, eb.indicators.nop_p)) << name;
+    EXPECT_EQ(eb.reference_refinements, -1) << name;  // the exported exact history
+  }
+}
+
 // The shipped plans on models load, and the Fig. 4 plan on the exported rod gives the built-in
 // plan's numbers point for point (a quarter of its points: the whole is `impactid run`'s).
 TEST(ModelExample, TheShippedPlansLoadAndTheRodPlanEqualsTheBuiltInOne) {

@@ -111,7 +111,9 @@ AssembledScene assemble(const ModelScene& s) {
   Eigen::VectorXd product = Eigen::VectorXd::Zero(model.size());
   multiply_add(model.stiffness, 1.0, model.initial_velocity, product);
   multiply_add(damping, 1.0, model.initial_velocity, product);
-  out.rigid_flight = out.initial_displacement.size() == 0 && is_zero(product);
+  // A load accelerates the model from the start: no flight is u = v0·t then.
+  out.rigid_flight =
+      out.initial_displacement.size() == 0 && is_zero(product) && !model.load.active();
   out.first_contact_time = kInf;
   for (const ModelContact& c : model.contacts) {
     const double rate = contact_row(c, model.initial_velocity);
@@ -139,6 +141,7 @@ AssembledScene assemble(const ModelScene& s) {
     } else {
       system.constraints = std::move(constraints);
     }
+    system.load = model.load;
     return out;
   }
   auto sparse = std::make_shared<SparseSystem>();
@@ -146,6 +149,7 @@ AssembledScene assemble(const ModelScene& s) {
   sparse->stiffness = model.stiffness;
   sparse->damping = std::move(damping);
   sparse->constraints = std::move(constraints);
+  sparse->load = model.load;
   out.sparse = std::move(sparse);
   return out;
 }

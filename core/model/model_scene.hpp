@@ -58,6 +58,9 @@ struct Model {
   SparseMatrix mass, stiffness, damping;  ///< damping 0×0 when absent
   Eigen::VectorXd initial_displacement;   ///< size n (zero when not given)
   Eigen::VectorXd initial_velocity;       ///< size n
+  /// A constant load ([scene.load]: f per DOF and its potential at u = 0, core/model/
+  /// constant_load.hpp); empty force: none.
+  ConstantLoad load;
   std::vector<ModelContact> contacts;     ///< at least one
   std::string units;                      ///< as the scene states them, for reports
   std::string source;                     ///< the files it was read from, for reports

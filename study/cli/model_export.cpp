@@ -73,12 +73,6 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
                              ": a model of matrices takes no massless DOF yet; export "
                              "lumped|consistent");
   }
-  // A model file has no load vector yet: the exported model would fall without its gravity.
-  if (bodies && bodies->gravity != 0.0) {
-    throw std::runtime_error("gravity = " + format_value(bodies->gravity) +
-                             ": a model of matrices takes no load yet; export the scene without "
-                             "gravity");
-  }
   const AssembledScene scene = bodies ? assemble(*bodies) : assemble(*rod);
   const SecondOrderSystem& system = scene.system;
   const double t_end = bodies ? derive(*bodies).end_time : derive(*rod).end_time;
@@ -113,9 +107,10 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
       exact[0].velocity.push_back(e.velocity);
     }
   } else if (bodies && bodies->rayleigh_mass == 0.0 && bodies->rayleigh_stiffness == 0.0 &&
-             (bodies_start_free(*bodies) || clamped_bar_params(*bodies))) {
-    // An exact solution (of the chain, or of the clamped bar), never a converged one: a scene
-    // without either exports no reference.
+             (bodies_start_free(*bodies) || clamped_bar_params(*bodies) ||
+              bouncing_bar_params(*bodies))) {
+    // An exact solution (of the chain, the clamped bar or the bouncing bar), never a converged
+    // one: a scene without one exports no reference.
     const SceneReference r = scene_reference(*bodies, ReferenceOptions{});
     if (r.usable() && r.refinements == 0) exact = r.contacts;
   }
@@ -145,10 +140,20 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
     write_file(directory / "u0.mtx", text);
   }
 
+  // Gravity's load (core/model/constant_load.hpp) at the DOFs, with its potential at rest.
+  const ConstantLoad& load = system.load;
+  if (load.active()) {
+    std::string text = "%%MatrixMarket matrix array real general\n% constant load f [N]\n" +
+                       std::to_string(load.force.size()) + " 1\n";
+    for (Eigen::Index i = 0; i < load.force.size(); ++i) text += number(load.force[i]) + "\n";
+    write_file(directory / "f.mtx", text);
+  }
+
   std::string toml =
       "# A built-in impactid scene exported as a user's model by `impactid export-model`:\n"
       "# M, K" +
-      std::string(damped ? ", C" : "") + " in Matrix Market files, its contacts, and" +
+      std::string(damped ? ", C" : "") + (load.active() ? ", its load f" : "") +
+      " in Matrix Market files, its contacts, and" +
       (exact.empty() ? "" : " its exact solution at the run's samples as the reference") +
       ".\n# DOFs count from 0. Units: N, mm, s, t (tonne).\n[scene]\nkind = \"matrices\"\n"
       "units = \"N, mm, s, t\"\n"
@@ -161,6 +166,10 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
       (u0.size() > 0 ? "displacement = \"u0.mtx\"\n" : "") + "velocity = " +
       (uniform ? "{ value = " + number(v0[0]) + ", dofs = \"all\" }" : std::string("\"v0.mtx\"")) +
       "\n";
+  if (load.active()) {
+    toml += "\n[scene.load]\nforce = \"f.mtx\"\npotential_at_rest = " + number(load.rest_potential) +
+            "\n";
+  }
   for (const ExportedContact& c : contacts) {
     toml += "\n[[scene.contact]]\nname = \"" + c.name + "\"\n";
     if (c.constraint.plus >= 0 && c.constraint.minus >= 0) {

@@ -396,7 +396,7 @@ bool is_model_scene(const toml::table& scene) {
 
 bool is_model_scene_key(const std::string& key) {
   for (const char* k : {"kind", "units", "primary_contact", "matrices", "dof_sets", "initial",
-                        "contact", "reference"}) {
+                        "load", "contact", "reference"}) {
     if (key == k) return true;
   }
   return false;
@@ -462,6 +462,25 @@ ModelScene read_model_scene(const toml::table& scene, const std::string& prefix,
         model->initial_velocity = r.initial(*node, at, n, sets);
       else
         r.fail(*node, at, "unknown key (displacement, velocity)");
+    }
+  }
+  if (const toml::node* load = scene.get("load")) {
+    const toml::table& t =
+        r.table(*load, prefix + ".load", "must be a table (force, potential_at_rest)");
+    const toml::node* force = t.get("force");
+    if (!force) {
+      r.fail(*load, prefix + ".load.force",
+             "is missing: the constant force on every DOF (a Matrix Market vector file of n "
+             "entries, or { value = ..., dofs = ... })");
+    }
+    for (const auto& [key, node] : ordered(t)) {
+      const std::string at = prefix + ".load." + key;
+      if (key == "force")
+        model->load.force = r.initial(*node, at, n, sets);
+      else if (key == "potential_at_rest")
+        model->load.rest_potential = r.number(*node, at);
+      else
+        r.fail(*node, at, "unknown key (force, potential_at_rest)");
     }
   }
   if (const toml::node* units = scene.get("units"))

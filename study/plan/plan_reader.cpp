@@ -259,7 +259,8 @@ void PlanReader::read_parameters(const toml::table& section, ParameterGroup grou
     if (group == ParameterGroup::scene && is_scene_of_bodies_key(e.key)) {
       fail(*e.node, key,
            plan_->base.model
-               ? "is a key of scenes of bodies ([[scene.body]]), not of a model of matrices"
+               ? "is a key of scenes of bodies ([[scene.body]]), not of a model of matrices (a "
+                 "model's load is its [scene.load] table)"
                : "is a key of scenes of bodies ([[scene.body]]); this scene is the one-body rod "
                  "(length, elements, velocity, gap, ...): write it as a body to give it");
     }
