@@ -128,7 +128,9 @@ bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
   // through simulate(): the kernel's lanes have not been held bit for bit to it on such a scene
   // (tests/batched_chain_test.cpp covers bodies that start free and unstrained), and its step has
   // no load term.
-  if (!scene.starts_free || scene.system.load.active()) return false;
+  if (!scene.starts_free || scene.system.load.active() || has_massless_dofs(scene.mass)) {
+    return false;  // nor a modified mass's massless contact nodes
+  }
   if (!is_single_step_implicit(method) || options.record_history ||
       options.contact.law != ContactLaw::lagrange || !system.has_constraint_list() ||
       system.has_contact() || system.has_far_contact() || !scene.contact_columns ||

@@ -24,6 +24,16 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   Tridiagonal lhs = system.mass.combined(1.0 / (dt * dt), system.damping, damping_weight);
   massless_main_ = system.has_contact() && massless(system.mass, system.contact_dof);
   massless_far_ = system.has_far_contact() && massless(system.mass, system.far_contact_dof);
+  // A scene of bodies' massless contact nodes (a constraint list) are none of the named walls':
+  // massless_failure() names what refuses them.
+  bool listed_massless = false;
+  for (Eigen::Index i = 0; system.has_constraint_list() && i < system.size(); ++i) {
+    listed_massless = listed_massless || massless(system.mass, i);
+  }
+  if (listed_massless) {
+    failure_ = massless_failure(system);
+    return false;
+  }
   if (massless_main_ || massless_far_) {
     failure_ = massless_failure(system);
     if (!failure_.empty()) return false;
@@ -58,7 +68,8 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
 std::string CentralDifference::massless_failure(const SecondOrderSystem& system) {
   const Eigen::Index n = system.size();
   if (system.has_constraint_list()) {
-    return "a massless DOF on a scene of bodies is not supported (its constraints are a list)";
+    return "a massless contact node of a scene of bodies is not supported yet (its constraints "
+           "are a list): choose an implicit method, or mass = lumped|consistent";
   }
   if (system.load.active()) {
     return "a massless DOF under a load is not supported (its static equation leaves the load out)";

@@ -195,6 +195,7 @@ bool ImplicitIntegrator::step_two_walls(const SecondOrderSystem& system, State& 
 }
 
 bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State& s) {
+  if (!massless_.empty()) remember_massless(s);
   predict(system, s);
   Eigen::VectorXd& rhs = formulas_.rhs;
   const Eigen::VectorXd& u_predicted = formulas_.u_predicted;
@@ -220,6 +221,7 @@ bool ImplicitIntegrator::step_constraints(const SecondOrderSystem& system, State
     active = active || weighted > 0.0;
   }
   if (contact_.lagrange()) snap_walls(system.constraints, forces_, s.u, gap_offsets_);
+  if (!massless_.empty()) report_massless(s);
   s.t += dt;
   return active;
 }

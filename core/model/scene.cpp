@@ -327,12 +327,18 @@ std::optional<ParameterError> validate(const Scene& s) {
                                 (left ? "first" : "last") + " node at u = 0)"};
     }
   }
-  // The modified masses are assembled on the rod's named walls only (assemble_rod); a scene of
-  // bodies' contact nodes would need them on each constraint's nodes.
+  // A modified mass empties each contact node onto its neighbour in the same element
+  // (core/model/scene_assembly.hpp): a body needs a node besides its two ends to keep a mass.
   if (has_massless_dofs(s.mass)) {
-    return ParameterError{"mass", to_string(s.mass),
-                          "is the one-body rod's only, so far: a scene of bodies takes "
-                          "lumped|consistent"};
+    for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+      int elements = 0;
+      for (const Segment& seg : s.bodies[b].segments) elements += seg.elements;
+      if (elements < 2) {
+        return ParameterError{"mass", to_string(s.mass),
+                              "moves each contact node's mass onto its neighbour: " +
+                                  body_path(s, b) + " has 1 element, give it at least 2"};
+      }
+    }
   }
   if (auto e = require_in_range("gravity", s.gravity, -kMax, kMax, "must be finite"); e) return e;
   if (s.gravity != 0.0 && !(s.gravity < 0.0 ? s.left_wall : s.right_wall)) {

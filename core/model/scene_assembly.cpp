@@ -69,6 +69,27 @@ ConstantLoad gravity_load(const Scene& scene, Eigen::Index nodes, Eigen::Index f
   return load;
 }
 
+// A modified mass (MassMatrix::redistributed, singular) at every contact node, as assemble_rod
+// does at the rod's walls (apply_contact_mass, core/model/second_order_system.hpp): a wall's end
+// node, and both end nodes of a pair of bodies, each with its neighbour in its end element.
+void apply_contact_masses(const Scene& scene, const std::vector<long>& first, Tridiagonal& mass) {
+  const auto apply = [&](Eigen::Index node, Eigen::Index neighbour, const Segment& seg) {
+    const double element_mass = seg.density * seg.area * (seg.length / seg.elements);
+    apply_contact_mass(mass, node, neighbour, element_mass, scene.mass);
+  };
+  for (const SceneContact& c : scene_contacts(scene)) {
+    if (c.left_body >= 0) {
+      const auto b = static_cast<std::size_t>(c.left_body);
+      const Eigen::Index last = first[b + 1] - 1;
+      apply(last, last - 1, scene.bodies[b].segments.back());
+    }
+    if (c.right_body >= 0) {
+      const auto b = static_cast<std::size_t>(c.right_body);
+      apply(first[b], first[b] + 1, scene.bodies[b].segments.front());
+    }
+  }
+}
+
 }  // namespace
 
 AssembledScene assemble(const Scene& scene) {
@@ -103,6 +124,7 @@ AssembledScene assemble(const Scene& scene) {
       set_linear_displacement(body, displacement.segment(first[b], first[b + 1] - first[b]));
     }
   }
+  if (has_massless_dofs(scene.mass)) apply_contact_masses(scene, first, sys.mass);
   if (clamp_first || clamp_last) {
     sys.mass = without_ends(sys.mass, clamp_first, clamp_last);
     sys.stiffness = without_ends(sys.stiffness, clamp_first, clamp_last);
@@ -135,6 +157,7 @@ AssembledScene assemble(const Scene& scene) {
   out.starts_free = bodies_start_free(scene);
   out.rigid_flight = scene.rayleigh_mass == 0.0 && out.starts_free;
   out.primary = derived.primary_contact;
+  out.mass = scene.mass;
   return out;
 }
 
