@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bar_run.hpp"
 #include "core/batch/batched_chain.hpp"
 #include "core/methods/method_registry.hpp"
 #include "core/model/scene.hpp"
@@ -30,9 +31,10 @@ namespace {
 // default).
 Scene bouncing_bar(int n, double courant = 0.5, double t_end = 32.0 / 3.0) {
   Scene s;
-  s.bodies.push_back(Body{
-      .name = "bar",
-      .segments = {Segment{.length = 10.0, .elements = n, .youngs_modulus = 900.0, .density = 1.0}}});
+  s.bodies.push_back(
+      Body{.name = "bar",
+           .segments = {
+               Segment{.length = 10.0, .elements = n, .youngs_modulus = 900.0, .density = 1.0}}});
   s.left_wall = Wall{.gap = 5.0};
   s.gravity = -10.0;
   s.courant = courant;
@@ -40,23 +42,8 @@ Scene bouncing_bar(int n, double courant = 0.5, double t_end = 32.0 / 3.0) {
   return s;
 }
 
-struct BarRun {
-  RunSummary summary;
-  ContactTrace trace;
-  Indicators indicators;
-};
-
-BarRun run_bar(const Scene& scene, const MethodParams& method, bool history = false) {
-  SimulationWorkspace ws;
-  BarRun out;
-  out.summary = simulate(assemble(scene), method, RunOptions{.record_history = history}, ws);
-  out.trace = ws.trace;
-  const SceneReference reference = scene_reference(scene, ReferenceOptions{});
-  std::vector<ContactIndicators> contacts(1);
-  out.indicators = evaluate_indicators(scene, reference, out.trace, out.summary,
-                                       IndicatorOptions{}, contacts);
-  return out;
-}
+using testing::BarRun;
+using testing::run_bar;
 
 // The first contact of a pressure history sampled every dt: its first and last sample's times
 // with p > 0, and its impulse Σ p·Δt over that run of samples.
@@ -128,9 +115,8 @@ TEST(BouncingBarScene, AClampedNodesWeightGoesToTheClamp) {
   ASSERT_EQ(load.force.size(), 10);  // node 10 is the clamp's
   EXPECT_NEAR(load.force.sum(), 100.0 - 5.0, 1e-12);
   // Heights above the clamp: 10 − x_i for the free nodes x_i = 0, 1, ..., 9.
-  EXPECT_NEAR(load.rest_potential, 5.0 * 10.0 + 10.0 * (9.0 + 8.0 + 7.0 + 6.0 + 5.0 + 4.0 + 3.0 +
-                                                          2.0 + 1.0),
-              1e-10);
+  EXPECT_NEAR(load.rest_potential,
+              5.0 * 10.0 + 10.0 * (9.0 + 8.0 + 7.0 + 6.0 + 5.0 + 4.0 + 3.0 + 2.0 + 1.0), 1e-10);
 }
 
 TEST(BouncingBarScene, GravityMustPointTowardAWall) {
@@ -178,9 +164,9 @@ TEST(BouncingBarScene, TheReferenceIsTheBouncingBarsExactSolution) {
 
 TEST(BouncingBarScene, OtherFormsAreNotTheBenchmark) {
   std::vector<Scene> others(6, bouncing_bar(10));
-  others[0].left_wall->gap = 4.0;       // another drop: another solution
-  others[1].bodies[0].velocity = -1.0;  // thrown
-  others[2].rayleigh_mass = 1e-3;       // damping
+  others[0].left_wall->gap = 4.0;           // another drop: another solution
+  others[1].bodies[0].velocity = -1.0;      // thrown
+  others[2].rayleigh_mass = 1e-3;           // damping
   others[3].right_wall = Wall{.gap = 1.0};  // a ceiling
   others[4].bodies[0].segments.push_back(
       Segment{.length = 1.0, .elements = 1, .youngs_modulus = 900.0, .density = 1.0});
@@ -247,9 +233,8 @@ TEST(BouncingBarScene, TheSparseSystemFallsAsTheTridiagonalOne) {
     system->load = tridiagonal.system.load;
     sparse.sparse = system;
     for (const MethodDescriptor& m : method_registry()) {
-      if (mass == MassMatrix::consistent &&
-          std::holds_alternative<CentralDifferenceCoefficients>(
-              stepper_coefficients(m.defaults()))) {
+      if (mass == MassMatrix::consistent && std::holds_alternative<CentralDifferenceCoefficients>(
+                                                stepper_coefficients(m.defaults()))) {
         continue;  // the sparse central difference needs a diagonal M
       }
       const std::string name = std::string(m.name) + " (" + to_string(mass) + ")";

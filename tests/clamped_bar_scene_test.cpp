@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bar_run.hpp"
 #include "core/batch/batched_chain.hpp"
 #include "core/model/scene.hpp"
 #include "core/model/scene_assembly.hpp"
@@ -39,24 +40,8 @@ Scene clamped_bar(int n, double courant = 1.0, double t_end = 6.0) {
   return s;
 }
 
-struct BarRun {
-  RunSummary summary;
-  ContactTrace trace;
-  Indicators indicators;
-  SceneReference reference;
-};
-
-BarRun run_bar(const Scene& scene, const MethodParams& method, bool history = false) {
-  SimulationWorkspace ws;
-  BarRun out;
-  out.summary = simulate(assemble(scene), method, RunOptions{.record_history = history}, ws);
-  out.trace = ws.trace;
-  out.reference = scene_reference(scene, ReferenceOptions{});
-  std::vector<ContactIndicators> contacts(1);
-  out.indicators = evaluate_indicators(scene, out.reference, out.trace, out.summary,
-                                       IndicatorOptions{}, contacts);
-  return out;
-}
+using testing::BarRun;
+using testing::run_bar;
 
 // The largest difference of a run's samples from the reference's, over the samples whose time
 // lies at least `margin` from every jump of the exact solution (t ≡ 0, 1, 2 mod 3), or over all

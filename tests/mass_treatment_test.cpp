@@ -410,11 +410,10 @@ namespace {
 // Courant 1, one period and a half, with the mass given.
 Scene bouncing_bar(MassMatrix mass) {
   Scene s;
-  s.bodies.push_back(Body{.name = "bar",
-                          .segments = {Segment{.length = 10.0,
-                                               .elements = 100,
-                                               .youngs_modulus = 900.0,
-                                               .density = 1.0}}});
+  s.bodies.push_back(
+      Body{.name = "bar",
+           .segments = {
+               Segment{.length = 10.0, .elements = 100, .youngs_modulus = 900.0, .density = 1.0}}});
   s.left_wall = Wall{.gap = 5.0};
   s.gravity = -10.0;
   s.mass = mass;
@@ -468,13 +467,11 @@ TEST(MassTreatment, AScenesContactNodesTakeTheModifiedMassAsTheRodsWall) {
 // node statically only at the rod's named walls, refuses the scene's by name.
 TEST(MassTreatment, TheBouncingBarsTrapezoidalRuleKeepsItsEnergyWithTheRedistributedMass) {
   SimulationWorkspace ws;
-  const RunSummary lumped =
-      simulate(assemble(bouncing_bar(MassMatrix::lumped)), NewmarkParams{.delta = 0.0},
-               RunOptions{}, ws);
+  const RunSummary lumped = simulate(assemble(bouncing_bar(MassMatrix::lumped)),
+                                     NewmarkParams{.delta = 0.0}, RunOptions{}, ws);
   EXPECT_EQ(lumped.status, RunStatus::unstable) << lumped.message;
-  const RunSummary redistributed =
-      simulate(assemble(bouncing_bar(MassMatrix::redistributed)), NewmarkParams{.delta = 0.0},
-               RunOptions{}, ws);
+  const RunSummary redistributed = simulate(assemble(bouncing_bar(MassMatrix::redistributed)),
+                                            NewmarkParams{.delta = 0.0}, RunOptions{}, ws);
   ASSERT_EQ(redistributed.status, RunStatus::ok) << redistributed.message;
   EXPECT_NEAR(redistributed.final_energy / redistributed.initial_energy, 1.0, 2e-3);
   // Held on the ground (pressed at this sample and the one before), the node's reported velocity

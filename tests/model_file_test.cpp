@@ -181,7 +181,8 @@ TEST(ModelFile, ASceneFileNamedUnderTheSceneTableIsSentToTheTop) {
 // own history file (`impactid simulate --history FILE.h5`, datasets pressure.<contact>) is a
 // reference too, against which the same run has no error; bad files are refused by name.
 TEST(ModelFile, ReadsAReferenceHistoryFromHdf5) {
-  const fs::path scene = model_folder("reference_h5", kGood + "[scene.reference]\nfile = \"r.csv\"\n");
+  const fs::path scene =
+      model_folder("reference_h5", kGood + "[scene.reference]\nfile = \"r.csv\"\n");
   const fs::path dir = scene.parent_path();
   std::string csv = "t,wall.pressure,wall.velocity\n";
   std::vector<double> t, p, v;
@@ -332,7 +333,8 @@ TEST(ModelExport, TheExportedRodRunsTheBuiltInRodBitForBit) {
 // [scene.load], its exact solution as the reference; the model runs the scene bit for bit (the
 // model of tridiagonal matrices takes the scene's own system and load), with the same indicators.
 TEST(ModelExport, TheExportedBouncingBarFallsAndBouncesAsTheScene) {
-  SimulationSettings settings = load_scene_file(fs::path(IMPACTID_SOURCE_DIR) / "plans/bouncing-bar.toml");
+  SimulationSettings settings =
+      load_scene_file(fs::path(IMPACTID_SOURCE_DIR) / "plans/bouncing-bar.toml");
   ASSERT_TRUE(settings.bodies.has_value());
   settings.bodies->bodies[0].segments[0].elements = 40;
   settings.bodies->t_end = 6.0;
@@ -367,9 +369,9 @@ TEST(ModelExport, TheExportedBouncingBarFallsAndBouncesAsTheScene) {
 // plan's numbers point for point (a quarter of its points: the whole is `impactid run`'s).
 TEST(ModelExample, TheShippedPlansLoadAndTheRodPlanEqualsTheBuiltInOne) {
   const fs::path root(IMPACTID_SOURCE_DIR);
-  for (const char* plan : {"examples/block/hht-delta-alpha.toml",
-                           "examples/block/identical-dissipation.toml",
-                           "examples/block/work-precision.toml"}) {
+  for (const char* plan :
+       {"examples/block/hht-delta-alpha.toml", "examples/block/identical-dissipation.toml",
+        "examples/block/work-precision.toml"}) {
     EXPECT_NO_THROW(load_plan(root / plan)) << plan;
   }
   const Plan model = load_plan(root / "examples/rod/hht-delta-alpha.toml");

@@ -23,10 +23,10 @@
 //
 // What batches (chain_batchable / same_chain_batch): implicit methods on a scene with a
 // constraint list (scenes of bodies, three or more nodes) whose bodies start free and unstrained
-// (no clamped end, no initial displacement, no gravity: those run through simulate()), no histories; lanes of
-// one batch share the assembled matrices, the contacts' nodes and probes, the time step and the run
-// options, and may differ in the method and its parameters, the gaps, the initial velocities, the
-// first contact time, the primary contact and the end time.
+// (no clamped end, no initial displacement, no gravity: those run through simulate()), no
+// histories; lanes of one batch share the assembled matrices, the contacts' nodes and probes, the
+// time step and the run options, and may differ in the method and its parameters, the gaps, the
+// initial velocities, the first contact time, the primary contact and the end time.
 //
 // Thread safety: one ChainBatchWorkspace per thread; simulate_chain_batch is reentrant.
 #pragma once

@@ -121,8 +121,8 @@ class ImplicitIntegrator {
   TridiagonalFactorization factorization_;
   Eigen::VectorXd contact_influence_;  // A⁻¹·e_c
   Eigen::VectorXd far_influence_;      // A⁻¹·e_far; empty without a far wall
-  ImplicitUpdate formulas_;  // u*, v* and the right-hand side, then the acceleration
-  Eigen::VectorXd contact_free_;  // the contact-free acceleration (two walls only)
+  ImplicitUpdate formulas_;            // u*, v* and the right-hand side, then the acceleration
+  Eigen::VectorXd contact_free_;       // the contact-free acceleration (two walls only)
   // The constraint list's columns A⁻¹·G_kᵀ (n × m), the rows [begin, end) where each is
   // non-zero, b1·Δt²·G·A⁻¹·Gᵀ (m × m), and per-step scratch (m).
   Eigen::MatrixXd constraint_influence_;
@@ -144,10 +144,10 @@ class ImplicitIntegrator {
 };
 
 /// a solving M·a = f − K·u − C·v − G^T·λ (+ λ_0 at the far dof; f the system's load, if any): the
-/// acceleration consistent with the equation of motion. A massless DOF (a modified mass, core/model/rod_scene.hpp: its row of
-/// M zero) has no such equation: its acceleration is that of its static equation differentiated
-/// twice, a_c = −Σ_{j≠c} K_cj·a_j / K_cc, the contact force held constant (zero for the rod, which
-/// starts unstrained).
+/// acceleration consistent with the equation of motion. A massless DOF (a modified mass,
+/// core/model/rod_scene.hpp: its row of M zero) has no such equation: its acceleration is that of
+/// its static equation differentiated twice, a_c = −Σ_{j≠c} K_cj·a_j / K_cc, the contact force held
+/// constant (zero for the rod, which starts unstrained).
 Eigen::VectorXd consistent_acceleration(const SecondOrderSystem& system, const State& state);
 
 }  // namespace impactid

@@ -105,7 +105,8 @@ struct KrAlphaRecurrence {
       r[i] = (u_next[i] - state.u[i]) / dt;
       y[i] = 0.5 * (state.u[i] + u_next[i]);
     }
-    const double e = 0.5 * quadratic_form(system.mass, r) + 0.5 * quadratic_form(system.stiffness, y);
+    const double e =
+        0.5 * quadratic_form(system.mass, r) + 0.5 * quadratic_form(system.stiffness, y);
     return system.load.active() ? e + system.load.potential(y) : e;
   }
 };

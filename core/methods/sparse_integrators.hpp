@@ -129,8 +129,8 @@ class SparseCentralDifference {
   std::string failure_;
 };
 
-/// a solving M·a = f − K·u − C·v − Gᵀ·λ (λ = state.multipliers, when set; f the load, if any): the acceleration
-/// consistent with the equation of motion; NaN when M cannot be factored.
+/// a solving M·a = f − K·u − C·v − Gᵀ·λ (λ = state.multipliers, when set; f the load, if any): the
+/// acceleration consistent with the equation of motion; NaN when M cannot be factored.
 Eigen::VectorXd consistent_acceleration(const SparseSystem& system, const State& state);
 
 }  // namespace impactid

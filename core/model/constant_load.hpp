@@ -23,8 +23,8 @@
 namespace impactid {
 
 struct ConstantLoad {
-  Eigen::VectorXd force;         ///< f per DOF [N]; empty: no load
-  double rest_potential = 0.0;   ///< V₀, the potential energy at u = 0 [mJ]
+  Eigen::VectorXd force;        ///< f per DOF [N]; empty: no load
+  double rest_potential = 0.0;  ///< V₀, the potential energy at u = 0 [mJ]
 
   bool active() const { return force.size() > 0; }
   /// V(u) = V₀ − fᵀ·u [mJ]; only for an active load.

@@ -61,9 +61,9 @@ struct Model {
   /// A constant load ([scene.load]: f per DOF and its potential at u = 0, core/model/
   /// constant_load.hpp); empty force: none.
   ConstantLoad load;
-  std::vector<ModelContact> contacts;     ///< at least one
-  std::string units;                      ///< as the scene states them, for reports
-  std::string source;                     ///< the files it was read from, for reports
+  std::vector<ModelContact> contacts;  ///< at least one
+  std::string units;                   ///< as the scene states them, for reports
+  std::string source;                  ///< the files it was read from, for reports
   double omega_bound = 0.0;  ///< gershgorin_omega(mass, stiffness), set when the model is read
   std::optional<ReferenceHistory> reference;  ///< a supplied reference, if any
 

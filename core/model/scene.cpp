@@ -208,11 +208,10 @@ std::vector<SceneContact> scene_contacts(const Scene& scene) {
   // displacement of the plus side closes it, of the minus side opens it.
   if (scene.left_wall && scene.left_wall->kind == WallKind::contact) {
     const Body& first = bodies.front();
-    contacts.push_back(
-        {"wall_left", ContactKind::left_wall, -1, 0, scene.left_wall->gap,
-         first.segments.empty() ? 1.0 : first.segments.front().area,
-         closing_time(open_gap(scene.left_wall->gap, -first.displacement.left), -first.velocity,
-                      -scene.gravity)});
+    contacts.push_back({"wall_left", ContactKind::left_wall, -1, 0, scene.left_wall->gap,
+                        first.segments.empty() ? 1.0 : first.segments.front().area,
+                        closing_time(open_gap(scene.left_wall->gap, -first.displacement.left),
+                                     -first.velocity, -scene.gravity)});
   }
   for (std::size_t b = 0; b + 1 < bodies.size(); ++b) {
     const Body& left = bodies[b];
@@ -226,11 +225,11 @@ std::vector<SceneContact> scene_contacts(const Scene& scene) {
   }
   if (scene.right_wall && scene.right_wall->kind == WallKind::contact) {
     const Body& last = bodies.back();
-    contacts.push_back(
-        {"wall_right", ContactKind::right_wall, static_cast<int>(bodies.size()) - 1, -1,
-         scene.right_wall->gap, last.segments.empty() ? 1.0 : last.segments.back().area,
-         closing_time(open_gap(scene.right_wall->gap, last.displacement.right), last.velocity,
-                      scene.gravity)});
+    contacts.push_back({"wall_right", ContactKind::right_wall, static_cast<int>(bodies.size()) - 1,
+                        -1, scene.right_wall->gap,
+                        last.segments.empty() ? 1.0 : last.segments.back().area,
+                        closing_time(open_gap(scene.right_wall->gap, last.displacement.right),
+                                     last.velocity, scene.gravity)});
   }
   return contacts;
 }
@@ -516,7 +515,8 @@ void add_gravity(const Scene& s, SceneDerived& d) {
       const double mid = start + 0.5 * seg.length;
       const LinearDisplacement& u = body.displacement;
       const double u_mid = u.left + (u.right - u.left) * (mid / length);
-      const double height = height_above_wall(s, x, x[b] + mid) + (s.gravity < 0.0 ? u_mid : -u_mid);
+      const double height =
+          height_above_wall(s, x, x[b] + mid) + (s.gravity < 0.0 ? u_mid : -u_mid);
       d.initial_energy += seg.density * seg.area * seg.length * g * height;
       start += seg.length;
     }

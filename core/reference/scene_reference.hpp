@@ -58,9 +58,9 @@ bool operator==(const ReferenceOptions& a, const ReferenceOptions& b);
 
 /// Which exact solution a reference is, if any.
 enum class SceneExact {
-  none,         ///< a converged numerical solution
-  chain,        ///< ChainExact (core/reference/chain_exact.hpp)
-  clamped_bar,  ///< ClampedBarExact (core/reference/clamped_bar_exact.hpp)
+  none,          ///< a converged numerical solution
+  chain,         ///< ChainExact (core/reference/chain_exact.hpp)
+  clamped_bar,   ///< ClampedBarExact (core/reference/clamped_bar_exact.hpp)
   bouncing_bar,  ///< BouncingBarExact (core/reference/bouncing_bar_exact.hpp)
 };
 

@@ -167,8 +167,9 @@ void export_model(const Simulation& sim, const std::filesystem::path& directory)
       (uniform ? "{ value = " + number(v0[0]) + ", dofs = \"all\" }" : std::string("\"v0.mtx\"")) +
       "\n";
   if (load.active()) {
-    toml += "\n[scene.load]\nforce = \"f.mtx\"\npotential_at_rest = " + number(load.rest_potential) +
-            "\n";
+    toml +=
+        "\n[scene.load]\nforce = \"f.mtx\"\npotential_at_rest = " + number(load.rest_potential) +
+        "\n";
   }
   for (const ExportedContact& c : contacts) {
     toml += "\n[[scene.contact]]\nname = \"" + c.name + "\"\n";

@@ -1,10 +1,10 @@
 // A user's model in a scene file or a plan's [scene] table (issue 20), `kind = "matrices"`: M, K
 // and C as Matrix Market files ([scene.matrices]), named DOF sets ([scene.dof_sets]), the initial
-// state ([scene.initial]), a constant load ([scene.load]), the contacts ([[scene.contact]]: a wall on one DOF or a pair of DOFs)
-// and an optional reference history ([scene.reference]). Every key, its default, unit and
-// refusal, with a complete example (examples/three-dof/) and how to export M and K from GetFEM,
-// dolfinx, Code_Aster and OpenSees: docs/model-files.md, which tests/model_files_doc_test.py holds
-// to this reader's messages.
+// state ([scene.initial]), a constant load ([scene.load]), the contacts ([[scene.contact]]: a wall
+// on one DOF or a pair of DOFs) and an optional reference history ([scene.reference]). Every key,
+// its default, unit and refusal, with a complete example (examples/three-dof/) and how to export M
+// and K from GetFEM, dolfinx, Code_Aster and OpenSees: docs/model-files.md, which
+// tests/model_files_doc_test.py holds to this reader's messages.
 //
 // DOFs count from 0 (a Matrix Market row minus one); paths are relative to the file of the table.
 // Every error names the file, the line, the key and the value (a PlanError through `fail`).
