@@ -255,10 +255,10 @@ TEST(BouncingBarScene, TheSparseSystemFallsAsTheTridiagonalOne) {
 }
 
 // Central difference at Courant 1 on a lumped mass converges at first order in h to the exact
-// contact history (its pressure error halves with the mesh; measured 0.0544, 0.0268, 0.0133 on
-// 50, 100, 200 elements), with each contact's impulse near the exact 8ρgL·L/c = 800/3 and the
-// energy lost falling likewise; HHT's error falls too, more slowly (about h^0.6: its dissipation
-// smears the contact's linear rise of the pressure).
+// contact history (its pressure error halves with the mesh), with each contact's impulse near the
+// exact 8ρgL·L/c = 800/3 and the energy lost falling likewise; HHT's (α = −0.3, δ = −α) error
+// falls too, more slowly (about h^0.6: its dissipation smears the contact's linear rise of the
+// pressure; the figures are in docs/remedies.md).
 TEST(BouncingBarScene, CentralDifferenceConvergesAtFirstOrderAndHhtMoreSlowly) {
   std::vector<double> cdm_error, cdm_energy_lost, hht_error;
   for (int n : {50, 100, 200}) {
