@@ -233,6 +233,36 @@ TEST(ScenePath, TheDisplacementIsTwoNumbersInMillimetres) {
             "wall.right.kind");
 }
 
+// Gravity (Scene::gravity) is read from [scene], is a sweep path in mm/s², and is refused by name
+// where it cannot be: on the one-body rod, on a model of matrices, without a wall toward it, and
+// as anything but a number.
+TEST(SceneFile, GravityIsReadSweptAndRefusedByName) {
+  const std::string bar = replaced(kClampedBar, "courant = 1.0", "courant = 1.0\ngravity = -10.0");
+  const Scene s = *parse_plan(bar, "c.toml").base.bodies;
+  EXPECT_EQ(s.gravity, -10.0);
+  Scene swept = s;
+  EXPECT_FALSE(assign_scene_path(swept, "gravity", -5.0).has_value());
+  EXPECT_EQ(swept.gravity, -5.0);
+  EXPECT_EQ(scene_path_value(swept, "gravity"), -5.0);
+  EXPECT_STREQ(scene_path_units("gravity"), "mm/s^2");
+  EXPECT_EQ(assign_scene_path(swept, "gravity", std::string("down"))->constraint,
+            "must be a number (mm/s^2, along x)");
+  // The striker and bar have a right wall only: gravity toward the left has nothing to fall on.
+  EXPECT_NE(error_of(replaced(kHopkinson, "courant = 0.5", "courant = 0.5\ngravity = -9810.0"))
+                .find("scene.gravity = -9810: points toward the left end, and the scene has no "
+                      "wall there (wall.left)"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(bar, "gravity = -10.0", "gravity = \"down\""))
+                .find("scene.gravity = \"down\": must be a number"),
+            std::string::npos);
+  const std::string rod = "name = \"r\"\n[scene]\ngravity = -10.0\n[method]\nname = \"hht\"\n"
+                          "[study]\nkind = \"list\"\npoints = [{ alpha = -0.1 }]\n";
+  EXPECT_EQ(error_of(rod),
+            "bad.toml:3:11: scene.gravity = -10.0: is a key of scenes of bodies ([[scene.body]]); "
+            "this scene is the one-body rod (length, elements, velocity, gap, ...): write it as a "
+            "body to give it");
+}
+
 StudyResults run_all(const Plan& plan, int threads) {
   const PointSet points(plan);
   StudyResults results = empty_results(plan, points);

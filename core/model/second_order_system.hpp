@@ -1,7 +1,8 @@
 // The semi-discrete equation of motion with one unilateral contact constraint,
 //   M·ü + C·u̇ + K·u + G^T·λ = f,  g = u_c − gap <= 0,  λ >= 0,  λ·g = 0
 // (eqs 16–17 of the paper), with G = e_c selecting the contact degree of freedom c and f a
-// constant load, absent (zero) but for a scene of bodies under gravity (`load`).
+// constant load, absent (zero) but for a scene of bodies under gravity or a model with a
+// [scene.load] (`load`).
 // All three matrices are tridiagonal, so every integrator step is O(n).
 //
 // An optional second constraint acts on far_contact_dof from the other side:
@@ -58,7 +59,7 @@ struct SecondOrderSystem {
   /// The general constraints (see above); empty for the named-constraint form.
   std::vector<Constraint> constraints;
   /// A constant external force f on the right-hand side (core/model/constant_load.hpp: gravity on
-  /// a scene of bodies); empty for the rod and every scene without one.
+  /// a scene of bodies, a model's [scene.load]); empty for the rod and every scene without one.
   ConstantLoad load;
 
   Eigen::Index size() const { return mass.size(); }

@@ -1,8 +1,8 @@
 // The semi-discrete model of a user's finite element model (issue 20), of any sparsity:
 //   M·ü + C·u̇ + K·u + Gᵀ·λ = f,   g_k = u[plus_k] − u[minus_k] − gap_k <= 0,  λ >= 0,  λ·g = 0,
 // the form of SecondOrderSystem's constraint list (core/model/second_order_system.hpp) with M, C
-// and K sparse instead of tridiagonal, and f the constant load (`load`, empty so far: a model
-// file gives none). M is symmetric positive definite, K symmetric positive
+// and K sparse instead of tridiagonal, and f the constant load (`load`: a model file's
+// [scene.load], empty without one). M is symmetric positive definite, K symmetric positive
 // semi-definite (rigid-body modes allowed), C symmetric (or absent).
 //
 // A model whose three matrices are tridiagonal (every 1D chain, the paper's rod exported as
