@@ -5,9 +5,9 @@ A law is named elsewhere through its registry (core/contact/contact_law_registry
 parameters, validation and the traits springs, explicit_force, iterates) or through
 ContactPenalties' predicates (lagrange(), explicit_force()), so that adding a law touches
 core/contact/ and not every layer. This test fails when a C++ source of core/, metrics/, study/,
-python/ or bench/ outside core/contact/ names `ContactLaw::<value>`, except the files of ALLOWED,
-each with the reason it still does; and it fails when an allowed file no longer does, so that
-the list shrinks as the steppers move their branches into core/contact/. tests/ may name every
+python/ or bench/ outside core/contact/ names `ContactLaw::<value>`, except the files of ALLOWED
+(none today), each with the reason it still does; and it fails when an allowed file no longer
+does, so that the list cannot outlive its reasons. tests/ may name every
 law: tests run each one.
 """
 import pathlib
@@ -18,21 +18,10 @@ TOPS = ("core", "metrics", "study", "python", "bench")
 OWNER = "core/contact/"
 VALUE = re.compile(r"\bContactLaw::(\w+)")
 
-# Today's exceptions: each a stepper's or a batch kernel's branch on the law that sits in a file
-# another change is reshaping (the stepper-per-system work of issue 35), to move behind the
-# registry's traits or into core/contact/ there.
-ALLOWED = {
-    "core/batch/batch_eligibility.cpp":
-        "the batched kernels take Lagrange's law only; the others run scalar",
-    "core/batch/explicit_stage.hpp":
-        "the batched explicit kernel's stable-step warning names the law for the scalar run's text",
-    "core/methods/central_difference.cpp":
-        "central difference's explicit penalty force at t and its walls' forces under the penalty",
-    "core/methods/sparse_integrators.cpp":
-        "sparse central difference measures the penalty's violations at t, the others' at t + dt",
-    "core/run/simulation.cpp":
-        "flags a penalty step above central difference's stable step; the main wall's penetration",
-}
+# Files that may still name a law's value, each with its reason: none. The steppers ask
+# ContactPenalties' predicates, the run and the batch kernels' eligibility the registry's
+# descriptors; an entry added here must say why that cannot serve.
+ALLOWED: dict = {}
 
 
 def main() -> int:

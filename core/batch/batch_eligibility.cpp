@@ -13,6 +13,7 @@
 #include "core/batch/batched_kr_alpha.hpp"
 #include "core/batch/batched_model.hpp"
 #include "core/batch/batched_simulation.hpp"
+#include "core/contact/contact_law_registry.hpp"
 #include "core/methods/stepper_coefficients.hpp"
 
 namespace impactid {
@@ -54,7 +55,7 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   return (is_single_step_implicit(method) || is_composite(method) ||
           stepped_by<WilsonThetaCoefficients>(method) || stepped_by<HouboltCoefficients>(method) ||
           explicit_batchable(scene, method) || kr_alpha_batchable(scene, method)) &&
-         !scene.far_gap && !options.record_history && options.contact.law == ContactLaw::lagrange &&
+         !scene.far_gap && !options.record_history && options.contact.law == lagrange_law().law &&
          // The kernels' steps assume a regular mass: a modified mass's massless contact DOF
          // (redistributed, singular) runs through simulate().
          !has_massless_dofs(scene.mass);
@@ -132,7 +133,7 @@ bool chain_batchable(const AssembledScene& scene, const MethodParams& method,
     return false;  // nor a modified mass's massless contact nodes
   }
   if (!is_single_step_implicit(method) || options.record_history ||
-      options.contact.law != ContactLaw::lagrange || !system.has_constraint_list() ||
+      options.contact.law != lagrange_law().law || !system.has_constraint_list() ||
       system.has_contact() || system.has_far_contact() || !scene.contact_columns ||
       system.size() < 3 || scene.probes.size() != system.constraints.size() ||
       system.constraints.size() > static_cast<std::size_t>(kMaxConstraints)) {
@@ -186,7 +187,7 @@ bool model_batchable(const AssembledScene& scene, const MethodParams& method,
   return scene.sparse && model_kernel_method(method) && !scene.sparse->has_damping() &&
          !scene.sparse->load.active() && !scene.sparse->constraints.empty() &&
          scene.probes.size() == scene.sparse->constraints.size() && scene.contact_columns &&
-         !options.record_history && options.contact.law == ContactLaw::lagrange;
+         !options.record_history && options.contact.law == lagrange_law().law;
 }
 
 bool same_model_batch(const AssembledScene& a, const RunOptions& options_a, const AssembledScene& b,

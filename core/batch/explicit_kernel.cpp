@@ -17,6 +17,7 @@
 #include "core/batch/batch_kernels.hpp"
 #include "core/batch/batched_explicit.hpp"
 #include "core/common/parameter_error.hpp"
+#include "core/contact/contact_law_registry.hpp"
 #include "core/contact/contact_treatment.hpp"
 #include "core/contact/stable_step_warning.hpp"
 #include "core/methods/central_difference.hpp"

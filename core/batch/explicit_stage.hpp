@@ -203,7 +203,7 @@ void simulate_stage_batch(std::span<const RodScene> scenes, std::span<const Meth
     summary.stable_dt = stepper.stable_step();
     summary.warning =
         stable_step_warning(stepper, Scheme::kName, params.p, Scheme::critical_omega(params.p), dt,
-                            ContactLaw::lagrange);
+                            lagrange_law().law);
     // initialize's first force point u_p = u₀ + pΔt·v₀ + ½(pΔt)²·a₀, with the contact at the start
     // (its λ and the correction of a are already in `state`).
     const double p = c.p;

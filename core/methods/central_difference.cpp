@@ -158,7 +158,7 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
       forces = solve_two_wall_contact(u_next[contact] - system.gap, -system.far_gap - u_next[far],
                                       contact_influence_[contact], far_influence_[far],
                                       far_influence_[contact], contact_influence_[far]);
-    } else if (contact_.law == ContactLaw::penalty) {
+    } else if (contact_.explicit_force()) {
       forces = {contact_.main * std::max(0.0, u[contact] - system.gap),
                 contact_.far * std::max(0.0, -system.far_gap - u[far])};
     } else {
@@ -177,7 +177,7 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
     }
     lambda = forces.main;
     at_t.far_lambda = forces.far;
-  } else if (contact_.law == ContactLaw::penalty) {
+  } else if (contact_.explicit_force()) {
     if (system.has_contact() && u[contact] > system.gap) {
       lambda = contact_.main * (u[contact] - system.gap);
       u_next -= lambda * contact_influence_;

@@ -136,7 +136,7 @@ bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
   recurrence_.predict(system, factorization_);
   Eigen::VectorXd& u_next = recurrence_.u_next;
   // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
-  const Eigen::VectorXd& checked = contact_.law == ContactLaw::penalty ? recurrence_.u : u_next;
+  const Eigen::VectorXd& checked = contact_.explicit_force() ? recurrence_.u : u_next;
   const bool active = contact_forces(
       system.constraints, factorization_, [&](Eigen::Index i) { return checked[i]; },
       [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; }, list_law_, list_,

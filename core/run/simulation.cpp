@@ -9,6 +9,7 @@
 
 #include "core/common/overloaded.hpp"
 #include "core/contact/constraint_list_law.hpp"
+#include "core/contact/contact_law_registry.hpp"
 #include "core/contact/stable_step_warning.hpp"
 #include "core/methods/method_registry.hpp"
 #include "core/methods/stepper_coefficients.hpp"
@@ -265,7 +266,7 @@ template <class Stepper>
 void flag_penalty_step(const Stepper& stepper, double dt, const ContactPenalties& contact,
                        RunSummary& summary) {
   summary.stable_dt = stepper.stable_step();
-  if (contact.law == ContactLaw::penalty && !stepper.within_stability_limit()) {
+  if (contact.explicit_force() && !stepper.within_stability_limit()) {
     summary.warning = "dt = " + format_value(dt) +
                       " s exceeds central difference's stable step with the penalty springs, " +
                       (stepper.stable_step() > 0.0 ? format_value(stepper.stable_step()) + " s"
@@ -442,7 +443,7 @@ bool prepare_run(const AssembledScene& scene, const RunOptions& options, Contact
   const long skipped =
       free_flight_samples(scene.first_contact_time, dt, scene.step_count, rigid_flight, options);
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
-  const bool main_penetration = !listed && !far_wall && options.contact.law != ContactLaw::lagrange;
+  const bool main_penetration = !listed && !far_wall && descriptor(options.contact.law).springs;
   if (listed || far_wall || main_penetration) summary.max_penetration = -kInf;
   for (long i = 0; i < skipped; ++i) {
     const double t = (i + 1) * dt;
