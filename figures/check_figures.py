@@ -463,6 +463,7 @@ FIGURES = {
     "block-contact-force.png": ["block-identical-dissipation"],
     "block-work-precision.png": ["block-work-precision"],
     "fig_contact_laws.png": ["contact-laws"],
+    "fig_paoli_schatzman.png": ["paoli-schatzman"],
     "fig_rho_bathe.png": ["rho-bathe"],
     "fig_noh_bathe.png": ["noh-bathe"],
     "fig_kim_explicit.png": ["kim-explicit"],

@@ -21,8 +21,8 @@ import sys
 import traceback
 from pathlib import Path
 
-from impactid_figures import (block_contact_force, comparison_bars, contact_laws, hht_maps, parameter_maps, optimize, spectral, stability_map,
-                              sweeps_1d, time_histories, work_precision)
+from impactid_figures import (block_contact_force, comparison_bars, contact_laws, hht_maps, parameter_maps, optimize, restitution,
+                              spectral, stability_map, sweeps_1d, time_histories, work_precision)
 from impactid_figures.results import PROJECT_ROOT, Skip
 
 import matplotlib.pyplot as plt  # after impactid_figures, which selects the Agg backend
@@ -52,6 +52,7 @@ FIGURES = [
     ("fig_work_precision.png", work_precision.fig_work_precision),
     ("block-work-precision.png", work_precision.fig_block_work_precision),
     ("fig_contact_laws.png", contact_laws.fig_contact_laws),
+    ("fig_paoli_schatzman.png", restitution.fig_paoli_schatzman),
     ("fig_rho_bathe.png", parameter_maps.fig_rho_bathe),
     ("fig_noh_bathe.png", parameter_maps.fig_noh_bathe),
     ("fig_kim_explicit.png", parameter_maps.fig_kim_explicit),

@@ -20,10 +20,12 @@ struct BarRun {
   SceneReference reference;
 };
 
-inline BarRun run_bar(const Scene& scene, const MethodParams& method, bool history = false) {
+inline BarRun run_bar(const Scene& scene, const MethodParams& method, bool history = false,
+                      const ContactTreatment& contact = {}) {
   SimulationWorkspace ws;
   BarRun out;
-  out.summary = simulate(assemble(scene), method, RunOptions{.record_history = history}, ws);
+  out.summary = simulate(assemble(scene), method,
+                         RunOptions{.record_history = history, .contact = contact}, ws);
   out.trace = ws.trace;
   out.reference = scene_reference(scene, ReferenceOptions{});
   std::vector<ContactIndicators> contacts(1);

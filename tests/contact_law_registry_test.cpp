@@ -11,12 +11,13 @@
 #include <string>
 
 #include "core/contact/contact_treatment.hpp"
+#include "test_support.hpp"
 
 namespace impactid {
 namespace {
 
 constexpr ContactLaw kEveryLaw[] = {ContactLaw::lagrange, ContactLaw::penalty,
-                                    ContactLaw::augmented_lagrangian};
+                                    ContactLaw::augmented_lagrangian, ContactLaw::paoli_schatzman};
 
 TEST(ContactLawRegistry, EveryLawIsRegisteredOnceUnderItsName) {
   ASSERT_EQ(contact_law_registry().size(), std::size(kEveryLaw));
@@ -31,7 +32,7 @@ TEST(ContactLawRegistry, EveryLawIsRegisteredOnceUnderItsName) {
     EXPECT_FALSE(std::string(d.summary).empty()) << d.name;
   }
   EXPECT_EQ(contact_law_registry().front().law, ContactTreatment{}.law);  // the default first
-  EXPECT_EQ(contact_law_names(), "lagrange|penalty|augmented-lagrangian");
+  EXPECT_EQ(contact_law_names(), "lagrange|penalty|augmented-lagrangian|paoli-schatzman");
   EXPECT_EQ(find_contact_law("Penalty"), nullptr);
   EXPECT_FALSE(contact_law_from_string("springs"));
 }
@@ -42,7 +43,8 @@ TEST(ContactLawRegistry, ParametersAreTakenByTheLawsThatUseThem) {
     order += (order.empty() ? "" : ", ") + std::string(p.name);
   }
   EXPECT_EQ(order,
-            "penalty_stiffness, penalty_factor, augmented_tolerance, augmented_max_iterations");
+            "penalty_stiffness, penalty_factor, augmented_tolerance, augmented_max_iterations, "
+            "restitution");
   for (const ContactLawDescriptor& d : contact_law_registry()) {
     for (const ContactLawParameter& p : d.introduces) EXPECT_TRUE(law_takes(d, p.name)) << p.name;
     for (const char* key : d.parameters) {
@@ -52,6 +54,7 @@ TEST(ContactLawRegistry, ParametersAreTakenByTheLawsThatUseThem) {
   EXPECT_TRUE(descriptor(ContactLaw::lagrange).parameters.empty());
   EXPECT_EQ(contact_laws_taking("penalty_factor"), "penalty|augmented-lagrangian");
   EXPECT_EQ(contact_laws_taking("augmented_tolerance"), "augmented-lagrangian");
+  EXPECT_EQ(contact_laws_taking("restitution"), "paoli-schatzman");
   EXPECT_EQ(find_contact_law_parameter("gap"), nullptr);
 }
 
@@ -75,7 +78,8 @@ TEST(ContactLawRegistry, ParametersSetAndReadTheirFields) {
   EXPECT_EQ(t, (ContactTreatment{.penalty_stiffness = 7.0,
                                  .penalty_factor = 8.0,
                                  .augmented_tolerance = 9.0,
-                                 .augmented_max_iterations = 10}));
+                                 .augmented_max_iterations = 10,
+                                 .restitution = 11.0}));
 }
 
 // validate() is every parameter's check in the table's order, whatever the law.
@@ -104,12 +108,16 @@ TEST(ContactLawRegistry, ValidationNamesTheFirstBadParameterWhateverTheLaw) {
 }
 
 // The traits the reports read (springs, explicit_force, iterates) are those the step loops test
-// by comparison (ContactPenalties::lagrange(), explicit_force()) and the laws' arithmetic
-// (single_contact_force iterates for the augmented Lagrangian only).
+// by comparison on the law as resolved for a system (ContactPenalties::lagrange(),
+// explicit_force(); Paoli–Schatzman's resolves to Lagrange's with its restitution) and the laws'
+// arithmetic (single_contact_force iterates for the augmented Lagrangian only).
 TEST(ContactLawRegistry, TraitsAgreeWithTheStepLoops) {
+  const SecondOrderSystem rod = testing::free_rod(4);
   for (const ContactLaw law : kEveryLaw) {
     const ContactLawDescriptor& d = descriptor(law);
-    const ContactPenalties resolved{.law = law};
+    const ContactPenalties resolved =
+        resolve_contact(ContactTreatment{.law = law, .restitution = 0.5}, rod);
+    EXPECT_EQ(resolved.restitution, d.two_step_gap ? 0.5 : 0.0) << d.name;
     EXPECT_EQ(d.springs, !resolved.lagrange()) << d.name;
     EXPECT_EQ(d.explicit_force, resolved.explicit_force()) << d.name;
     EXPECT_EQ(d.springs, law_takes(d, "penalty_stiffness")) << d.name;

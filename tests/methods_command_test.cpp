@@ -95,6 +95,18 @@ TEST(MethodsCommand, JsonGivesTheSameList) {
         "\"derived\":[\"beta\",\"gamma\",\"alpha_m\",\"alpha_f\"]"}) {
     EXPECT_TRUE(contains(o.text, part)) << part << "\n" << o.text;
   }
+  // The contact laws each takes: central difference all four, the others all but Paoli–Schatzman's.
+  EXPECT_TRUE(contains(o.text,
+                       "\"contact_laws\":[\"lagrange\",\"penalty\",\"augmented-lagrangian\","
+                       "\"paoli-schatzman\"]"))
+      << o.text;
+  EXPECT_TRUE(
+      contains(o.text, "\"contact_laws\":[\"lagrange\",\"penalty\",\"augmented-lagrangian\"]"))
+      << o.text;
+  const auto text = run_impactid("methods");
+  EXPECT_TRUE(contains(text.text,
+                       "  contact laws: lagrange|penalty|augmented-lagrangian|paoli-schatzman\n"))
+      << text.text;
   EXPECT_EQ(run_impactid("methods --bogus").status, 2);
 }
 

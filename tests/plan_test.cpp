@@ -317,7 +317,7 @@ TEST(PlanErrors, UnknownKeys) {
             "bad.toml:3:9: scene.bogus = 1: unknown key (scene keys: length, elements, "
             "youngs_modulus, density, area, velocity, gap, far_gap, mass, contact, "
             "penalty_stiffness, penalty_factor, "
-            "augmented_tolerance, augmented_max_iterations, rayleigh_mass, "
+            "augmented_tolerance, augmented_max_iterations, restitution, rayleigh_mass, "
             "rayleigh_stiffness, courant, dt, t_end)");
   EXPECT_EQ(error_of("nmae = \"x\"\n"),
             "bad.toml:1:8: nmae = \"x\": unknown key (top-level keys: name, description, scene, "
@@ -538,7 +538,7 @@ courant = 1
                         "parameters: ") +
                 "length, elements, youngs_modulus, density, area, velocity, gap, far_gap, mass, "
                 "contact, penalty_stiffness, penalty_factor, "
-                "augmented_tolerance, augmented_max_iterations, "
+                "augmented_tolerance, augmented_max_iterations, restitution, "
                 "rayleigh_mass, rayleigh_stiffness, courant, dt, t_end, method, delta, alpha, "
                 "beta, gamma, rho_inf, substep_ratio, theta, p, cdm_velocity, hht_contact, "
                 "peak_prominence, "
@@ -578,7 +578,7 @@ TEST(PlanErrors, ChoiceAxisRules) {
   const std::string head = "[study]\nkind = \"grid\"\n[study.axes]\n";
   EXPECT_EQ(error_of(head + "contact = { values = [\"lagrange\", \"springs\"] }\n"),
             "bad.toml:4:35: study.axes.contact.values[1] = \"springs\": must be one of "
-            "lagrange|penalty|augmented-lagrangian");
+            "lagrange|penalty|augmented-lagrangian|paoli-schatzman");
   EXPECT_EQ(error_of(head + "method = { values = [\"hht\", \"newmark\"] }\n"),
             "bad.toml:4:10: study.axes.method = { values = [\"hht\", \"newmark\"] }: is not an "
             "axis: compare methods in a list or a work-precision study");
@@ -586,7 +586,7 @@ TEST(PlanErrors, ChoiceAxisRules) {
             "bad.toml:4:34: study.axes.contact.values[1] = \"penalty\": repeats an earlier word");
   EXPECT_EQ(error_of(head + "contact = { values = [1] }\n"),
             "bad.toml:4:23: study.axes.contact.values[0] = 1: must be a word "
-            "(lagrange|penalty|augmented-lagrangian)");
+            "(lagrange|penalty|augmented-lagrangian|paoli-schatzman)");
   EXPECT_EQ(error_of(head + "contact = { from = 0, to = 2, partitions = 2 }\n"),
             "bad.toml:4:20: study.axes.contact.from = 0: unknown key (a choice axis has only: "
             "values)");
@@ -699,7 +699,7 @@ TEST(PlanErrors, ColumnsCountCharactersNotBytes) {
             "bad.toml:3:10: scene.café = 1: unknown key (scene keys: length, elements, "
             "youngs_modulus, density, area, velocity, gap, far_gap, mass, contact, "
             "penalty_stiffness, penalty_factor, "
-            "augmented_tolerance, augmented_max_iterations, rayleigh_mass, "
+            "augmented_tolerance, augmented_max_iterations, restitution, rayleigh_mass, "
             "rayleigh_stiffness, courant, dt, t_end)");
 }
 

@@ -98,13 +98,32 @@ TEST(SimulationSettings, ContactKeysAreCheckedByName) {
   for (const auto& [key, bad] : {std::pair{"penalty_stiffness", "0"},
                                  {"penalty_factor", "-1"},
                                  {"augmented_tolerance", "1"},
-                                 {"augmented_max_iterations", "0"}}) {
+                                 {"augmented_max_iterations", "0"},
+                                 {"restitution", "1.5"}}) {
     SimulationSettings t;
     ASSERT_FALSE(assign_text(t, key, bad)) << key;
     const ParameterError e = error_of(t);
     EXPECT_EQ(e.field, key);
     EXPECT_EQ(e.value, bad);
   }
+}
+
+// Paoli–Schatzman's law is central difference's (a two-step recurrence in u): the other methods
+// refuse it by the key `contact`, naming the methods that take it.
+TEST(SimulationSettings, AContactLawAMethodDoesNotTakeIsRefusedByName) {
+  SimulationSettings s;
+  ASSERT_FALSE(assign_text(s, "contact", "paoli-schatzman"));
+  ASSERT_FALSE(assign_text(s, "restitution", "0.5"));
+  const ParameterError e = error_of(s);  // the default method, hht
+  EXPECT_EQ(e.field, "contact");
+  EXPECT_EQ(e.value, "paoli-schatzman");
+  EXPECT_NE(e.constraint.find("method hht does not take contact law paoli-schatzman"),
+            std::string::npos)
+      << e.constraint;
+  EXPECT_NE(e.constraint.find("the methods that take it: cdm"), std::string::npos) << e.constraint;
+  s.method.kind = MethodKind::central_difference;
+  EXPECT_EQ(built(s).run.contact.law, ContactLaw::paoli_schatzman);
+  EXPECT_EQ(built(s).run.contact.restitution, 0.5);
 }
 
 TEST(SimulationSettings, NanIsRejectedByName) {

@@ -43,6 +43,20 @@ bool same_options(const RunOptions& a, const RunOptions& b) {
          a.record_history == b.record_history && a.skip_free_flight == b.skip_free_flight;
 }
 
+// The rod's kernels enforce Lagrange's law; central difference's also a two-step gap's
+// (Paoli–Schatzman's: core/batch/cdm_kernel.hpp shifts the gap as the scalar step does).
+bool rod_kernel_law(const RunOptions& options, const MethodParams& method) {
+  return options.contact.law == lagrange_law().law ||
+         (descriptor(options.contact.law).two_step_gap &&
+          explicit_batch_kind(method) == ExplicitBatchKind::central_difference);
+}
+
+// The restitution a rod kernel's batch steps with (one per batch): the law's if it has a two-step
+// gap, else none whatever the field holds.
+double kernel_restitution(const RunOptions& options) {
+  return descriptor(options.contact.law).two_step_gap ? options.contact.restitution : 0.0;
+}
+
 }  // namespace
 
 bool batchable(const RodScene& scene, const MethodParams& method, const RunOptions& options) {
@@ -55,7 +69,7 @@ bool batchable(const RodScene& scene, const MethodParams& method, const RunOptio
   return (is_single_step_implicit(method) || is_composite(method) ||
           stepped_by<WilsonThetaCoefficients>(method) || stepped_by<HouboltCoefficients>(method) ||
           explicit_batchable(scene, method) || kr_alpha_batchable(scene, method)) &&
-         !scene.far_gap && !options.record_history && options.contact.law == lagrange_law().law &&
+         !scene.far_gap && !options.record_history && rod_kernel_law(options, method) &&
          // The kernels' steps assume a regular mass: a modified mass's massless contact DOF
          // (redistributed, singular) runs through simulate().
          !has_massless_dofs(scene.mass);
@@ -81,7 +95,8 @@ bool same_batch(const RodScene& a, const MethodParams& method_a, const RunOption
   const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
                             options_a.energy_check_interval == options_b.energy_check_interval &&
                             options_a.record_history == options_b.record_history &&
-                            options_a.skip_free_flight == options_b.skip_free_flight;
+                            options_a.skip_free_flight == options_b.skip_free_flight &&
+                            kernel_restitution(options_a) == kernel_restitution(options_b);
   return same_rod && same_options && derive(a).time_step == derive(b).time_step;
 }
 
@@ -167,7 +182,8 @@ bool same_chain_batch(const AssembledScene& a, const RunOptions& options_a, cons
   const bool same_options = options_a.energy_growth_limit == options_b.energy_growth_limit &&
                             options_a.energy_check_interval == options_b.energy_check_interval &&
                             options_a.record_history == options_b.record_history &&
-                            options_a.skip_free_flight == options_b.skip_free_flight;
+                            options_a.skip_free_flight == options_b.skip_free_flight &&
+                            kernel_restitution(options_a) == kernel_restitution(options_b);
   return same_options && a.dt == b.dt && a.rigid_flight == b.rigid_flight &&
          same_tridiagonal(s.mass, t.mass) && same_tridiagonal(s.stiffness, t.stiffness) &&
          same_tridiagonal(s.damping, t.damping);

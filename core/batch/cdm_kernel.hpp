@@ -34,6 +34,9 @@ struct CdmRows {
   // into (holding u_{t−2Δt} before it).
   Lanes *previous, *current, *next;
   Lanes gap;
+  // Paoli–Schatzman's e (ContactPenalties::restitution; 0 under Lagrange's law), the batch's: each
+  // step's gap is then shifted by −e·(u₋ − gap), as CentralDifference::shifted_gap shifts it.
+  double restitution;
   LaneMask backward_velocity;  // CdmVelocity::backward lanes; the others central
   double dt;
   double inv_dt2;  // 1/(Δt·Δt), as CentralDifference::step
@@ -125,18 +128,20 @@ struct CdmBatch {
   // The contact (the rod's contact dof is the last): the forward sweep leaves the last unknown
   // final, so the test and λ = (u₊ − gap)/(A⁻¹·e_c)_c come before the back substitution.
   const Lanes free_end = y[last];
-  const LaneMask closes = greater(free_end, b.gap);
+  const Lanes gap =
+      b.restitution > 0.0 ? b.gap + splat(-b.restitution) * (u_previous[last] - b.gap) : b.gap;
+  const LaneMask closes = greater(free_end, gap);
   Lanes lambda{};
   // The back substitution in place; where some lane's contact closes, those lanes corrected by
   // −λ·A⁻¹·e_c as the scalar step corrects its solution.
   if (any_lane(closes)) {
-    lambda = select(closes, (free_end - b.gap) / splat(b.influence[last]), Lanes{});
+    lambda = select(closes, (free_end - gap) / splat(b.influence[last]), Lanes{});
     back_substitute(
         b, uniform, y, [&](Eigen::Index i, const Lanes& x) __attribute__((always_inline)) {
           store(&y[i], select(closes, x - lambda * splat(b.influence[i]), x));
         });
     // u₊ − λ·A⁻¹·e_c at the node, then exactly the wall (CentralDifference::step).
-    store(&y[last], select(closes, b.gap, free_end));
+    store(&y[last], select(closes, gap, free_end));
   } else {
     back_substitute(
         b, uniform,
@@ -285,6 +290,7 @@ void simulate_cdm_batch(std::span<const RodScene> scenes, std::span<const Method
   arrays.take({&rows.previous, &rows.current, &rows.next, &b.start_previous, &b.start_current,
                &b.start_next});
   rows.gap = splat(kInf);  // unused lanes never touch a wall
+  rows.restitution = contact.restitution;
   rows.dt = dt;
   rows.inv_dt2 = 1.0 / (dt * dt);
   rows.two_dt = 2.0 * dt;

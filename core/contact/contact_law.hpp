@@ -12,7 +12,7 @@ namespace impactid {
 /// The laws, each registered once (core/contact/contact_law_registry.hpp) and defined in its own
 /// file (core/contact/<law>_law.cpp). Outside core/contact/ a law is named through the registry,
 /// never by its value (tests/contact_law_ownership_test.py).
-enum class ContactLaw { lagrange, penalty, augmented_lagrangian };
+enum class ContactLaw { lagrange, penalty, augmented_lagrangian, paoli_schatzman };
 
 /// A law with its parameters. Every field is validated whatever the law (validate(), in the
 /// registry): a sweep crossing `contact` with `penalty_factor` must refuse a bad factor at its
@@ -27,6 +27,9 @@ struct ContactTreatment {
   /// step's largest contact-free penetration; in (0, 1).
   double augmented_tolerance = 1e-6;
   int augmented_max_iterations = 100;  ///< augmented-lagrangian: iterations per step at most; >= 1
+  /// paoli-schatzman: Newton's coefficient of restitution e of the impact law on
+  /// (u_{n+1} + e·u_{n−1})/(1 + e); in [0, 1]. At 0 the law is Lagrange's, bit for bit.
+  double restitution = 0.0;
 
   bool operator==(const ContactTreatment&) const = default;
 };

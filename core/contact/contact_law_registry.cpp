@@ -7,8 +7,8 @@ namespace impactid {
 
 std::span<const ContactLawDescriptor> contact_law_registry() {
   // Built on first use, after each law's file has made its descriptor.
-  static const std::array<ContactLawDescriptor, 3> laws{lagrange_law(), penalty_law(),
-                                                        augmented_lagrangian_law()};
+  static const std::array<ContactLawDescriptor, 4> laws{
+      lagrange_law(), penalty_law(), augmented_lagrangian_law(), paoli_schatzman_law()};
   return laws;
 }
 

@@ -6,15 +6,17 @@
 // `impactid contact-laws`, `simulate`'s report and the Python module all come from here.
 //
 // Each law is defined in its own file (core/contact/lagrange_law.cpp, penalty_law.cpp,
-// augmented_lagrangian_law.cpp) with the parameters it introduces and its own arithmetic (the
-// spring's k, Uzawa's iterations: penalty_law.hpp, augmented_lagrangian_law.hpp). The solves that
-// the steppers call (one wall, two walls, a constraint list, the explicit stages, the explicit
-// stable step) are in core/contact/ too (contact_treatment, constraint_list_law, ...);
-// docs/architecture.md, "A contact law", lists what a new law touches.
+// augmented_lagrangian_law.cpp, paoli_schatzman_law.cpp) with the parameters it introduces and its
+// own arithmetic (the spring's k, Uzawa's iterations: penalty_law.hpp,
+// augmented_lagrangian_law.hpp). The solves that the steppers call (one wall, two walls, a
+// constraint list, the explicit stages, the explicit stable step) are in core/contact/ too
+// (contact_treatment, constraint_list_law, ...); docs/architecture.md, "A contact law", lists what
+// a new law touches.
 //
 // Whether a method refuses a law is the method's to say, not the law's: core/methods sits above
-// core/contact and may name laws, not the other way round. No method refuses one today (KR-α
-// took the penalty in dc4d57f).
+// core/contact and may name laws, not the other way round. A method says it through its
+// descriptor's traits (MethodDescriptor::two_step_displacement, for a law with two_step_gap), which
+// contact_law_refusal (core/methods/method_registry.hpp) reads.
 //
 // Thread safety: the registry is immutable; every function is reentrant.
 #pragma once
@@ -64,12 +66,18 @@ struct ContactLawDescriptor {
   /// Each contact solve is Uzawa's iterations, counted and capped (augmented_max_iterations); a
   /// run reports how many and how many steps ended at the cap.
   bool iterates = false;
+  /// Its gap holds on (u_{n+1} + e·u_{n−1})/(1 + e), a position-level impact law with a
+  /// coefficient of restitution e (Paoli–Schatzman): only a method whose step is a two-step
+  /// recurrence in u (MethodDescriptor::two_step_displacement: central difference) takes it; the
+  /// others refuse it by name (contact_law_refusal, core/methods/method_registry.hpp).
+  bool two_step_gap = false;
 };
 
 /// Each law's descriptor, defined in its own file.
 const ContactLawDescriptor& lagrange_law();
 const ContactLawDescriptor& penalty_law();
 const ContactLawDescriptor& augmented_lagrangian_law();
+const ContactLawDescriptor& paoli_schatzman_law();
 
 /// Every law, in the order --help and `impactid contact-laws` list them (the default first).
 std::span<const ContactLawDescriptor> contact_law_registry();

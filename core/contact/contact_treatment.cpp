@@ -15,7 +15,11 @@ ContactPenalties resolve_listed(const ContactTreatment& t,
   out.law = t.law;
   out.tolerance = t.augmented_tolerance;
   out.max_iterations = t.augmented_max_iterations;
-  if (t.law == ContactLaw::lagrange) return out;
+  if (t.law == ContactLaw::paoli_schatzman) {  // Lagrange's multiplier on shifted gaps
+    out.law = ContactLaw::lagrange;
+    out.restitution = t.restitution;
+  }
+  if (out.law == ContactLaw::lagrange) return out;
   out.listed.reserve(constraints.size());
   for (const Constraint& c : constraints) {
     double smaller = std::numeric_limits<double>::infinity();
@@ -32,7 +36,7 @@ ContactPenalties resolve_contact(const ContactTreatment& t, const SecondOrderSys
   const Eigen::VectorXd& k = system.stiffness.diag;
   ContactPenalties out =
       resolve_listed(t, system.constraints, [&](Eigen::Index dof) { return k[dof]; });
-  if (t.law == ContactLaw::lagrange) return out;
+  if (out.lagrange()) return out;
   out.main = penalty_stiffness(t, k[system.contact_dof]);
   out.far = penalty_stiffness(t, k[system.far_contact_dof]);
   return out;

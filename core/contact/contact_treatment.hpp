@@ -26,6 +26,10 @@
 //   `augmented_max_iterations` are done. μ converges to the Lagrange multiplier: its error shrinks
 //   by 1/(1 + w·k·d) per iteration for a single contact (d = D's entry), so a stiffer k converges
 //   faster. The iterations are counted in the run summary.
+// - **paoli-schatzman** (central difference only): Lagrange's multiplier with the gap held on
+//   (u_{n+1} + e·u_{n−1})/(1 + e), e the coefficient of restitution; resolved as Lagrange's law
+//   with `restitution` e, which central difference turns into a shift of each gap
+//   (core/contact/paoli_schatzman_law.hpp). At e = 0 it is Lagrange's law, bit for bit.
 //
 // The penalty stiffness k [N/mm] is `penalty_stiffness` when given, otherwise `penalty_factor`
 // times the contact dof's stiffness K_cc (for a constraint between two bodies, the smaller of its
@@ -62,6 +66,9 @@ struct ContactPenalties {
   std::vector<double> listed;  ///< one per SecondOrderSystem::constraints entry
   double tolerance = 1e-6;
   int max_iterations = 100;
+  /// Paoli–Schatzman's e (core/contact/paoli_schatzman_law.hpp), with `law` then Lagrange's; 0
+  /// for every other law.
+  double restitution = 0.0;
 
   bool lagrange() const { return law == ContactLaw::lagrange; }
   /// The registry's ContactLawDescriptor::explicit_force, as a comparison the step loops can

@@ -83,6 +83,7 @@ MethodDescriptor cdm_method() {
           "solved from its static equation K_c*u + lambda = 0 at t + dt within the step, with "
           "the contact (its force reported with the next sample); not with rayleigh_stiffness > 0",
       .massless_dofs_undamped = true,
+      .two_step_displacement = true,
   };
 }
 

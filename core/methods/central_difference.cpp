@@ -8,6 +8,7 @@
 #include "core/algebra/contact_lcp.hpp"
 #include "core/algebra/two_wall_contact.hpp"
 #include "core/contact/constraint_set.hpp"
+#include "core/contact/paoli_schatzman_law.hpp"
 #include "core/contact/stable_step.hpp"
 
 namespace impactid {
@@ -36,6 +37,12 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   }
   if (massless_main_ || massless_far_) {
     failure_ = massless_failure(system);
+    if (failure_.empty() && contact_.restitution > 0.0) {
+      failure_ =
+          "paoli-schatzman's restitution is not defined on a massless contact DOF (its "
+          "static equation has no previous displacement): restitution = 0, or mass = "
+          "lumped|consistent";
+    }
     if (!failure_.empty()) return false;
     // A unit row: the recurrence's value there is overwritten by the static solve.
     if (massless_main_) lhs.diag[system.contact_dof] = 1.0;
@@ -62,6 +69,7 @@ bool CentralDifference::initialize(const SecondOrderSystem& system, CdmVelocity 
   list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);
   list_ = list_law_.problem(std::move(delassus));
   forces_.resize(m);
+  gap_shifts_.setZero(m);
   return true;
 }
 
@@ -135,6 +143,11 @@ bool CentralDifference::step_massless(const SecondOrderSystem& system, State& at
   return lambda > 0.0;
 }
 
+double CentralDifference::shifted_gap(double gap, double previous_violation) const {
+  if (!(contact_.restitution > 0.0)) return gap;  // every other law's gap, the same bits
+  return gap + restitution_gap_shift(contact_.restitution, previous_violation);
+}
+
 bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
   if (massless_main_ || massless_far_) return step_massless(system, at_t);
   recurrence_.predict(system, factorization_);
@@ -145,17 +158,32 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
   const Eigen::Index contact = system.contact_dof;
   if (system.has_constraint_list()) {
     const auto m = static_cast<int>(system.constraints.size());
-    // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
-    list_law_.forward_increment(system.constraints, list_, u_next, u, forces_);
+    if (contact_.restitution > 0.0) {  // Paoli–Schatzman: Lagrange's on the shifted gaps
+      restitution_gap_shifts(system.constraints, recurrence_.u_previous, contact_.restitution,
+                             gap_shifts_);
+      constraint_violations(system.constraints, u_next, list_law_.violation());
+      list_law_.violation() -= gap_shifts_;
+      list_law_.solve(list_, forces_);
+    } else {
+      // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
+      list_law_.forward_increment(system.constraints, list_, u_next, u, forces_);
+    }
     apply_constraint_forces(constraint_influence_, constraint_rows_, forces_, u_next);
-    if (contact_.lagrange()) snap_walls(system.constraints, forces_, u_next);
+    if (contact_.restitution > 0.0) {
+      snap_walls(system.constraints, forces_, u_next, gap_shifts_);
+    } else if (contact_.lagrange()) {
+      snap_walls(system.constraints, forces_, u_next);
+    }
     at_t.multipliers = forces_;  // the same size: no allocation
     for (int j = 0; j < m; ++j) lambda = std::max(lambda, forces_[j]);
   } else if (system.has_far_contact()) {
     const Eigen::Index far = system.far_contact_dof;
+    const Eigen::VectorXd& u_previous = recurrence_.u_previous;
+    const double gap = shifted_gap(system.gap, u_previous[contact] - system.gap);
+    const double far_gap = shifted_gap(system.far_gap, -system.far_gap - u_previous[far]);
     TwoWallForces forces;
     if (contact_.lagrange()) {
-      forces = solve_two_wall_contact(u_next[contact] - system.gap, -system.far_gap - u_next[far],
+      forces = solve_two_wall_contact(u_next[contact] - gap, -far_gap - u_next[far],
                                       contact_influence_[contact], far_influence_[far],
                                       far_influence_[contact], contact_influence_[far]);
     } else if (contact_.explicit_force()) {
@@ -172,8 +200,8 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
     if (forces.main > 0.0) u_next -= forces.main * contact_influence_;
     if (forces.far > 0.0) u_next += forces.far * far_influence_;
     if (contact_.lagrange()) {
-      if (forces.main > 0.0) u_next[contact] = system.gap;
-      if (forces.far > 0.0) u_next[far] = -system.far_gap;
+      if (forces.main > 0.0) u_next[contact] = gap;
+      if (forces.far > 0.0) u_next[far] = -far_gap;
     }
     lambda = forces.main;
     at_t.far_lambda = forces.far;
@@ -182,11 +210,14 @@ bool CentralDifference::step(const SecondOrderSystem& system, State& at_t) {
       lambda = contact_.main * (u[contact] - system.gap);
       u_next -= lambda * contact_influence_;
     }
-  } else if (system.has_contact() && u_next[contact] > system.gap) {
+  } else if (system.has_contact() &&
+             u_next[contact] >
+                 shifted_gap(system.gap, recurrence_.u_previous[contact] - system.gap)) {
     if (contact_.lagrange()) {
-      lambda = (u_next[contact] - system.gap) / contact_influence_[contact];
+      const double gap = shifted_gap(system.gap, recurrence_.u_previous[contact] - system.gap);
+      lambda = (u_next[contact] - gap) / contact_influence_[contact];
       u_next -= lambda * contact_influence_;
-      u_next[contact] = system.gap;  // exact, not a few ulps off
+      u_next[contact] = gap;  // exact, not a few ulps off
     } else {
       ContactIterations iterations;
       lambda = single_contact_force(u_next[contact] - system.gap, contact_influence_[contact],

@@ -32,6 +32,12 @@
 // the multiplier at t_i. Damping on such a DOF is refused (its static equation would need its
 // velocity): massless_failure().
 //
+// Paoli–Schatzman's law (ContactPenalties::restitution e > 0, core/contact/paoli_schatzman_law.hpp)
+// is the same forward increment on every wall and constraint with each gap shifted by −e·g(u₋),
+// the violation of the previous displacement, so that the gap holds on (u₊ + e·u₋)/(1 + e); each
+// pushed DOF is snapped onto its shifted wall. It is not defined on a massless DOF, whose static
+// equation has no u₋ (refused in initialize()).
+//
 // Written once with the sparse stepper (SparseCentralDifference, core/methods/
 // sparse_integrators.hpp): the start, the contact-free update, the sample and the energy
 // (core/methods/central_difference_recurrence.hpp, over any core/model/semi_discrete_system.hpp).
@@ -96,6 +102,9 @@ class CentralDifference {
  private:
   /// step() on a rod whose contact DOFs are massless (above).
   bool step_massless(const SecondOrderSystem& system, State& at_t);
+  /// A wall's gap for this step: `gap` shifted by Paoli–Schatzman's −e·g(u₋) (g(u₋) =
+  /// `previous_violation`), `gap` itself under every other law.
+  double shifted_gap(double gap, double previous_violation) const;
   /// Why a system with massless DOFs cannot be stepped, or "" if it can.
   static std::string massless_failure(const SecondOrderSystem& system);
 
@@ -109,6 +118,7 @@ class CentralDifference {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> constraint_rows_;
   ConstraintListProblem list_;  // G·A⁻¹·Gᵀ (with the springs' compliances: penalty laws)
   Eigen::VectorXd forces_;
+  Eigen::VectorXd gap_shifts_;  // Paoli–Schatzman's −e·g_j(u₋) of the listed constraints
   ContactPenalties contact_;
   ConstraintListLaw list_law_;  // the list's law; counts every solve's Uzawa iterations
   double stable_step_ = 0.0;

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/contact/contact_law_registry.hpp"
+
 namespace impactid {
 
 // Each method's descriptor, built in its own file core/methods/<method>_method.cpp.
@@ -216,6 +218,19 @@ std::optional<std::string> massless_refusal(const MethodDescriptor& method,
            format_value(rayleigh_stiffness) + ")";
   }
   return std::nullopt;
+}
+
+std::optional<std::string> contact_law_refusal(const MethodDescriptor& method, ContactLaw law) {
+  const ContactLawDescriptor& d = descriptor(law);
+  if (!d.two_step_gap || method.two_step_displacement) return std::nullopt;
+  std::string takers;
+  for (const MethodDescriptor& m : methods()) {
+    if (m.two_step_displacement) takers += (takers.empty() ? "" : "|") + std::string(m.name);
+  }
+  return std::string("method ") + method.name + " does not take contact law " + d.name +
+         " (its gap holds on a mean of u_{n+1} and u_{n-1}, which needs a two-step recurrence in "
+         "u; the methods that take it: " +
+         takers + ")";
 }
 
 std::variant<MethodParams, ParameterError> build_method(MethodKind kind,

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "core/common/parameter_error.hpp"
+#include "core/contact/contact_law.hpp"
 #include "core/methods/method.hpp"
 #include "core/methods/stepper_coefficients.hpp"
 
@@ -139,12 +140,21 @@ struct MethodDescriptor {
   /// It steps massless DOFs only without stiffness-proportional damping (rayleigh_stiffness = 0),
   /// which would put their velocity into their static equation.
   bool massless_dofs_undamped = false;
+  /// Its step is a two-step recurrence in u (u_{n+1} from u_n and u_{n−1}: central difference),
+  /// so it takes a contact law whose gap holds on a mean of u_{n+1} and u_{n−1}
+  /// (ContactLawDescriptor::two_step_gap: Paoli–Schatzman's); a method without it refuses such a
+  /// law by name (contact_law_refusal).
+  bool two_step_displacement = false;
 };
 
 /// Why `method` does not step a mass matrix with massless DOFs under the given stiffness-
 /// proportional damping (its descriptor's massless_dofs), or nothing if it does.
 std::optional<std::string> massless_refusal(const MethodDescriptor& method,
                                             double rayleigh_stiffness);
+
+/// Why `method` does not take the contact law `law` (a law with two_step_gap needs a method with
+/// two_step_displacement), or nothing if it does.
+std::optional<std::string> contact_law_refusal(const MethodDescriptor& method, ContactLaw law);
 
 /// Every method parameter's key, in the order --help and plan errors list them.
 std::span<const MethodParameter> method_parameters();

@@ -6,6 +6,7 @@
 
 #include "core/algebra/contact_lcp.hpp"
 #include "core/contact/constraint_set.hpp"
+#include "core/contact/paoli_schatzman_law.hpp"
 #include "core/contact/sparse_constraints.hpp"
 #include "core/contact/stable_step.hpp"
 
@@ -128,6 +129,7 @@ bool SparseCentralDifference::initialize(const SparseSystem& system, CdmVelocity
   list_law_.initialize(contact_, m, PenaltyForm::explicit_spring);
   list_ = list_law_.problem(delassus_matrix(system.constraints, factorization_, 1.0));
   forces_.setZero(m);
+  gap_shifts_.setZero(m);
   lcp_.resize(m);
   return true;
 }
@@ -137,11 +139,24 @@ bool SparseCentralDifference::step(const SparseSystem& system, State& at_t) {
   Eigen::VectorXd& u_next = recurrence_.u_next;
   // The penalty's violations are those at t (its force is explicit); the others' at t + Δt.
   const Eigen::VectorXd& checked = contact_.explicit_force() ? recurrence_.u : u_next;
+  // Paoli–Schatzman's law: each gap shifted by −e·g_j(u₋) (core/contact/paoli_schatzman_law.hpp).
+  const bool shifted = contact_.restitution > 0.0;
+  if (shifted) {
+    restitution_gap_shifts(system.constraints, recurrence_.u_previous, contact_.restitution,
+                           gap_shifts_);
+  }
   const bool active = contact_forces(
       system.constraints, factorization_, [&](Eigen::Index i) { return checked[i]; },
-      [&](int j) { return system.constraints[static_cast<std::size_t>(j)].gap; }, list_law_, list_,
-      lcp_, forces_, correction_, u_next);
-  if (active && contact_.lagrange()) snap_walls(system.constraints, forces_, u_next);
+      [&](int j) {
+        const double gap = system.constraints[static_cast<std::size_t>(j)].gap;
+        return shifted ? gap + gap_shifts_[j] : gap;
+      },
+      list_law_, list_, lcp_, forces_, correction_, u_next);
+  if (active && shifted) {
+    snap_walls(system.constraints, forces_, u_next, gap_shifts_);
+  } else if (active && contact_.lagrange()) {
+    snap_walls(system.constraints, forces_, u_next);
+  }
 
   for (Eigen::Index j = 0; j < forces_.size(); ++j) at_t.multipliers[j] = active ? forces_[j] : 0.0;
   at_t.lambda = 0.0;

@@ -31,6 +31,9 @@
 // above it flagged before the run), and Uzawa's iterations on the forward increment's penalty
 // problem.
 //
+// Central difference takes Paoli–Schatzman's law as on a tridiagonal system: each gap shifted by
+// −e·g_j(u₋) (core/methods/central_difference.hpp).
+//
 // Central difference needs a diagonal M (a lumped mass): initialize() refuses another with a
 // message that says so. With stiffness-proportional or other non-diagonal damping the left-hand
 // matrix M/Δt² + C/(2Δt) is factored like an implicit one.
@@ -123,6 +126,7 @@ class SparseCentralDifference {
   Eigen::VectorXd correction_;
   ConstraintListProblem list_;  // G·A⁻¹·Gᵀ (+ diag(1/k): penalty laws)
   Eigen::VectorXd forces_;
+  Eigen::VectorXd gap_shifts_;  // Paoli–Schatzman's −e·g_j(u₋), as CentralDifference's
   ContactLcpWorkspace lcp_;
   ContactPenalties contact_;
   ConstraintListLaw list_law_;  // weight 1, as CentralDifference's

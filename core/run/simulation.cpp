@@ -501,6 +501,11 @@ RunSummary simulate(const AssembledScene& scene, const MethodParams& method,
       return summary;
     }
   }
+  if (auto refusal = contact_law_refusal(descriptor(method), options.contact.law)) {
+    summary.status = RunStatus::failed;
+    summary.message = std::string("contact = ") + to_string(options.contact.law) + ": " + *refusal;
+    return summary;
+  }
   const long skipped = summary.skipped_steps;
   const ContactProbe& primary = scene.probes[static_cast<std::size_t>(scene.primary)];
 

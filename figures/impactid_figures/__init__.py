@@ -20,6 +20,9 @@ that raises results.Skip when its data are missing, registered in FIGURES of mak
   optimize             the NLopt search
   stability_map        the HHT stability map over Courant numbers
   work_precision       work-precision, on the rod and on the block
+  contact_laws         the contact laws over the penalty stiffness
+  restitution          Paoli–Schatzman's law over its coefficient of restitution
+  parameter_maps       the other methods' own parameters
 and, outside FIGURES, one module that draws any single file by its kind:
   own_results          `impactid plot FILE.h5` and impactid.plot (figures/plot_results.py)
 What each figure shows: figures/README.md.

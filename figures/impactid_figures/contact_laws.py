@@ -9,7 +9,7 @@ fig_contact_laws.png  results/contact-laws.h5 (plans/contact-laws.toml: a grid w
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .plot import log_axis_plain, save
+from .plot import log_axis_plain, ok_values, save
 from .results import Skip, load, text
 from .scene import results_scene
 
@@ -31,10 +31,9 @@ def fig_contact_laws(results_dir, out_dir):
               ("max_penetration", "largest penetration [mm]", "(c) largest penetration into the wall", "log")]
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
     for ax, (key, ylabel, title, yscale) in zip(axes, panels):
-        if not r.has(key):
-            ax.text(0.5, 0.5, f"{key} not in {r.path.name}", transform=ax.transAxes, ha="center")
+        values = ok_values(ax, r, key)
+        if values is None:
             continue
-        values = np.where(r.status == 0, np.asarray(r.data[key], dtype=float), np.nan)
         for i, law in enumerate(laws):
             color, marker = LAW_STYLE.get(law, ("0.5", "^"))
             y = values[i]

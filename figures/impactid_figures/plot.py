@@ -149,3 +149,12 @@ def shade_practical_1d(ax, r, x, symbol):
         ax.axvspan(max(lo, lo_clip), min(hi, hi_clip), color=PRACTICAL_COLOR, alpha=0.13, lw=0, label=label, zorder=0)
         label = None
     return True
+
+
+def ok_values(ax, r, key):
+    """The values of `key` at the file's ok points (NaN elsewhere); None, with a note on the panel
+    `ax`, when the file has no `key`."""
+    if not r.has(key):
+        ax.text(0.5, 0.5, f"{key} not in {r.path.name}", transform=ax.transAxes, ha="center")
+        return None
+    return np.where(r.status == 0, np.asarray(r.data[key], dtype=float), np.nan)

@@ -188,8 +188,9 @@ def bodies_scene_text(scene, varying=()):
     gravity = float(scene.get("gravity", 0.0))
     if gravity != 0.0 and "gravity" not in varying:
         parts.append(f"g = {num(abs(gravity))} toward the {'left' if gravity < 0 else 'right'} wall")
-    n = [num(seg["elements"]) for b in bodies for seg in b["segments"]]
-    parts.append(f"n = {' + '.join(n)}")
+    if not any(k.endswith(".elements") for k in varying):  # else each line or point says its own
+        n = [num(seg["elements"]) for b in bodies for seg in b["segments"]]
+        parts.append(f"n = {' + '.join(n)}")
     gaps = [(name, g) for name, g, keys in scene_contacts(scene) if not any(k in varying for k in keys)]
     if gaps and len({g for _, g in gaps}) == 1:
         what = "gap" if len(gaps) == 1 else "gaps"

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/contact/contact_law_registry.hpp"
 #include "core/methods/method_registry.hpp"
 #include "core/model/rod_scene.hpp"
 #include "study/formats/json_writer.hpp"
@@ -30,6 +31,15 @@ std::string default_text(const MethodDescriptor& method, const MethodParameter& 
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", *value);
   return text;
+}
+
+// The contact laws a method takes (contact_law_refusal: every law it does not refuse).
+std::vector<const char*> laws_taken(const MethodDescriptor& method) {
+  std::vector<const char*> out;
+  for (const ContactLawDescriptor& law : contact_law_registry()) {
+    if (!contact_law_refusal(method, law.law)) out.push_back(law.name);
+  }
+  return out;
 }
 
 void write_text() {
@@ -57,6 +67,9 @@ void write_text() {
     } else {
       std::printf("  mass: lumped|consistent only (refuses redistributed|singular)\n");
     }
+    std::string laws;
+    for (const char* law : laws_taken(m)) laws += std::string(laws.empty() ? "" : "|") + law;
+    std::printf("  contact laws: %s\n", laws.c_str());
   }
   std::printf(
       "\nOn the command line --delta; in a plan delta = 0.3 under [method] or as a sweep "
@@ -127,6 +140,10 @@ void write_methods_json(std::ostream& out) {
     } else {
       json.key("massless_dofs").null();
     }
+    // The contact laws (plan key `contact`) it takes.
+    json.key("contact_laws").begin_array();
+    for (const char* law : laws_taken(m)) json.value(law);
+    json.end_array();
     json.end_object();
   }
   json.end_array();

@@ -438,11 +438,16 @@ std::function<int()> add_compare_command(CLI::App& app) {
     std::vector<Row> rows;
     SimulationWorkspace workspace;
     std::string not_run;  // the methods that do not step the massless DOFs of a modified mass
+    std::string not_taking;  // the methods that do not take the contact law
     for (const MethodDescriptor& method : method_registry()) {
       const MethodKind kind = method.kind;
       if (has_massless_dofs(base.scene.mass) &&
           massless_refusal(method, base.scene.rayleigh_stiffness)) {
         not_run += (not_run.empty() ? "" : "|") + std::string(method.name);
+        continue;
+      }
+      if (contact_law_refusal(method, base.run.contact.law)) {
+        not_taking += (not_taking.empty() ? "" : "|") + std::string(method.name);
         continue;
       }
       SimulationSettings settings = base;
@@ -482,6 +487,10 @@ std::function<int()> add_compare_command(CLI::App& app) {
     if (!not_run.empty()) {
       std::printf("not run     %s: they do not step the massless contact DOFs of mass = %s\n",
                   not_run.c_str(), to_string(base.scene.mass));
+    }
+    if (!not_taking.empty()) {
+      std::printf("not run     %s: they do not take contact = %s\n", not_taking.c_str(),
+                  to_string(base.run.contact.law));
     }
     std::printf("verdicts    accurate within %s\n", thresholds_text(base.verdict).c_str());
     if (!rows.empty() && !rows.front().e.reference.empty()) {

@@ -395,6 +395,10 @@ std::variant<Simulation, ParameterError> build(const SimulationSettings& s) {
                           "must be >= 1"};
   }
   if (auto e = validate(out.run.contact)) return *e;
+  // Whether the method takes the contact law is its descriptor's to say.
+  if (auto refusal = contact_law_refusal(descriptor(out.method), out.run.contact.law)) {
+    return ParameterError{"contact", to_string(out.run.contact.law), *refusal};
+  }
   if (!(out.run.energy_growth_limit > 1.0)) {
     return ParameterError{"energy_growth_limit", format_value(out.run.energy_growth_limit),
                           "must be > 1"};
