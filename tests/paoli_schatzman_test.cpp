@@ -111,7 +111,7 @@ RunOptions with_restitution(double e) {
 
 // On the paper's rod: λ_n >= 0; the mean (u_{n+1} + e·u_{n−1})/(1 + e) of the contact DOF is at
 // most the gap, and on it (to rounding) where λ_n > 0; the contact DOF itself may pass the wall
-// by up to e times a step's travel.
+// (a free mass by up to 2e/(1 + e) of a step's travel, at the worst phase of the impact).
 TEST(PaoliSchatzman, TheMeanOfTheStepsAroundEachSampleHoldsTheGapOnThePapersRod) {
   const RodScene rod;
   for (const double e : {0.25, 0.5, 1.0}) {
