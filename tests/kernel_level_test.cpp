@@ -93,7 +93,12 @@ TEST(KernelLevel, RefusesALevelAboveTheProcessorsAndAnUnknownName) {
   EXPECT_EQ(above.level, KernelLevel::x86_64_v3);  // never one whose instructions would fault
   EXPECT_FALSE(above.forced);
   EXPECT_NE(above.error.find("IMPACTID_KERNELS = 'x86-64-v4'"), std::string::npos) << above.error;
-  EXPECT_NE(above.error.find("supports x86-64-v3 at most"), std::string::npos) << above.error;
+  // A build for one machine (scripts/sanitize) may lack v4's kernels: then that is the reason
+  // given, checked before the processor's limit.
+  const char* reason = kernel_level_built(KernelLevel::x86_64_v4)
+                           ? "this processor supports x86-64-v3 at most"
+                           : "this build has no kernels of that level";
+  EXPECT_NE(above.error.find(reason), std::string::npos) << above.error;
 
   const KernelSelection unknown = select_kernels("avx2", KernelLevel::x86_64_v4);
   EXPECT_EQ(unknown.level, KernelLevel::x86_64_v4);
