@@ -381,7 +381,9 @@ TEST(MassTreatment, RedistributedEnergyLossShrinksWithH) {
   }
   for (std::size_t k = 0; k < losses.size(); ++k) {
     EXPECT_GT(losses[k], 0.0) << k;
-    if (k > 0) EXPECT_LT(losses[k], losses[k - 1]) << k;
+    if (k > 0) {
+      EXPECT_LT(losses[k], losses[k - 1]) << k;
+    }
   }
   const auto count = static_cast<double>(log_h.size());
   double mx = 0.0, my = 0.0;

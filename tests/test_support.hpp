@@ -4,8 +4,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -39,16 +37,9 @@ struct Mode {
 };
 
 /// The k-th eigenpair of K φ = ω² M φ from Eigen's dense generalized solver (k = 0 is the rigid
-/// mode of a free rod).
-inline Mode dense_mode(const SecondOrderSystem& system, int k) {
-  const Eigen::MatrixXd m = system.mass.dense();
-  const Eigen::MatrixXd kk = system.stiffness.dense();
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(kk, m);
-  Mode mode{std::sqrt(std::max(0.0, solver.eigenvalues()[k])), solver.eigenvectors().col(k)};
-  mode.phi /= std::sqrt(mode.phi.dot(m * mode.phi));
-  if (mode.phi[mode.phi.size() - 1] < 0) mode.phi = -mode.phi;
-  return mode;
-}
+/// mode of a free rod). Compiled once in test_support.cpp: the solver's instantiation took most of
+/// each including test's compile time.
+Mode dense_mode(const SecondOrderSystem& system, int k);
 
 /// State with displacement u, velocity v, zero contact force, at t = 0 (acceleration unset).
 inline State make_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
@@ -94,22 +85,8 @@ inline SecondOrderSystem unit_oscillator() {
 
 /// Spectral radius of the one-step amplification matrix of `c` on the undamped oscillator
 /// ü + u = 0 at Ω = ω·Δt = dt, measured by stepping ImplicitIntegrator from the three unit
-/// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem.
-inline double spectral_radius(const ImplicitCoefficients& c, double dt) {
-  const SecondOrderSystem oscillator = unit_oscillator();
-  ImplicitIntegrator integrator;
-  if (!integrator.initialize(oscillator, c, dt)) return std::numeric_limits<double>::quiet_NaN();
-  Eigen::Matrix3d amplification;
-  for (int j = 0; j < 3; ++j) {
-    State s;
-    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
-    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
-    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
-    integrator.step(oscillator, s);
-    amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
-  }
-  return amplification.eigenvalues().cwiseAbs().maxCoeff();
-}
+/// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem (test_support.cpp).
+double spectral_radius(const ImplicitCoefficients& c, double dt);
 
 /// log2(e_k / e_{k+1}) for errors at successively halved steps.
 inline std::vector<double> observed_orders(const std::vector<double>& errors) {

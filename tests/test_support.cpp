@@ -1,0 +1,39 @@
+// The test helpers whose Eigen solvers are compiled once rather than in every test that
+// includes test_support.hpp.
+#include "test_support.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace impactid::testing {
+
+Mode dense_mode(const SecondOrderSystem& system, int k) {
+  const Eigen::MatrixXd m = system.mass.dense();
+  const Eigen::MatrixXd kk = system.stiffness.dense();
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(kk, m);
+  Mode mode{std::sqrt(std::max(0.0, solver.eigenvalues()[k])), solver.eigenvectors().col(k)};
+  mode.phi /= std::sqrt(mode.phi.dot(m * mode.phi));
+  if (mode.phi[mode.phi.size() - 1] < 0) mode.phi = -mode.phi;
+  return mode;
+}
+
+double spectral_radius(const ImplicitCoefficients& c, double dt) {
+  const SecondOrderSystem oscillator = unit_oscillator();
+  ImplicitIntegrator integrator;
+  if (!integrator.initialize(oscillator, c, dt)) return std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix3d amplification;
+  for (int j = 0; j < 3; ++j) {
+    State s;
+    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
+    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
+    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
+    integrator.step(oscillator, s);
+    amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
+  }
+  return amplification.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+}  // namespace impactid::testing
