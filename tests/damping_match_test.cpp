@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -45,7 +44,7 @@ double stepped_damping_ratio(const MethodParams& params, double dt) {
     integrator.step(oscillator, s);
     amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
   }
-  for (const std::complex<double>& lambda : amplification.eigenvalues()) {
+  for (const std::complex<double>& lambda : testing::eigenvalues(amplification)) {
     if (lambda.imag() > 1e-12) {
       return -std::log(std::norm(lambda)) / (2.0 * std::atan2(lambda.imag(), lambda.real()));
     }

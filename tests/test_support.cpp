@@ -33,7 +33,13 @@ double spectral_radius(const ImplicitCoefficients& c, double dt) {
     integrator.step(oscillator, s);
     amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
   }
-  return amplification.eigenvalues().cwiseAbs().maxCoeff();
+  return spectral_radius_of(amplification);
+}
+
+Eigen::VectorXcd eigenvalues(const Eigen::MatrixXd& a) { return a.eigenvalues(); }
+
+double spectral_radius_of(const Eigen::MatrixXd& a) {
+  return eigenvalues(a).cwiseAbs().maxCoeff();
 }
 
 }  // namespace impactid::testing

@@ -88,6 +88,11 @@ inline SecondOrderSystem unit_oscillator() {
 /// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem (test_support.cpp).
 double spectral_radius(const ImplicitCoefficients& c, double dt);
 
+/// The eigenvalues of a small dense matrix (an amplification or companion matrix), and the
+/// largest of their moduli (test_support.cpp, for the compile time as dense_mode).
+Eigen::VectorXcd eigenvalues(const Eigen::MatrixXd& a);
+double spectral_radius_of(const Eigen::MatrixXd& a);
+
 /// log2(e_k / e_{k+1}) for errors at successively halved steps.
 inline std::vector<double> observed_orders(const std::vector<double>& errors) {
   std::vector<double> orders;

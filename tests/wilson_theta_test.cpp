@@ -10,7 +10,6 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -121,7 +120,7 @@ double limit_rho(double theta) {
   Eigen::Matrix3d companion;
   companion << -(1.0 + 3.0 * theta + 3.0 * t2 - 3.0 * t3) / t3, -(3.0 * t3 - 6.0 * t2 + 4.0) / t3,
       std::pow(theta - 1.0, 3) / t3, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0;
-  return companion.eigenvalues().cwiseAbs().maxCoeff();
+  return testing::spectral_radius_of(companion);
 }
 
 TEST(WilsonTheta, SpectralPropertiesAgainstClosedForms) {
