@@ -32,18 +32,9 @@ double xi(const MethodParams& params, double omega_dt) {
 // ü + u = 0 from each unit state (u, Δt·v, Δt²·a) gives the amplification matrix column by
 // column; its complex pair a ± ib gives ξ̄ = −ln(a² + b²)/(2·atan2(b, a)).
 double stepped_damping_ratio(const MethodParams& params, double dt) {
-  const SecondOrderSystem oscillator = testing::unit_oscillator();
-  ImplicitIntegrator integrator;
-  if (!integrator.initialize(oscillator, implicit_coefficients(params), dt)) return NAN;
-  Eigen::Matrix3d amplification;
-  for (int j = 0; j < 3; ++j) {
-    State s;
-    s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
-    s.v = Eigen::VectorXd::Constant(1, j == 1 ? 1.0 / dt : 0.0);
-    s.a = Eigen::VectorXd::Constant(1, j == 2 ? 1.0 / (dt * dt) : 0.0);
-    integrator.step(oscillator, s);
-    amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
-  }
+  const Eigen::Matrix3d amplification =
+      testing::stepped_amplification(implicit_coefficients(params), dt);
+  if (std::isnan(amplification(0, 0))) return NAN;  // the integrator did not initialize
   for (const std::complex<double>& lambda : testing::eigenvalues(amplification)) {
     if (lambda.imag() > 1e-12) {
       return -std::log(std::norm(lambda)) / (2.0 * std::atan2(lambda.imag(), lambda.real()));

@@ -20,11 +20,14 @@ Mode dense_mode(const SecondOrderSystem& system, int k) {
   return mode;
 }
 
-double spectral_radius(const ImplicitCoefficients& c, double dt) {
+Eigen::Matrix3d stepped_amplification(const ImplicitCoefficients& c, double dt) {
   const SecondOrderSystem oscillator = unit_oscillator();
   ImplicitIntegrator integrator;
-  if (!integrator.initialize(oscillator, c, dt)) return std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix3d amplification;
+  if (!integrator.initialize(oscillator, c, dt)) {
+    amplification.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return amplification;
+  }
   for (int j = 0; j < 3; ++j) {
     State s;
     s.u = Eigen::VectorXd::Constant(1, j == 0 ? 1.0 : 0.0);
@@ -33,6 +36,12 @@ double spectral_radius(const ImplicitCoefficients& c, double dt) {
     integrator.step(oscillator, s);
     amplification.col(j) = Eigen::Vector3d(s.u[0], dt * s.v[0], dt * dt * s.a[0]);
   }
+  return amplification;
+}
+
+double spectral_radius(const ImplicitCoefficients& c, double dt) {
+  const Eigen::Matrix3d amplification = stepped_amplification(c, dt);
+  if (std::isnan(amplification(0, 0))) return std::numeric_limits<double>::quiet_NaN();
   return spectral_radius_of(amplification);
 }
 

@@ -83,6 +83,12 @@ inline SecondOrderSystem unit_oscillator() {
   return oscillator;
 }
 
+/// The one-step amplification matrix of `c` on the undamped oscillator ü + u = 0 at Ω = ω·Δt =
+/// dt, measured by stepping ImplicitIntegrator from the three unit states (u, Δt·v, Δt²·a) of a
+/// one-degree-of-freedom SecondOrderSystem, column by column; NaN when it does not initialize
+/// (test_support.cpp).
+Eigen::Matrix3d stepped_amplification(const ImplicitCoefficients& c, double dt);
+
 /// Spectral radius of the one-step amplification matrix of `c` on the undamped oscillator
 /// ü + u = 0 at Ω = ω·Δt = dt, measured by stepping ImplicitIntegrator from the three unit
 /// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem (test_support.cpp).
