@@ -37,8 +37,7 @@ struct Mode {
 };
 
 /// The k-th eigenpair of K φ = ω² M φ from Eigen's dense generalized solver (k = 0 is the rigid
-/// mode of a free rod). Compiled once in test_support.cpp: the solver's instantiation took most of
-/// each including test's compile time.
+/// mode of a free rod; test_support.cpp).
 Mode dense_mode(const SecondOrderSystem& system, int k);
 
 /// State with displacement u, velocity v, zero contact force, at t = 0 (acceleration unset).
@@ -89,13 +88,12 @@ inline SecondOrderSystem unit_oscillator() {
 /// (test_support.cpp).
 Eigen::Matrix3d stepped_amplification(const ImplicitCoefficients& c, double dt);
 
-/// Spectral radius of the one-step amplification matrix of `c` on the undamped oscillator
-/// ü + u = 0 at Ω = ω·Δt = dt, measured by stepping ImplicitIntegrator from the three unit
-/// states (u, Δt·v, Δt²·a) of a one-degree-of-freedom SecondOrderSystem (test_support.cpp).
+/// The spectral radius of stepped_amplification(c, dt); NaN when the integrator does not
+/// initialize.
 double spectral_radius(const ImplicitCoefficients& c, double dt);
 
 /// The eigenvalues of a small dense matrix (an amplification or companion matrix), and the
-/// largest of their moduli (test_support.cpp, for the compile time as dense_mode).
+/// largest of their moduli (test_support.cpp).
 Eigen::VectorXcd eigenvalues(const Eigen::MatrixXd& a);
 double spectral_radius_of(const Eigen::MatrixXd& a);
 
